@@ -1,0 +1,113 @@
+"""The ``cranefmu`` command: build, run, info."""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from .master.errors import CraneFmuError
+
+
+def _cmd_build(args: argparse.Namespace) -> int:
+    from .build import build
+
+    done = build(force=args.force, only=args.only or None)
+    print(f"{len(done)} file(s) built" if done else "everything is up to date")
+    return 0
+
+
+def _parse_set(items: list[str]) -> dict[str, str]:
+    out = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            raise CraneFmuError(f"--set {item!r} is not allowed: write --set component.variable=value")
+        out[key.strip()] = value.strip()
+    return out
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .master.run import run
+    from .scenes import summary
+
+    res = run(args.scene, stop_time=args.stop_time, step_size=args.step, algorithm=args.algorithm,
+              extrapolation=args.extrapolation, parameter_set=args.parameter_set,
+              parameters=_parse_set(args.set), output=args.output)
+    st = res.stats
+    t = res.result["time"]
+    simulated = float(t[-1] - t[0]) if len(t) else 0.0
+    print(f"scene {res.scene}: {st.steps} steps of {args.step:g} s to t = {simulated:g} s ({args.algorithm}, "
+          f"extrapolation {args.extrapolation})")
+    print(f"wall time {st.wall_time:.3f} s, real-time factor {st.real_time_factor(simulated):.1f}")
+    for label, text in summary(res.scene, res.result):
+        print(f"  {label:<24} {text}")
+    if res.output:
+        print(f"results: {res.output} ({len(t)} rows, {len(res.result.dtype.names)} columns)")
+    return 0
+
+
+def _cmd_info(args: argparse.Namespace) -> int:
+    from .master.run import resolve_scene
+    from .master.scene import load_scene
+    from .scenes import SCENES
+    import tempfile
+
+    ssp = resolve_scene(args.scene)
+    with tempfile.TemporaryDirectory(prefix="cranefmu_info_") as tmp:
+        scene = load_scene(ssp, Path(tmp))
+        info = SCENES.get(scene.name)
+        print(f"scene {scene.name} ({ssp})")
+        if info:
+            print(f"  question: {info.question}")
+        print("  components: " + ", ".join(f"{c.name} ({c.fmu.name})" for c in scene.components))
+        print("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
+        print("  parameters (default set):")
+        for k, v in scene.parameters.items():
+            print(f"    {k} = {v}")
+        print("  connections:")
+        for c in scene.connections:
+            print(f"    {c}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="cranefmu", description="Crane dynamics as FMI co-simulation components.")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    b = sub.add_parser("build", help="build fmus/*.fmu and ssp/*.ssp that are missing or older than their sources")
+    b.add_argument("--force", action="store_true", help="rebuild everything")
+    b.add_argument("only", nargs="*", help="FMU or scene names to build (default: all)")
+    b.set_defaults(func=_cmd_build)
+
+    r = sub.add_parser("run", help="run a scene (builds what is missing first)")
+    r.add_argument("scene", help="scene name under ssp/ or path to an .ssp file")
+    r.add_argument("--stop-time", type=float, default=None, help="end of the run [s] (default: the scene's)")
+    r.add_argument("--step", type=float, default=1e-3, help="macro (communication) step [s] (default 1e-3)")
+    r.add_argument("--algorithm", default="jacobi", help="coupling: jacobi or gauss-seidel (default jacobi)")
+    r.add_argument("--extrapolation", type=int, default=0, help="order of the input extrapolation: 0, 1, 2")
+    r.add_argument("--parameter-set", default=None, help="a parameter set of the scene (see cranefmu info)")
+    r.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
+                   help="override a parameter or start value (repeatable)")
+    r.add_argument("--output", default=None, help="CSV file written during the run (columns time, comp.var)")
+    r.set_defaults(func=_cmd_run)
+
+    i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
+    i.add_argument("scene")
+    i.set_defaults(func=_cmd_info)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except CraneFmuError as err:
+        print(f"cranefmu: error: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("cranefmu: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,300 @@
+"""One pythonfmu slave base class that turns any :class:`~.physics.component.Model` into an FMU.
+
+An FMU script in ``fmus/`` only names its model::
+
+    class Rope(CraneSlave):
+        physics = RopeModel
+
+From the model's parameter dataclass and signal tables this class registers the FMI variables
+(parameters ``fixed``/``tunable`` with ``initial="exact"``, inputs, and for every coupling input
+the extrapolation inputs ``<name>_dt`` and ``<name>_dt2``, outputs), writes units, unit
+definitions and the real ``ModelStructure`` (output dependencies, initial unknowns) into the
+model description, integrates the internal states with the solver chosen by the ``solver``
+parameter, computes feedthrough outputs lazily after inputs change, saves and restores every
+internal state, and turns every failure into a logged error status instead of an exception.
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, ClassVar
+from xml.etree.ElementTree import Element, SubElement
+
+import numpy as np
+from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real, String
+from pythonfmu.default_experiment import DefaultExperiment
+from pythonfmu.enums import Fmi2Status
+
+from . import units
+from .integrators import METHODS, integrate
+from .physics.component import Model
+from .physics.params import ParameterError, allowed_text, check_value
+
+EXTRAPOLATION_SUFFIXES = ("_dt", "_dt2")  # d/dt and d2/dt2 of a coupling input
+
+
+class CraneSlave(Fmi2Slave):
+    """FMI 2.0 co-simulation adapter over a physics model (set ``physics`` in the subclass)."""
+
+    physics: ClassVar[type[Model]]
+    default_solver: ClassVar[str] = "rk4"
+    default_max_step: ClassVar[float] = 1e-3
+    default_experiment = DefaultExperiment(start_time=0.0, stop_time=10.0, step_size=1e-3)
+    author = "cranefmu"
+
+    def __init__(self, **kwargs: Any):
+        super().__init__(**kwargs)
+        cls = type(self)
+        self.description = cls.physics.description
+        self._units: dict[str, str] = {}
+        self._param_names: list[str] = []
+        self._param_vrs: set[int] = set()
+        self._param_meta: dict[str, dict] = {}
+        # solver settings first, then the model's parameters
+        self._add_param("solver", cls.default_solver, "", "internal solver: " + ", ".join(METHODS),
+                        dict(choices=METHODS), str)
+        self._add_param("rtol", 1e-6, "1", "relative tolerance of the adaptive solvers",
+                        dict(min=0, min_open=True, max=1), float)
+        self._add_param("max_step", cls.default_max_step, "s", "largest internal step (fixed-step: sub-step size)",
+                        dict(min=0, min_open=True), float)
+        for name, default, meta in cls.physics.Params.field_specs():
+            self._add_param(name, default, meta.get("unit", ""), meta.get("description", ""), meta, type(default))
+        self._input_names = [s.name for s in cls.physics.inputs]
+        self._coupling = [i for i, s in enumerate(cls.physics.inputs) if s.coupling]
+        for s in cls.physics.inputs:
+            self._add_real(s.name, s.start, s.unit, s.description, Fmi2Causality.input)
+        for i in self._coupling:
+            s = cls.physics.inputs[i]
+            clash = {s.name + x for x in EXTRAPOLATION_SUFFIXES} & set(self._input_names)
+            if clash:
+                raise ValueError(f"{cls.__name__}: input {clash.pop()} clashes with an extrapolation input")
+            rate_unit = _per_second(s.unit)
+            self._add_real(s.name + "_dt", 0.0, rate_unit, f"time derivative of {s.name} for input extrapolation "
+                           "inside a step (0 = zero-order hold)", Fmi2Causality.input)
+            self._add_real(s.name + "_dt2", 0.0, _per_second(rate_unit), f"second time derivative of {s.name} "
+                           "for input extrapolation inside a step (0 = no curvature)", Fmi2Causality.input)
+        self._output_names = [s.name for s in cls.physics.outputs]
+        for s in cls.physics.outputs:
+            setattr(self, s.name, 0 if s.discrete else 0.0)
+            if s.discrete:
+                self.register_variable(Integer(s.name, causality=Fmi2Causality.output,
+                                               variability=Fmi2Variability.discrete, description=s.description))
+            else:
+                self._add_real(s.name, None, s.unit, s.description, Fmi2Causality.output)
+        self._model: Model | None = None
+        self._x = np.zeros(0)
+        self._t = 0.0
+        self._initialized = False
+        self._outputs_stale = True
+
+    # --- registration ------------------------------------------------------------------------
+    def _add_real(self, name: str, start: float | None, unit: str, description: str,
+                  causality: Fmi2Causality) -> None:
+        if start is not None:
+            setattr(self, name, float(start))
+        self._units[name] = unit
+        variability = Fmi2Variability.continuous
+        self.register_variable(Real(name, causality=causality, variability=variability, description=description))
+
+    def _add_param(self, name: str, default: Any, unit: str, description: str, meta: dict, kind: type) -> None:
+        setattr(self, name, default)
+        variability = Fmi2Variability.tunable if meta.get("tunable") else Fmi2Variability.fixed
+        allowed = allowed_text(meta)
+        desc = f"{description} (allowed {allowed})" if description else f"allowed {allowed}"
+        var_cls = {float: Real, int: Integer, str: String}[kind]
+        self.register_variable(var_cls(name, causality=Fmi2Causality.parameter, variability=variability,
+                                       initial=Fmi2Initial.exact, description=desc))
+        self._units[name] = unit if kind is float else ""
+        self._param_names.append(name)
+        self._param_vrs.add(len(self.vars) - 1)
+        self._param_meta[name] = meta
+
+    # --- model and values ---------------------------------------------------------------------
+    def _build_model(self) -> Model:
+        """Validated parameters -> model; raises ParameterError naming the parameter."""
+        for name in ("solver", "rtol", "max_step"):
+            check_value(self.instance_name, name, getattr(self, name), self._param_meta[name])
+        fields = {n: getattr(self, n) for n, _, _ in self.physics.Params.field_specs()}
+        for n, default, _ in self.physics.Params.field_specs():
+            if isinstance(default, float) and isinstance(fields[n], int) and not isinstance(fields[n], bool):
+                fields[n] = float(fields[n])
+        return self.physics(self.physics.Params(**fields))
+
+    def _inputs(self) -> np.ndarray:
+        return np.array([getattr(self, n) for n in self._input_names], dtype=float)
+
+    def _rates(self) -> tuple[np.ndarray, np.ndarray]:
+        n = len(self._input_names)
+        r1, r2 = np.zeros(n), np.zeros(n)
+        for i in self._coupling:
+            name = self._input_names[i]
+            r1[i] = getattr(self, name + "_dt")
+            r2[i] = getattr(self, name + "_dt2")
+        return r1, r2
+
+    def _refresh_outputs(self) -> None:
+        if getattr(self, "_init_error", None) is not None:
+            return  # reported at exit_initialization_mode
+        try:
+            if self._model is None or not self._initialized:
+                self._model = self._build_model()
+                self._x = self._model.initial_state(self._inputs())
+            y = self._model.output_values(self._t, self._x, self._inputs())
+        except Exception as err:
+            self._fail("cannot compute the outputs", err)
+            raise
+        for s, v in zip(self.physics.outputs, y):
+            setattr(self, s.name, int(round(v)) if s.discrete else float(v))
+        self._outputs_stale = False
+
+    def _fail(self, what: str, err: Exception) -> bool:
+        self.log(f"{self.instance_name}: {what}: {type(err).__name__}: {err}", Fmi2Status.error)
+        return False
+
+    # --- FMI ----------------------------------------------------------------------------------
+    def setup_experiment(self, start_time: float, stop_time: float | None, tolerance: float | None) -> None:
+        self._t = float(start_time)
+
+    def enter_initialization_mode(self) -> None:
+        # Refused parameters are reported by exit_initialization_mode: pythonfmu forwards the log
+        # of a failing exitInitializationMode to the host, but not that of a failing
+        # enterInitializationMode or getReal.  Until then outputs keep their start values.
+        try:
+            self._model = self._build_model()
+            self._init_error = None
+        except (ParameterError, ValueError, TypeError) as err:
+            self._init_error = err
+
+    def exit_initialization_mode(self) -> None:
+        try:
+            self._model = self._build_model()
+            self._x = self._model.initial_state(self._inputs())
+            self._model.check_state(self._t, self._x)
+        except (ParameterError, FloatingPointError, ValueError) as err:
+            self._fail("initialization refused", err)
+            raise
+        self._initialized = True
+        self._outputs_stale = True
+
+    def set_real(self, vrs: list[int], values: list[float]) -> None:
+        super().set_real(vrs, values)
+        self._after_set(vrs)
+
+    def set_integer(self, vrs: list[int], values: list[int]) -> None:
+        super().set_integer(vrs, values)
+        self._after_set(vrs)
+
+    def set_string(self, vrs: list[int], values: list[str]) -> None:
+        super().set_string(vrs, values)
+        self._after_set(vrs)
+
+    def _after_set(self, vrs: list[int]) -> None:
+        self._outputs_stale = True
+        if self._initialized and not self._param_vrs.isdisjoint(vrs):
+            try:
+                self._model = self._build_model()  # a tunable parameter changed
+            except ParameterError as err:
+                self._fail("parameter refused", err)
+                raise
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        if self._outputs_stale:
+            self._refresh_outputs()
+        return super().get_real(vrs)
+
+    def get_integer(self, vrs: list[int]) -> list[int]:
+        if self._outputs_stale:
+            self._refresh_outputs()
+        return super().get_integer(vrs)
+
+    def do_step(self, current_time: float, step_size: float) -> bool:
+        try:
+            model = self._model
+            u0 = self._inputs()
+            r1, r2 = self._rates()
+            if np.any(r1) or np.any(r2):
+                def rhs(t: float, x: np.ndarray) -> np.ndarray:
+                    s = t - current_time
+                    return model.derivatives(t, x, u0 + s * (r1 + 0.5 * s * r2))
+            else:
+                def rhs(t: float, x: np.ndarray) -> np.ndarray:
+                    return model.derivatives(t, x, u0)
+            x = integrate(rhs, current_time, self._x, step_size, self.solver, self.rtol, 1e-3 * self.rtol,
+                          self.max_step)
+            t1 = current_time + step_size
+            x = model.after_step(t1, x, u0 + step_size * (r1 + 0.5 * step_size * r2))
+            model.check_state(t1, x)
+            self._x, self._t = x, t1
+            self._outputs_stale = True
+            return True
+        except Exception as err:  # never let an exception escape into the C layer
+            return self._fail(f"step at t = {current_time:.9g} s failed", err)
+
+    # --- state ----------------------------------------------------------------------------------
+    def _get_fmu_state(self) -> dict[str, Any]:
+        state = {v.name: v.getter() for v in self.vars.values() if v.causality != Fmi2Causality.output}
+        state["__x"] = [float(v) for v in self._x]
+        state["__t"] = self._t
+        state["__initialized"] = self._initialized
+        return state
+
+    def _set_fmu_state(self, state: dict[str, Any]) -> None:
+        values = dict(state)
+        self._x = np.array(values.pop("__x"), dtype=float)
+        self._t = float(values.pop("__t"))
+        self._initialized = bool(values.pop("__initialized"))
+        for name, value in values.items():
+            setattr(self, name, value)
+        if self._initialized:
+            self._model = self._build_model()
+        self._outputs_stale = True
+
+    # --- model description ------------------------------------------------------------------------
+    def to_xml(self, model_options: dict[str, str] = dict()) -> Element:
+        """pythonfmu's description plus units, unit definitions and the real ModelStructure."""
+        root = super().to_xml(model_options)
+        used: dict[str, tuple[float, dict[str, int]]] = {}
+        index = {}
+        for i, v in enumerate(self.vars.values()):
+            index[v.name] = i + 1
+        for sv in root.find("ModelVariables"):
+            unit = self._units.get(sv.get("name"), "")
+            real = sv.find("Real")
+            if real is not None and not units.dimensionless(unit):
+                real.set("unit", unit)
+                used[unit] = units.parse(unit)
+        if used:
+            defs = Element("UnitDefinitions")
+            for name, (factor, exps) in sorted(used.items()):
+                u = SubElement(defs, "Unit", name=name)
+                attrs = {k: str(v) for k, v in exps.items()}
+                if factor != 1.0:
+                    attrs["factor"] = repr(factor)
+                SubElement(u, "BaseUnit", attrs)
+            root.insert(list(root).index(root.find("CoSimulation")) + 1, defs)
+        structure = root.find("ModelStructure")
+        for child in list(structure):
+            structure.remove(child)
+        outputs = SubElement(structure, "Outputs")
+        initial = SubElement(structure, "InitialUnknowns")
+        for s in self.physics.outputs:
+            deps = " ".join(str(index[d]) for d in s.depends_on)
+            SubElement(outputs, "Unknown", index=str(index[s.name]), dependencies=deps)
+            # at initialization an output depends on its feedthrough inputs and on the parameters
+            # (through the initial state); listing no dependencies attribute would claim "all"
+            init_deps = sorted({index[d] for d in s.depends_on} | {index[p] for p in self._param_names})
+            SubElement(initial, "Unknown", index=str(index[s.name]),
+                       dependencies=" ".join(str(d) for d in init_deps))
+        return root
+
+
+def _per_second(unit: str) -> str:
+    if units.dimensionless(unit):
+        return "1/s"
+    if "/" in unit:
+        num, den = unit.split("/")
+        m = den.rstrip("0123456789")
+        if m == "s":
+            power = int(den[1:] or 1) + 1
+            return f"{num}/s{power}"
+        return f"{num}/{den}.s"
+    return f"{unit}/s"

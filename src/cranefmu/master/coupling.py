@@ -1,0 +1,137 @@
+"""The connection graph: who feeds whom, in which order values must move, and input extrapolation.
+
+Values move along connections at every communication point.  An output that depends directly on
+an input (declared in the FMU's ModelStructure) must be read only after that input was set, so
+components are visited in topological order of the feedthrough graph; a cycle in that graph is
+an algebraic loop.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from graphlib import CycleError, TopologicalSorter
+
+import numpy as np
+
+from .errors import SceneError
+from .fmu import FmuComponent
+from .scene import ConnectionSpec
+
+
+@dataclass
+class InputGroup:
+    """The connections from one source component into one destination component (one get, one set)."""
+
+    src: int
+    dst: int
+    src_vrs: list[int]
+    dst_vrs: list[int]
+    factor: np.ndarray
+    offset: np.ndarray
+    dt_vrs: list[int] | None = None    # the destination's <input>_dt inputs, if it offers them
+    dt2_vrs: list[int] | None = None
+    history: list[tuple[float, np.ndarray]] = field(default_factory=list)  # newest last
+
+
+def feedthrough(comp: FmuComponent) -> dict[str, set[str]]:
+    """Output name -> names of the inputs it depends on directly (FMI 2 ModelStructure/Outputs)."""
+    md = comp.md
+    result = {}
+    for unknown in md.outputs:
+        deps = unknown.dependencies
+        if deps is None:  # not declared: FMI says it may depend on every input
+            result[unknown.variable.name] = {v.name for v in md.modelVariables if v.causality == "input"}
+        else:
+            result[unknown.variable.name] = {d.name for d in deps if d.causality == "input"}
+    return result
+
+
+def check_connection(c: ConnectionSpec, comps: dict[str, FmuComponent]) -> None:
+    """Refuse a connection whose ends do not exist or do not fit (causality, type, unit)."""
+    src, dst = comps[c.src], comps[c.dst]
+    a = src.variables.get(c.src_var)
+    b = dst.variables.get(c.dst_var)
+    if a is None:
+        raise SceneError(f"connection {c}: {c.src} has no variable {c.src_var!r}")
+    if b is None:
+        raise SceneError(f"connection {c}: {c.dst} has no variable {c.dst_var!r}")
+    if a.causality != "output":
+        raise SceneError(f"connection {c}: start {c.src}.{c.src_var} is a {a.causality}, must be an output")
+    if b.causality != "input":
+        raise SceneError(f"connection {c}: end {c.dst}.{c.dst_var} is a {b.causality}, must be an input")
+    if a.type != "Real" or b.type != "Real":
+        raise SceneError(f"connection {c}: types {a.type} -> {b.type}; only Real -> Real connections are supported")
+    ua, ub = a.unit or "", b.unit or ""
+    if ua != ub and c.factor == 1.0 and c.offset == 0.0:
+        raise SceneError(f"connection {c}: unit {ua or 'none'!r} -> {ub or 'none'!r} differ and the connection "
+                         "has no LinearTransformation to convert")
+
+
+def visit_order(comps: list[FmuComponent], connections: list[ConnectionSpec]) -> list[int]:
+    """Component indices so that every feedthrough source is visited before its destination."""
+    index = {c.name: i for i, c in enumerate(comps)}
+    ft = [feedthrough(c) for c in comps]
+    graph: dict[int, set[int]] = {i: set() for i in range(len(comps))}
+    for c in connections:
+        s, d = index[c.src], index[c.dst]
+        if ft[s].get(c.src_var):
+            graph[d].add(s)
+    try:
+        order = list(TopologicalSorter(graph).static_order())
+    except CycleError as err:
+        names = " -> ".join(comps[i].name for i in err.args[1])
+        raise SceneError(f"algebraic loop through direct feedthrough: {names}; break it with a component that "
+                         "has internal state, or remove a connection") from None
+    return order
+
+
+def input_groups(comps: list[FmuComponent], connections: list[ConnectionSpec]) -> list[list[InputGroup]]:
+    """Per destination component, its incoming connections grouped by source component."""
+    index = {c.name: i for i, c in enumerate(comps)}
+    seen: dict[tuple[str, str], ConnectionSpec] = {}
+    per_dst: list[dict[int, InputGroup]] = [dict() for _ in comps]
+    for c in connections:
+        key = (c.dst, c.dst_var)
+        if key in seen:
+            raise SceneError(f"connection {c}: input {c.dst}.{c.dst_var} is already fed by {seen[key]}")
+        seen[key] = c
+        s, d = index[c.src], index[c.dst]
+        g = per_dst[d].setdefault(s, InputGroup(s, d, [], [], np.zeros(0), np.zeros(0)))
+        g.src_vrs.append(comps[s].variables[c.src_var].valueReference)
+        g.dst_vrs.append(comps[d].variables[c.dst_var].valueReference)
+        g.factor = np.append(g.factor, c.factor)
+        g.offset = np.append(g.offset, c.offset)
+        dt = comps[d].variables.get(c.dst_var + "_dt")
+        dt2 = comps[d].variables.get(c.dst_var + "_dt2")
+        if g.dt_vrs is not None or len(g.dst_vrs) == 1:
+            if dt is not None and dt2 is not None:
+                g.dt_vrs = (g.dt_vrs or []) + [dt.valueReference]
+                g.dt2_vrs = (g.dt2_vrs or []) + [dt2.valueReference]
+            else:
+                g.dt_vrs = g.dt2_vrs = None
+    return [list(d.values()) for d in per_dst]
+
+
+def lagrange_weights(ts: list[float], t: float) -> tuple[np.ndarray, np.ndarray]:
+    """Weights w1, w2 such that sum(w1 * u_i), sum(w2 * u_i) are the first and second derivative
+    at ``t`` of the polynomial through the points (ts[i], u_i); at most three points, any spacing."""
+    k = len(ts)
+    w1, w2 = np.zeros(k), np.zeros(k)
+    for i in range(k):
+        others = [ts[j] for j in range(k) if j != i]
+        den = float(np.prod([ts[i] - tj for tj in others]))
+        if k == 2:
+            w1[i] = 1.0 / den
+        elif k == 3:
+            w1[i] = ((t - others[0]) + (t - others[1])) / den
+            w2[i] = 2.0 / den
+    return w1, w2
+
+
+def rates(points: list[tuple[float, np.ndarray]], t: float) -> tuple[np.ndarray, np.ndarray]:
+    """First and second time derivative at ``t`` of the polynomial through ``points`` (t_i, u_i)."""
+    if len(points) < 2:
+        zero = np.zeros_like(points[-1][1])
+        return zero, zero
+    w1, w2 = lagrange_weights([p[0] for p in points], t)
+    values = np.array([p[1] for p in points])
+    return w1 @ values, w2 @ values

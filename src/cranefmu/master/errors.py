@@ -1,0 +1,29 @@
+"""Exceptions of the master: each names the item, its value and what is allowed."""
+
+
+class CraneFmuError(Exception):
+    """Base of every error a user can cause or meet; the CLI prints it without a traceback."""
+
+
+class SceneError(CraneFmuError):
+    """The scene or .ssp is missing, malformed, or its connections do not fit the FMUs."""
+
+
+class ParameterSetError(CraneFmuError):
+    """A parameter set or ``--set`` override names an unknown variable or has a wrong value."""
+
+
+class SettingsError(CraneFmuError):
+    """A run setting (stop time, step, algorithm, ...) is out of range."""
+
+
+class SimulationError(CraneFmuError):
+    """The run failed part-way: a component failed or a value became non-finite.
+
+    ``result`` holds the rows computed before the failure, ``output`` the CSV they were written to.
+    """
+
+    def __init__(self, message: str, result=None, output=None):
+        super().__init__(message)
+        self.result = result
+        self.output = output

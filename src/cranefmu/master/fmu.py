@@ -1,0 +1,139 @@
+"""One FMU instance in the master: value references resolved once, typed start values, batched calls."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .errors import ParameterSetError, SceneError
+
+_BOOL_TEXT = {"true": True, "false": False, "1": True, "0": False}
+
+# Messages by instance name.  pythonfmu FMUs in one process may all report through the logger of
+# the last instance created, so a message is filed under the instance name it carries.
+_MESSAGES: dict[str, list[str]] = {}
+
+
+class FmuComponent:
+    """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages."""
+
+    def __init__(self, name: str, fmu_path: Path, unzipdir: Path):
+        from fmpy import extract, read_model_description
+
+        self.name = name
+        try:
+            self.md = read_model_description(str(fmu_path), validate=False)
+        except Exception as err:
+            raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
+        if self.md.fmiVersion != "2.0" or self.md.coSimulation is None:
+            raise SceneError(f"component {name!r}: {fmu_path.name} is not an FMI 2.0 co-simulation FMU")
+        self.unzipdir = Path(extract(str(fmu_path), unzipdir=str(unzipdir)))
+        self.variables = {v.name: v for v in self.md.modelVariables}
+        self.fmu = None
+        self.alive = False
+        self.can_get_state = bool(self.md.coSimulation.canGetAndSetFMUstate)
+
+    # --- life cycle ---------------------------------------------------------------------------
+    def instantiate(self) -> None:
+        from fmpy.fmi2 import FMU2Slave
+
+        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=str(self.unzipdir),
+                             modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=self.name)
+
+        _MESSAGES[self.name] = []
+        self.fmu.instantiate(loggingOn=True, callbacks=self._callbacks())
+        self.alive = True
+
+    def _callbacks(self):
+        """FMI callbacks that keep the FMU's messages (for error reports) instead of printing them."""
+        from ctypes import byref
+
+        from fmpy import calloc, free
+        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                               fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+
+        def logger(env, instance, status, category, message):
+            if status < 2:  # keep warning, discard, error, fatal
+                return
+            text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
+            name = instance.decode(errors="replace") if isinstance(instance, bytes) else str(instance or self.name)
+            box = _MESSAGES.setdefault(name, [])
+            box.append(text)
+            del box[:-50]
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        try:
+            from fmpy.logging import addLoggerProxy  # formats printf-style messages
+
+            addLoggerProxy(byref(cb))
+        except Exception:
+            pass
+        self._cb = cb  # ctypes callbacks must outlive the instance
+        return cb
+
+    @property
+    def messages(self) -> list[str]:
+        return _MESSAGES.get(self.name, [])
+
+    def last_error(self) -> str:
+        # the adapter's own message names the cause; pythonfmu's "Fatal py exception" line does not
+        own = [m for m in self.messages if not m.startswith("Fatal py exception")]
+        return (own or self.messages or ["no message from the FMU"])[-1]
+
+    def free(self) -> None:
+        """Terminate and free the instance (every path must end here: pythonfmu corrupts the heap otherwise)."""
+        if self.fmu is None or not self.alive:
+            return
+        self.alive = False
+        try:
+            self.fmu.terminate()
+        except Exception:
+            pass
+        try:
+            self.fmu.freeInstance()
+        except Exception:
+            pass
+
+    # --- variables ------------------------------------------------------------------------------
+    def variable(self, name: str, what: str = "variable"):
+        try:
+            return self.variables[name]
+        except KeyError:
+            close = [v for v in self.variables if v.lower().startswith(name.lower()[:3])][:6]
+            hint = f" (similar: {', '.join(close)})" if close else ""
+            raise ParameterSetError(f"{what} {self.name}.{name} does not exist in {self.md.modelName}{hint}") from None
+
+    def vrs(self, names: list[str]) -> list[int]:
+        return [self.variable(n).valueReference for n in names]
+
+    def set_start(self, name: str, text: str | float | int | bool) -> None:
+        """Set a parameter or start value from text or a number, converted to the variable's type."""
+        v = self.variable(name)
+        if v.causality not in ("parameter", "input") and v.initial != "exact":
+            raise ParameterSetError(f"{self.name}.{name} is a {v.causality} and cannot be set "
+                                    f"(only parameters and inputs)")
+        where = f"{self.name}.{name}"
+        try:
+            if v.type == "Real":
+                value = float(text)
+                self.fmu.setReal([v.valueReference], [value])
+            elif v.type in ("Integer", "Enumeration"):
+                f = float(text)
+                if f != int(f):
+                    raise ValueError
+                self.fmu.setInteger([v.valueReference], [int(f)])
+            elif v.type == "Boolean":
+                value = text if isinstance(text, bool) else _BOOL_TEXT[str(text).strip().lower()]
+                self.fmu.setBoolean([v.valueReference], [value])
+            else:
+                self.fmu.setString([v.valueReference], [str(text)])
+        except (ValueError, KeyError, TypeError):
+            raise ParameterSetError(f"{where} = {text!r} is not a valid {v.type} value") from None
+        except Exception as err:
+            raise ParameterSetError(f"{where} = {text!r} was refused by the FMU: {self.last_error() or err}") from None
+
+    def get_real(self, vrs: list[int]) -> np.ndarray:
+        return np.array(self.fmu.getReal(vrs))

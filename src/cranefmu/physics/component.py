@@ -1,0 +1,83 @@
+"""The contract every subsystem model fulfils, so one FMI adapter serves them all.
+
+A model owns a validated parameter set and describes its interface with :class:`Signal` tables.
+Its numerics are pure functions of (t, x, u): ``derivatives`` is the right-hand side of the
+internal ODE, ``output_values`` the algebraic outputs.  ``u`` is a float array in the order of
+``inputs``; outputs come back in the order of ``outputs``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .params import Params
+
+
+@dataclass(frozen=True)
+class Signal:
+    """One input or output of a model.
+
+    depends_on: for an output, the inputs it depends on *directly* (algebraic feedthrough);
+      an empty tuple means it is a function of the internal state only.
+    coupling: for an input, True if a master may extrapolate it inside a macro step (the FMU
+      then also offers ``<name>_dt`` and ``<name>_dt2`` inputs, which default to 0).
+    discrete: for an output, True for a 0/1 or counting signal (an Integer, discrete, in FMI).
+    """
+
+    name: str
+    unit: str
+    description: str
+    start: float = 0.0
+    depends_on: tuple[str, ...] = ()
+    coupling: bool = False
+    discrete: bool = False
+
+
+class Model:
+    """Base of every subsystem model.  Subclasses set the class attributes and override the
+    numerics; a model without internal states returns an empty state vector."""
+
+    Params: ClassVar[type[Params]]
+    inputs: ClassVar[tuple[Signal, ...]] = ()
+    outputs: ClassVar[tuple[Signal, ...]] = ()
+    description: ClassVar[str] = ""
+
+    def __init__(self, params: Params):
+        if not isinstance(params, self.Params):
+            raise TypeError(f"{type(self).__name__} needs {self.Params.__name__}, got {type(params).__name__}")
+        self.p = params
+
+    # --- interface -------------------------------------------------------------------------
+    @classmethod
+    def input_index(cls) -> dict[str, int]:
+        return {s.name: i for i, s in enumerate(cls.inputs)}
+
+    @classmethod
+    def default_inputs(cls) -> np.ndarray:
+        return np.array([s.start for s in cls.inputs], dtype=float)
+
+    def state_names(self) -> tuple[str, ...]:
+        return ()
+
+    def initial_state(self, u: np.ndarray) -> np.ndarray:
+        """State at the start time, given the inputs at the start time."""
+        return np.zeros(0)
+
+    def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.zeros(0)
+
+    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def after_step(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """Hook for discrete updates at the end of a step (projection, mode switches)."""
+        return x
+
+    def check_state(self, t: float, x: np.ndarray) -> None:
+        """Raise ``FloatingPointError`` naming the state if ``x`` is not finite."""
+        if not np.all(np.isfinite(x)):
+            names = self.state_names()
+            bad = [names[i] if i < len(names) else str(i) for i in np.flatnonzero(~np.isfinite(x))]
+            raise FloatingPointError(f"non-finite state {', '.join(bad)} at t = {t:.6g} s")
