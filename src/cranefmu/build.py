@@ -92,6 +92,7 @@ def build_fmu(script: Path, dest: Path | None = None) -> Path:
                                      canGetAndSetFMUstate=True, canSerializeFMUstate=True)
         tmp_fmu = dest.with_suffix(".fmu.tmp")
         shutil.copy2(built, tmp_fmu)
+        _ensure_binaries(tmp_fmu, script.stem)
         tmp_fmu.replace(dest)  # never leave a half-written FMU behind
         # pythonfmu imports the staged script and bundle into this process: forget them, so the
         # next build imports its own staged copy
@@ -100,6 +101,28 @@ def build_fmu(script: Path, dest: Path | None = None) -> Path:
         while str(stage) in sys.path:
             sys.path.remove(str(stage))
     return dest
+
+
+def _installed_binaries() -> Path:
+    """pythonfmu's wrapper libraries of the installed distribution.
+
+    Not ``pythonfmu.__file__``: once a pythonfmu FMU ran in this process, ``pythonfmu`` may be the
+    copy from that FMU's resources, which carries no binaries.
+    """
+    from importlib.metadata import distribution
+
+    return Path(distribution("pythonfmu").locate_file("pythonfmu/resources/binaries"))
+
+
+def _ensure_binaries(fmu: Path, model_identifier: str) -> None:
+    """Add the platform libraries (named after the model identifier) if the builder left them out."""
+    with zipfile.ZipFile(fmu) as zf:
+        if any(n.startswith("binaries/") for n in zf.namelist()):
+            return
+    src = _installed_binaries()
+    with zipfile.ZipFile(fmu, "a") as zf:
+        for lib in [*src.rglob("*.so"), *src.rglob("*.dll"), *src.rglob("*.dylib")]:
+            zf.write(lib, f"binaries/{lib.parent.name}/{model_identifier}{lib.suffix}")
 
 
 def scene_dirs() -> list[Path]:

@@ -63,7 +63,7 @@ def integrate(f: RHS, t0: float, x0: np.ndarray, h: float, method: str = "rk4",
         from scipy.integrate import solve_ivp  # only the adaptive methods need scipy
 
         sol = solve_ivp(f, (t0, t0 + h), x0, method={"rk45": "RK45", "radau": "Radau", "bdf": "BDF"}[method],
-                        rtol=rtol, atol=atol, max_step=max_step, first_step=min(h, max_step))
+                        rtol=rtol, atol=atol, max_step=max_step)
         if not sol.success:
             raise FloatingPointError(f"solver {method} failed at t = {t0:.6g} s: {sol.message}")
         return sol.y[:, -1]

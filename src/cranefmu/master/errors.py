@@ -27,3 +27,6 @@ class SimulationError(CraneFmuError):
         super().__init__(message)
         self.result = result
         self.output = output
+
+    def __reduce__(self):  # keep the partial result when the error crosses a process boundary
+        return (type(self), (str(self), self.result, self.output))

@@ -14,6 +14,48 @@ _BOOL_TEXT = {"true": True, "false": False, "1": True, "0": False}
 _MESSAGES: dict[str, list[str]] = {}
 
 
+_CALLBACKS = None
+
+
+def _callbacks():
+    """The FMI callbacks of every instance: one object for the life of the process.
+
+    pythonfmu's wrapper keeps the logger of an instance in a process-wide place and may call it
+    after that instance is gone, so the callbacks must never be freed.  Messages are filed by
+    the instance name they carry.
+    """
+    global _CALLBACKS
+    if _CALLBACKS is not None:
+        return _CALLBACKS
+    from ctypes import byref
+
+    from fmpy import calloc, free
+    from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
+                           fmi2CallbackLoggerTYPE)
+
+    def logger(env, instance, status, category, message):
+        if status < 2:  # keep warning, discard, error, fatal
+            return
+        text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
+        name = instance.decode(errors="replace") if isinstance(instance, bytes) else str(instance)
+        box = _MESSAGES.setdefault(name, [])
+        box.append(text)
+        del box[:-50]
+
+    cb = fmi2CallbackFunctions()
+    cb.logger = fmi2CallbackLoggerTYPE(logger)
+    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    try:
+        from fmpy.logging import addLoggerProxy  # formats printf-style messages
+
+        addLoggerProxy(byref(cb))
+    except Exception:
+        pass
+    _CALLBACKS = cb
+    return cb
+
+
 class FmuComponent:
     """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages."""
 
@@ -41,38 +83,8 @@ class FmuComponent:
                              modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=self.name)
 
         _MESSAGES[self.name] = []
-        self.fmu.instantiate(loggingOn=True, callbacks=self._callbacks())
+        self.fmu.instantiate(loggingOn=True, callbacks=_callbacks())
         self.alive = True
-
-    def _callbacks(self):
-        """FMI callbacks that keep the FMU's messages (for error reports) instead of printing them."""
-        from ctypes import byref
-
-        from fmpy import calloc, free
-        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                               fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
-
-        def logger(env, instance, status, category, message):
-            if status < 2:  # keep warning, discard, error, fatal
-                return
-            text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
-            name = instance.decode(errors="replace") if isinstance(instance, bytes) else str(instance or self.name)
-            box = _MESSAGES.setdefault(name, [])
-            box.append(text)
-            del box[:-50]
-
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(logger)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        try:
-            from fmpy.logging import addLoggerProxy  # formats printf-style messages
-
-            addLoggerProxy(byref(cb))
-        except Exception:
-            pass
-        self._cb = cb  # ctypes callbacks must outlive the instance
-        return cb
 
     @property
     def messages(self) -> list[str]:

@@ -1,0 +1,399 @@
+"""Telescopic boom of the truck crane 55713-1K, luffed by a hydraulic cylinder (seed 000).
+
+Geometry (seed 000 Fig. 1, eq. 1, 11-18, Table 1).  The boom foot O2 is the pivot on the slewing
+platform; the boom axis makes the angle phi1 with the platform (the luffing angle the cylinder sets)
+and psi = phi1 - gamma with the horizontal, gamma being the chassis tilt (positive when the boom
+side goes down, seed 000 eq. 4).  Three segments (Table 1): base 5 (l5 = 9 m) fixed at O2, 4
+(l4 = 8 m) telescoping by s1, 3 (l3 = 7 m) telescoping by s2 on 4, the hoist head m2 at the tip B.
+Segment centres (eq. 13) r5 = l5/2, r4 = a4 + s1 + l4/2, r3 = a3 + s1 + s2 + l3/2 with a3 = a4 = 0
+as printed; the tip is at L = L_start + s1 + s2 (L_min = 10.5 m in the text).  Eq. 13 and L_min
+disagree (eq. 13 puts the tip at l3 + s1 + s2 = 7 m retracted); we keep both because together they
+reproduce the printed static outrigger loads (104.13 / 77.8 kN, see chassis.py).
+
+Luffing cylinder, eq. 1 (loop O2 -> D -> O1 -> O2).  The cylinder foot O1 sits on the platform at
+O2 + l6 e(alpha) (l6 = O1O2 = 1.1 m), the rod end D on the boom axis at O2 + l_D e(phi1), and the
+cylinder is s3 e(phi2) = D - O1, so
+
+    f(phi1, phi2, s3) = l_D e(phi1) - s3 e(phi2) - l6 e(alpha) = 0,     e(a) = (cos a, sin a)   (eq. 1)
+
+The printed eq. 1 pairs l6 with phi1 and l7 with alpha; with l6 defined as O1O2 the fixed link must
+be l6, so we read l7 = 3.08 m as O2D.  alpha is not given (figure only): -60 deg (foot below and
+ahead of the pivot) is our choice.  Minimal coordinates: phi1 is the only coordinate, s3(phi1) and
+phi2(phi1) follow in closed form, eq. 1 holds to round-off; ``constraint_residual`` reports |f|.
+
+Modes.
+``tip = "dynamic"``, ``cylinder = "prescribed"``: the cylinder holds phi1 = phi_cmd(t) rigidly (the
+seed's locked-angle case); the boom moves with the chassis.  ``cylinder = "spring_damper"``: the
+cylinder is a spring-damper (oil column) between its free length s_free(t) = s3(phi_cmd(t)) + offset
+and s3(phi1); one degree of freedom, the absolute elevation psi (derived, Lagrange with rheonomic
+telescoping):
+
+    J_O psi'' + J_O' psi' = -g S cos psi + L (Fy cos psi - Fx sin psi) + F_cyl ds3/dphi1
+    F_cyl = k (s_free - s3) + b (s_free' - ds3/dphi1 (psi' + gamma'))      (push > 0)
+
+J_O = sum m_i (r_i^2 + l_i^2/12) + m2 L^2 and S = sum m_i r_i (eq. 15-18).  ``offset`` (a state held
+constant) is the static oil-column compression chosen in ``initial_state`` so the loaded boom rests
+at the commanded angle.  ``tip = "kinematic"``: the tip follows the prescribed laws from a fixed foot
+(base inputs ignored, no dynamics), e.g. a tip at rest for the hook_sway scene.
+
+Base reactions (derived, Newton-Euler of the boom; reduced to O2): the chassis receives
+F = F_tip + m g - sum m_i a_i and M = r_B x F_tip + sum r_i x m_i g - dH_O2/dt, with
+sum m_i a_i = (S'' - S psi'^2) e_r + (2 S' psi' + S psi'') e_psi and dH/dt = J_O psi'' + J_O' psi'.
+Neglected: the foot's acceleration (inputs carry no accelerations; the boom is ~5 % of the chassis
+mass), the horizontal motion of O2 due to the tilt (eq. 11), masses m6, m7 (the seed drops them in
+eq. 30), and the lateral tip force Fz_tip (planar model: it is taken by the slewing gear).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .component import Model, Signal
+from .params import Params, ParameterError, param
+
+
+@dataclass(frozen=True)
+class BoomParams(Params):
+    component = "boom"
+    tip: str = param("dynamic", "", "tip motion: from the boom model and the chassis motion, or prescribed "
+                     "from a fixed foot (no base motion, no dynamics)", choices=("dynamic", "kinematic"))
+    cylinder: str = param("prescribed", "", "luffing cylinder: rigid (holds the commanded angle) or a "
+                          "spring-damper oil column (boom luffs elastically)", choices=("prescribed", "spring_damper"))
+    # --- luffing law (seed 000: phi1 = 60 deg locked; the trapezoid of the telescoping law is reused)
+    luff_angle: float = param(math.radians(60.0), "rad", "commanded luffing angle phi1 of the boom relative to "
+                              "the slewing platform at the start (seed 000: 60 deg)",
+                              min=-math.pi / 2, max=math.pi / 2, min_open=True, max_open=True)
+    luff_delta: float = param(0.0, "rad", "change of the commanded luffing angle during the luffing manoeuvre "
+                              "(0: angle locked, seed 000)", min=-math.pi, max=math.pi)
+    luff_rate: float = param(0.05, "rad/s", "steady luffing speed of the manoeuvre", min=0, min_open=True)
+    luff_t_acc: float = param(1.0, "s", "acceleration (and deceleration) time of the luffing manoeuvre", min=0)
+    luff_start: float = param(0.0, "s", "time the luffing manoeuvre starts", min=0)
+    # --- telescoping law (seed 000: trapezoid, V10 = V20 = 0.35 m/s, 10.5 -> 22.4 m, T1 = 3 s)
+    boom_length_start: float = param(10.5, "m", "distance foot O2 - tip B before telescoping (seed 000 L_min)",
+                                     min=0, min_open=True)
+    boom_length_end: float = param(22.4, "m", "distance foot O2 - tip B after telescoping (seed 000 L_max)",
+                                   min=0, min_open=True)
+    telescope_speed: float = param(0.35, "m/s", "steady extension speed V10 of segment 4 (s1) (seed 000)",
+                                   min=0, min_open=True)
+    telescope_speed_ratio: float = param(1.0, "1", "V20 / V10: steady speed of segment 3 (s2) relative to "
+                                         "segment 4 (seed 000: V20 = V10)", min=0)
+    t_acc: float = param(3.0, "s", "acceleration (and deceleration) time T1 of the telescoping law "
+                         "(seed 000 Fig. 5: 0-3 s and 17-20 s)", min=0)
+    telescope_start: float = param(0.0, "s", "time the telescoping starts", min=0)
+    # --- masses and segment geometry, seed 000 Table 1
+    m_head: float = param(178.0, "kg", "hoist head at the tip B (m2)", min=0)
+    m_seg3: float = param(192.6, "kg", "segment 3 (outermost, m3)", min=0)
+    m_seg4: float = param(192.6, "kg", "segment 4 (middle, m4)", min=0)
+    m_seg5: float = param(192.6, "kg", "segment 5 (base, m5)", min=0)
+    l_seg3: float = param(7.0, "m", "length of segment 3 (l3)", min=0, min_open=True)
+    l_seg4: float = param(8.0, "m", "length of segment 4 (l4)", min=0, min_open=True)
+    l_seg5: float = param(9.0, "m", "length of segment 5 (l5)", min=0, min_open=True)
+    seg3_offset: float = param(0.0, "m", "retracted distance O2 - inner end of segment 3 (eq. 13: 0)", min=0)
+    seg4_offset: float = param(0.0, "m", "retracted distance O2 - inner end of segment 4 (eq. 13: 0)", min=0)
+    # --- luffing cylinder, seed 000 eq. 1
+    cyl_boom_arm: float = param(3.08, "m", "distance O2 - cylinder rod end D along the boom axis (l7 in eq. 1)",
+                                min=0, min_open=True)
+    cyl_base_distance: float = param(1.1, "m", "distance O2 - cylinder foot O1 on the platform (l6 = O1O2)",
+                                     min=0, min_open=True)
+    cyl_base_angle: float = param(math.radians(-60.0), "rad", "direction of O1 seen from O2, from the platform's "
+                                  "x axis (alpha in eq. 1; not in seed 000, chosen)", min=-math.pi, max=math.pi)
+    cylinder_stiffness: float = param(3.0e7, "N/m", "oil-column stiffness of the luffing cylinder (estimate: "
+                                      "bulk modulus 1e9 Pa x bore area 0.031 m2 / oil length 1 m)",
+                                      min=0, min_open=True)
+    cylinder_damping: float = param(1.0e5, "N.s/m", "damping of the luffing cylinder (estimate: about 4 % of "
+                                    "critical for the 3.8 Hz luffing mode of the retracted boom)", min=0)
+    # --- frame
+    x_foot: float = param(0.0, "m", "x of the boom foot O2 in the scene frame")
+    y_foot: float = param(0.0, "m", "y of the boom foot O2 in the scene frame at zero settlement")
+    g: float = param(9.81, "m/s2", "gravitational acceleration", min=0)
+
+    def check(self) -> None:
+        dl = abs(self.boom_length_end - self.boom_length_start)
+        if dl > 0.0:
+            t2 = dl / (self.telescope_speed * (1.0 + self.telescope_speed_ratio))
+            if self.t_acc > t2:
+                raise ParameterError(f"boom.t_acc = {self.t_acc!r} is too long: the telescoping law reaches its "
+                                     f"steady speed only if t_acc <= {t2:.6g} s (= |length change| / "
+                                     f"(V10 + V20)); lower t_acc or telescope_speed")
+        if self.luff_delta != 0.0 and self.luff_t_acc > abs(self.luff_delta) / self.luff_rate:
+            raise ParameterError(f"boom.luff_t_acc = {self.luff_t_acc!r} is too long: allowed <= "
+                                 f"|luff_delta| / luff_rate = {abs(self.luff_delta) / self.luff_rate:.6g} s")
+        for name, off, length in (("seg3_offset", self.seg3_offset, self.l_seg3),
+                                  ("seg4_offset", self.seg4_offset, self.l_seg4)):
+            if off + length > self.boom_length_start:
+                raise ParameterError(f"boom.{name} = {off!r} is not allowed: the segment would reach beyond the "
+                                     f"retracted tip; allowed <= boom_length_start - its length = "
+                                     f"{self.boom_length_start - length:.6g} m")
+        for phi in (self.luff_angle, self.luff_angle + self.luff_delta):
+            rel = math.remainder(phi - self.cyl_base_angle, 2.0 * math.pi)
+            if not 0.0 < rel < math.pi:
+                raise ParameterError(f"boom.cyl_base_angle = {self.cyl_base_angle!r} is not allowed with a luffing "
+                                     f"angle of {phi:.6g} rad: the cylinder needs a positive lever arm, i.e. "
+                                     f"0 < phi1 - cyl_base_angle < pi")
+
+
+# --- motion laws --------------------------------------------------------------------------------
+def trapezoid_motion(t: float, t_start: float, distance: float, speed: float,
+                     t_acc: float) -> tuple[float, float, float]:
+    """Position [m or rad], velocity and acceleration of the seed 000 trapezoid velocity law.
+
+    Constant acceleration speed/t_acc over [0, T1], constant speed over [T1, T2], constant
+    deceleration over [T2, T3 = T2 + T1] (times after t_start); T2 = |distance| / speed so that the
+    travel is ``distance`` (the area of the trapezoid is speed * T2).  Needs T2 >= t_acc.
+    """
+    if distance == 0.0 or speed <= 0.0:
+        return 0.0, 0.0, 0.0
+    sign = 1.0 if distance > 0.0 else -1.0
+    v, t1 = speed, t_acc
+    t2 = abs(distance) / v
+    tau = t - t_start
+    if tau <= 0.0:
+        return 0.0, 0.0, 0.0
+    if t1 == 0.0:  # rectangular velocity: infinite acceleration at both ends, reported as 0
+        return (sign * v * tau, sign * v, 0.0) if tau < t2 else (distance, 0.0, 0.0)
+    a = v / t1
+    if tau < t1:
+        s, sd, sdd = 0.5 * a * tau * tau, a * tau, a
+    elif tau < t2:
+        s, sd, sdd = v * (tau - 0.5 * t1), v, 0.0
+    elif tau < t2 + t1:
+        td = tau - t2
+        s, sd, sdd = v * (t2 - 0.5 * t1) + v * td - 0.5 * a * td * td, v - a * td, -a
+    else:
+        return distance, 0.0, 0.0
+    return sign * s, sign * sd, sign * sdd
+
+
+def telescope_law(t: float, p: BoomParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Extensions (s1, s2) [m] with their rates and accelerations (seed 000, telescoping law).
+
+    Both segments share the timing T1 = t_acc, T2 = |L_end - L_start| / (V10 + V20), so each
+    travels V_i * T2 and the boom length reaches L_end at T3 = T2 + T1.
+    """
+    dl = p.boom_length_end - p.boom_length_start
+    v1 = p.telescope_speed
+    v2 = p.telescope_speed * p.telescope_speed_ratio
+    t2 = abs(dl) / (v1 + v2) if dl != 0.0 else 0.0
+    sign = math.copysign(1.0, dl)
+    out = np.zeros((3, 2))
+    for i, v in enumerate((v1, v2)):
+        out[:, i] = trapezoid_motion(t, p.telescope_start, sign * v * t2, v, p.t_acc)
+    return out[0], out[1], out[2]
+
+
+def luff_law(t: float, p: BoomParams) -> tuple[float, float, float]:
+    """Commanded luffing angle phi1 [rad] relative to the platform, its rate and acceleration."""
+    d, dd, ddd = trapezoid_motion(t, p.luff_start, p.luff_delta, p.luff_rate, p.luff_t_acc)
+    return p.luff_angle + d, dd, ddd
+
+
+# --- geometry and mass --------------------------------------------------------------------------
+def cylinder_geometry(phi1: float, p: BoomParams) -> tuple[float, float, float]:
+    """Cylinder length s3 [m], its lever ds3/dphi1 [m] and direction phi2 [rad] for the luffing angle phi1.
+
+    Closed-form solution of eq. 1: s3 e(phi2) = l_D e(phi1) - l6 e(alpha); the law of cosines gives
+    s3^2 = l_D^2 + l6^2 - 2 l_D l6 cos(phi1 - alpha) and s3 s3' = l_D l6 sin(phi1 - alpha).
+    """
+    la, lb, al = p.cyl_boom_arm, p.cyl_base_distance, p.cyl_base_angle
+    cx = la * math.cos(phi1) - lb * math.cos(al)
+    cy = la * math.sin(phi1) - lb * math.sin(al)
+    s3 = math.hypot(cx, cy)
+    return s3, la * lb * math.sin(phi1 - al) / s3, math.atan2(cy, cx)
+
+
+def constraint_residual(phi1: float, phi2: float, s3: float, p: BoomParams) -> float:
+    """|f| of eq. 1 [m]: the loop O2 -> D -> O1 -> O2 must close."""
+    la, lb, al = p.cyl_boom_arm, p.cyl_base_distance, p.cyl_base_angle
+    f1 = la * math.cos(phi1) - s3 * math.cos(phi2) - lb * math.cos(al)
+    f2 = la * math.sin(phi1) - s3 * math.sin(phi2) - lb * math.sin(al)
+    return math.hypot(f1, f2)
+
+
+@dataclass(frozen=True)
+class MassState:
+    """Mass properties of the boom at one instant (derived from eq. 13-18)."""
+
+    length: float    # L, foot - tip [m]
+    length_rate: float
+    length_acc: float
+    mass: float      # sum of masses [kg]
+    S: float         # first moment sum m_i r_i about O2 [kg m]
+    S_rate: float
+    S_acc: float
+    J: float         # moment of inertia about O2 [kg m2]
+    J_rate: float
+
+
+def mass_state(t: float, p: BoomParams) -> MassState:
+    """Mass properties for the telescoping law at time t."""
+    s, sd, sdd = telescope_law(t, p)
+    # (mass, centre distance, its rate, its acceleration, own inertia about the centre) per body
+    bodies = (
+        (p.m_seg5, 0.5 * p.l_seg5, 0.0, 0.0, p.m_seg5 * p.l_seg5 ** 2 / 12.0),
+        (p.m_seg4, p.seg4_offset + s[0] + 0.5 * p.l_seg4, sd[0], sdd[0], p.m_seg4 * p.l_seg4 ** 2 / 12.0),
+        (p.m_seg3, p.seg3_offset + s[0] + s[1] + 0.5 * p.l_seg3, sd[0] + sd[1], sdd[0] + sdd[1],
+         p.m_seg3 * p.l_seg3 ** 2 / 12.0),
+        (p.m_head, p.boom_length_start + s[0] + s[1], sd[0] + sd[1], sdd[0] + sdd[1], 0.0),
+    )
+    mass = sum(b[0] for b in bodies)
+    S = sum(m * r for m, r, _, _, _ in bodies)
+    S_rate = sum(m * rd for m, _, rd, _, _ in bodies)
+    S_acc = sum(m * rdd for m, _, _, rdd, _ in bodies)
+    J = sum(m * r * r + j for m, r, _, _, j in bodies)
+    J_rate = sum(2.0 * m * r * rd for m, r, rd, _, _ in bodies)
+    length = p.boom_length_start + s[0] + s[1]
+    return MassState(length, sd[0] + sd[1], sdd[0] + sdd[1], mass, S, S_rate, S_acc, J, J_rate)
+
+
+def base_reactions(ms: MassState, psi: float, psi_rate: float, psi_acc: float, fx: float, fy: float,
+                   g: float) -> tuple[float, float, float]:
+    """Force (Fx, Fy) [N] and moment M [N m] about O2 that the boom exerts on the chassis (derived:
+    Newton-Euler of the boom with the tip force, gravity and the inertia of its motion about O2)."""
+    c, s = math.cos(psi), math.sin(psi)
+    ar = ms.S_acc - ms.S * psi_rate * psi_rate             # sum m a_i along e_r
+    at = 2.0 * ms.S_rate * psi_rate + ms.S * psi_acc       # sum m a_i along e_psi
+    fbx = fx - (ar * c - at * s)
+    fby = fy - ms.mass * g - (ar * s + at * c)
+    mb = ms.length * (c * fy - s * fx) - g * ms.S * c - (ms.J * psi_acc + ms.J_rate * psi_rate)
+    return fbx, fby, mb
+
+
+# --- the model ----------------------------------------------------------------------------------
+_BASE = ("y_base", "gamma", "vy_base", "gamma_rate")
+_TIP_F = ("Fx_tip", "Fy_tip", "Fz_tip")
+_Y, _G, _VY, _GR, _FX, _FY, _FZ = range(7)
+_REACT_DEPS = ("gamma", "gamma_rate", "Fx_tip", "Fy_tip")
+
+
+class BoomModel(Model):
+    Params = BoomParams
+    description = ("Telescopic boom with luffing cylinder (seed 000 eq. 1, 11-18): telescoping trapezoid law, "
+                   "rigid or spring-damper cylinder, base reactions for the chassis")
+    inputs = (
+        Signal("y_base", "m", "vertical displacement of the boom foot O2 (up positive), from the chassis",
+               coupling=True),
+        Signal("gamma", "rad", "tilt of the chassis, positive when the boom side goes down (seed 000 eq. 4)",
+               coupling=True),
+        Signal("vy_base", "m/s", "vertical velocity of the boom foot O2", coupling=True),
+        Signal("gamma_rate", "rad/s", "tilt rate of the chassis", coupling=True),
+        Signal("Fx_tip", "N", "x component of the rope force on the boom tip", coupling=True),
+        Signal("Fy_tip", "N", "y component of the rope force on the boom tip", coupling=True),
+        Signal("Fz_tip", "N", "z component of the rope force on the boom tip (taken by the slewing gear, "
+               "not used by the planar model)", coupling=True),
+    )
+    outputs = (
+        Signal("x_tip", "m", "x of the boom tip B", depends_on=("gamma",)),
+        Signal("y_tip", "m", "y of the boom tip B", depends_on=("y_base", "gamma")),
+        Signal("z_tip", "m", "z of the boom tip B (0: working plane)"),
+        Signal("vx_tip", "m/s", "x velocity of the boom tip", depends_on=("gamma", "gamma_rate")),
+        Signal("vy_tip", "m/s", "y velocity of the boom tip", depends_on=("gamma", "vy_base", "gamma_rate")),
+        Signal("vz_tip", "m/s", "z velocity of the boom tip (0: working plane)"),
+        Signal("Fx_base", "N", "x force the boom (pivot and cylinder) exerts on the chassis", depends_on=_REACT_DEPS),
+        Signal("Fy_base", "N", "y force the boom (pivot and cylinder) exerts on the chassis", depends_on=_REACT_DEPS),
+        Signal("M_base", "N.m", "moment about z at the boom foot O2 that the boom exerts on the chassis "
+               "(negative tips toward the boom)", depends_on=_REACT_DEPS),
+        Signal("boom_length", "m", "distance foot O2 - tip B"),
+        Signal("luff_angle_out", "rad", "luffing angle phi1 of the boom relative to the slewing platform "
+               "(elevation above horizontal = phi1 - gamma)", depends_on=("gamma",)),
+        Signal("cylinder_force", "N", "push force of the luffing cylinder", depends_on=_REACT_DEPS),
+        Signal("cylinder_length", "m", "length s3 of the luffing cylinder O1-D (eq. 1)", depends_on=("gamma",)),
+        Signal("constraint_residual", "m", "|f| of the loop constraint eq. 1", depends_on=("gamma",)),
+    )
+
+    def state_names(self) -> tuple[str, ...]:
+        # The vector keeps its size in every mode; it is frozen (derivatives 0) unless the
+        # cylinder is a spring-damper on a dynamic tip.
+        return ("psi", "psi_rate", "oil_offset")
+
+    @property
+    def elastic(self) -> bool:
+        return self.p.tip == "dynamic" and self.p.cylinder == "spring_damper"
+
+    def _base(self, u: np.ndarray) -> tuple[float, float, float, float]:
+        if self.p.tip == "kinematic":
+            return 0.0, 0.0, 0.0, 0.0
+        return float(u[_Y]), float(u[_G]), float(u[_VY]), float(u[_GR])
+
+    def _cylinder_force(self, t: float, psi: float, psi_rate: float, offset: float, gamma: float,
+                        gamma_rate: float) -> tuple[float, float]:
+        """Push force [N] of the spring-damper cylinder and its lever ds3/dphi1 [m]."""
+        p = self.p
+        phi_c, phi_c_rate, _ = luff_law(t, p)
+        s3c, lever_c, _ = cylinder_geometry(phi_c, p)
+        s3, lever, _ = cylinder_geometry(psi + gamma, p)
+        force = (p.cylinder_stiffness * (s3c + offset - s3)
+                 + p.cylinder_damping * (lever_c * phi_c_rate - lever * (psi_rate + gamma_rate)))
+        return force, lever
+
+    def _psi_acc(self, t: float, x: np.ndarray, u: np.ndarray, ms: MassState) -> float:
+        p = self.p
+        psi, psi_rate, offset = x
+        force, lever = self._cylinder_force(t, psi, psi_rate, offset, u[_G], u[_GR])
+        c, s = math.cos(psi), math.sin(psi)
+        moment = -p.g * ms.S * c + ms.length * (c * u[_FY] - s * u[_FX]) + force * lever
+        return (moment - ms.J_rate * psi_rate) / ms.J
+
+    def _angles(self, t: float, x: np.ndarray, u: np.ndarray) -> tuple[float, float, float, float]:
+        """(psi, psi_rate, psi_acc, phi1) at time t."""
+        _, gamma, _, gamma_rate = self._base(u)
+        if self.elastic:
+            psi, psi_rate = float(x[0]), float(x[1])
+            return psi, psi_rate, self._psi_acc(t, x, u, mass_state(t, self.p)), psi + gamma
+        phi, phi_rate, phi_acc = luff_law(t, self.p)
+        # rigid cylinder: the boom turns with the chassis; the chassis' angular acceleration is unknown here
+        return phi - gamma, phi_rate - gamma_rate, phi_acc, phi
+
+    def initial_state(self, u: np.ndarray) -> np.ndarray:
+        """Boom at the commanded angle with the oil column pre-compressed to hold the tip load (and the
+        weight), at rest: static equilibrium.  The motion laws are evaluated at t = 0."""
+        p = self.p
+        _, gamma, _, gamma_rate = self._base(u)
+        phi, phi_rate, _ = luff_law(0.0, p)
+        psi, psi_rate = phi - gamma, phi_rate - gamma_rate
+        if not self.elastic:
+            return np.array([psi, psi_rate, 0.0])
+        ms = mass_state(0.0, p)
+        c, s = math.cos(psi), math.sin(psi)
+        moment = -p.g * ms.S * c + ms.length * (c * u[_FY] - s * u[_FX]) - ms.J_rate * psi_rate
+        _, lever, _ = cylinder_geometry(phi, p)
+        return np.array([psi, psi_rate, -moment / lever / p.cylinder_stiffness])
+
+    def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        if not self.elastic:
+            return np.zeros(3)
+        ms = mass_state(t, self.p)
+        return np.array([x[1], self._psi_acc(t, x, u, ms), 0.0])
+
+    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        p = self.p
+        y_base, _, vy_base, _ = self._base(u)
+        psi, psi_rate, psi_acc, phi1 = self._angles(t, x, u)
+        ms = mass_state(t, p)
+        c, s = math.cos(psi), math.sin(psi)
+        L, Ld = ms.length, ms.length_rate
+        tip = (p.x_foot + L * c, p.y_foot + y_base + L * s)
+        vtip = (Ld * c - L * psi_rate * s, vy_base + Ld * s + L * psi_rate * c)
+        fbx, fby, mb = base_reactions(ms, psi, psi_rate, psi_acc, float(u[_FX]), float(u[_FY]), p.g)
+        s3, lever, phi2 = cylinder_geometry(phi1, p)
+        if self.elastic:
+            force, _ = self._cylinder_force(t, psi, psi_rate, float(x[2]), float(u[_G]), float(u[_GR]))
+        else:
+            force = -mb / lever   # the cylinder carries the whole moment about the pivot O2
+        return np.array([tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3,
+                         constraint_residual(phi1, phi2, s3, p)])
+
+    def energy(self, t: float, x: np.ndarray, u: np.ndarray) -> float:
+        """Mechanical energy [J] of the elastic boom with the constant tip force as a potential:
+        kinetic + gravity + oil column - work of the tip force (derived; conserved without damping,
+        telescoping and base motion)."""
+        p = self.p
+        psi, psi_rate, offset = x
+        ms = mass_state(t, p)
+        phi_c, _, _ = luff_law(t, p)
+        s3c, _, _ = cylinder_geometry(phi_c, p)
+        s3, _, _ = cylinder_geometry(psi + u[_G], p)
+        tip_work = ms.length * (u[_FX] * math.cos(psi) + u[_FY] * math.sin(psi))
+        return (0.5 * ms.J * psi_rate ** 2 + p.g * ms.S * math.sin(psi)
+                + 0.5 * p.cylinder_stiffness * (s3c + offset - s3) ** 2 - tip_work)

@@ -1,0 +1,182 @@
+"""Truck body and slewing platform of the truck crane 55713-1K on two elastic outriggers (seed 000).
+
+Rigid body in the working plane (seed 000 eq. 3-10, Table 1): body 9 (m9, J9, centre C9 at l9 from
+the front outrigger) and slewing platform 8 (m8, J8, C8 at l8), fixed to each other during
+luffing and telescoping.  Front outrigger 1 and rear outrigger 2 are l7 = 3.08 m apart; the boom
+foot O2 (slewing centre) is above C8 (eq. 11) and the boom works over the rear outrigger.
+
+Coordinates (derived from eq. 4-5): positions x are measured from O2 toward the boom side, the
+states are the vertical displacement y of O2 (up positive) and the tilt gamma (positive when the
+boom side goes down, gamma = (q2 - q1)/l7, eq. 4).  A body point at x moves up by y - gamma x;
+the pad of outrigger i sinks by q_i = gamma x_i - y.  Small angles, vertical motion only (eq. 5,
+9: horizontal motions of the centres are neglected as in the seed).
+
+    [M      -M x_G] [y'']       [-M g + Fy_base + N1 + N2                              ]
+    [-M x_G  J_O  ] [gamma''] = [ M g x_G - N1 x1 - N2 x2 - M_base + Fx_base h_foot    ]
+
+with M = m8 + m9, M x_G = m8 x8 + m9 x9, J_O = J8 + J9 + m8 x8^2 + m9 x9^2 (eq. 6, 10 in these
+coordinates).  Fx_base acts at the height h_foot of O2 above the pads; seed 000 neglects it
+(h_foot = 0, eq. 11 keeps O2 from moving horizontally).
+
+Soil (seed 000 "C0 = q0 F", Table 2): each outrigger stands on ``pads_per_outrigger`` pads of
+area F = 0.45 x 0.45 m2 on soil with coefficient q0 = 100 MN/m3, c = n q0 F = 40.5 MN/m.  The
+factor 2 (left and right pad) is what the printed settlements need: q = N/c with 104.13 kN ->
+0.00257 m and 77.8 kN -> 0.00192 m gives c = 40.5 MN/m.  Damping b = 405 kN s/m per outrigger as
+printed (b1 = b2, "0.1 %"), i.e. 0.01 s x c; about 36 % of critical for the heave mode.
+
+Unilateral contact (derived): N_i = max(0, c q_i + b q_i') while q_i > 0, else 0.  An outrigger
+cannot pull; when it lifts off the body turns about the other pad by itself.  ``tipping`` is 1
+while an outrigger carries nothing.
+
+Static loads of seed 000 (104.13 kN / 77.8 kN).  The text gives them twice with opposite labels.
+Statics settle it: with the boom at 60 deg, the tip at 10.5 m and a 2.5 t hook load (not the 3.5 t
+of the simulations) the rear outrigger 2, on the boom side, carries 104.14 kN and the front
+outrigger 1 carries 77.79 kN, total 181.93 kN = (m2..m5 + m8 + m9 + 2.5 t) g.  This matches the
+initial conditions q10 = 0.00192 m, q20 = 0.00257 m; the line "N20 = 77.8 kN, N10 = 104.13 kN" has
+the labels swapped (tests/test_physics_chassis.py).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .component import Model, Signal
+from .params import Params, ParameterError, param
+
+
+@dataclass(frozen=True)
+class ChassisParams(Params):
+    component = "chassis"
+    m_body: float = param(10590.0, "kg", "mass of the truck body (m9, Table 1)", min=0, min_open=True)
+    J_body: float = param(15200.21, "kg.m2", "moment of inertia of the body about its centre (J9, Table 1)", min=0)
+    x_body: float = param(0.56, "m", "distance front outrigger - centre of the body C9 (l9, Table 1)")
+    m_platform: float = param(4700.0, "kg", "mass of the slewing platform (m8, Table 1)", min=0)
+    J_platform: float = param(763.18, "kg.m2", "moment of inertia of the platform about its centre (J8, Table 1)",
+                              min=0)
+    x_platform: float = param(1.452, "m", "distance front outrigger - centre of the platform C8 (l8, Table 1)")
+    x_slew: float = param(1.452, "m", "distance front outrigger - slewing centre / boom foot O2 (= l8, eq. 11)")
+    outrigger_base: float = param(3.08, "m", "distance front outrigger - rear outrigger (l7, eq. 4)",
+                                  min=0, min_open=True)
+    h_foot: float = param(0.0, "m", "height of the boom foot O2 above the pads, lever of Fx_base "
+                          "(seed 000 neglects it: 0; about 2.5 m on the real crane)", min=0)
+    soil_coefficient: float = param(100.0e6, "N/m3", "soil coefficient q0 (Table 2; seed 000 takes 100 MN/m3)",
+                                    min=0, min_open=True)
+    pad_area: float = param(0.2025, "m2", "contact area F of one outrigger pad (0.45 x 0.45 m)",
+                            min=0, min_open=True)
+    pads_per_outrigger: int = param(2, "1", "pads acting in parallel at each outrigger position (left and right)",
+                                    min=1, max=8)
+    damping: float = param(405000.0, "N.s/m", "soil damping per outrigger position (b1 = b2, seed 000)", min=0)
+    g: float = param(9.81, "m/s2", "gravitational acceleration", min=0)
+
+    def check(self) -> None:
+        if not 0.0 <= self.x_slew <= self.outrigger_base:
+            raise ParameterError(f"chassis.x_slew = {self.x_slew!r} is not allowed: the slewing centre must lie "
+                                 f"between the outriggers, [0, {self.outrigger_base!r}] m")
+
+
+_FX, _FY, _M = range(3)
+
+
+class ChassisModel(Model):
+    Params = ChassisParams
+    description = ("Truck body and slewing platform on two elastic outriggers with unilateral soil contact "
+                   "(seed 000 eq. 3-10, Tables 1-2)")
+    inputs = (
+        Signal("Fx_base", "N", "x force of the boom on the chassis at the boom foot O2", coupling=True),
+        Signal("Fy_base", "N", "y force of the boom on the chassis at the boom foot O2", coupling=True),
+        Signal("M_base", "N.m", "moment about z at O2 of the boom on the chassis (negative tips toward the boom)",
+               coupling=True),
+    )
+    outputs = (
+        Signal("y_base", "m", "vertical displacement of the boom foot O2 (up positive)"),
+        Signal("gamma", "rad", "tilt of the chassis, positive when the boom side goes down (seed 000 eq. 4)"),
+        Signal("vy_base", "m/s", "vertical velocity of the boom foot O2"),
+        Signal("gamma_rate", "rad/s", "tilt rate of the chassis"),
+        Signal("q1", "m", "downward displacement of the front outrigger pad (settlement; negative: lifted off)"),
+        Signal("q2", "m", "downward displacement of the rear outrigger pad (settlement; negative: lifted off)"),
+        Signal("N_front", "N", "soil reaction on the front outrigger (away from the boom)"),
+        Signal("N_rear", "N", "soil reaction on the rear outrigger (boom side)"),
+        Signal("tipping", "1", "1 while an outrigger has lifted off (carries nothing), else 0"),
+    )
+
+    def __init__(self, params: ChassisParams):
+        super().__init__(params)
+        p = self.p
+        self.x_pads = np.array([-p.x_slew, p.outrigger_base - p.x_slew])          # x1, x2 from O2
+        x8, x9 = p.x_platform - p.x_slew, p.x_body - p.x_slew
+        self.mass = p.m_platform + p.m_body
+        self.first_moment = p.m_platform * x8 + p.m_body * x9                     # M x_G
+        self.inertia = p.J_platform + p.J_body + p.m_platform * x8 ** 2 + p.m_body * x9 ** 2
+        self.mass_matrix = np.array([[self.mass, -self.first_moment], [-self.first_moment, self.inertia]])
+        self.stiffness = p.pads_per_outrigger * p.soil_coefficient * p.pad_area   # c1 = c2
+
+    def state_names(self) -> tuple[str, ...]:
+        return ("y", "gamma", "vy", "gamma_rate")
+
+    # --- pieces -------------------------------------------------------------------------------
+    def settlements(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pad displacements q = gamma x_i - y [m] (down positive) and their rates."""
+        return x[1] * self.x_pads - x[0], x[3] * self.x_pads - x[2]
+
+    def reactions(self, x: np.ndarray) -> np.ndarray:
+        """Soil reactions (N1, N2) [N]: unilateral spring-damper, no pull, no sticking."""
+        q, qd = self.settlements(x)
+        n = self.stiffness * q + self.p.damping * qd
+        return np.where(q > 0.0, np.maximum(n, 0.0), 0.0)
+
+    def applied_loads(self, u: np.ndarray) -> tuple[float, float]:
+        """Vertical load W [N] (down positive) and moment about O2 toward the boom side [N m] of
+        gravity and the boom, i.e. what the pads must carry."""
+        p = self.p
+        w = self.mass * p.g - u[_FY]
+        m = p.g * self.first_moment - u[_M] + u[_FX] * p.h_foot
+        return float(w), float(m)
+
+    def static_reactions(self, u: np.ndarray) -> np.ndarray:
+        """Outrigger reactions (N1, N2) [N] of the statically determinate two-pad support (may be < 0)."""
+        w, m = self.applied_loads(u)
+        x1, x2 = self.x_pads
+        n2 = (m + w * (-x1)) / (x2 - x1)   # moments about the front pad
+        return np.array([w - n2, n2])
+
+    # --- Model interface ------------------------------------------------------------------------
+    def initial_state(self, u: np.ndarray) -> np.ndarray:
+        """Static equilibrium under the inputs.  If the resultant lies outside the support base there
+        is none: the body then rests on the loaded pad carrying the whole vertical load, the other pad
+        just touching, and it starts to tip."""
+        w, _ = self.applied_loads(u)
+        x1, x2 = self.x_pads
+        if w <= 0.0:
+            return np.zeros(4)
+        n = self.static_reactions(u)
+        if n[0] < 0.0:
+            n = np.array([0.0, w])
+        elif n[1] < 0.0:
+            n = np.array([w, 0.0])
+        q1, q2 = n / self.stiffness
+        gamma = (q2 - q1) / (x2 - x1)
+        return np.array([gamma * x1 - q1, gamma, 0.0, 0.0])
+
+    def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        n = self.reactions(x)
+        w, m = self.applied_loads(u)
+        rhs = np.array([-w + n[0] + n[1], m - n @ self.x_pads])
+        acc = np.linalg.solve(self.mass_matrix, rhs)
+        return np.array([x[2], x[3], acc[0], acc[1]])
+
+    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        q, _ = self.settlements(x)
+        n = self.reactions(x)
+        tipping = 1.0 if (n[0] == 0.0 or n[1] == 0.0) else 0.0
+        return np.array([x[0], x[1], x[2], x[3], q[0], q[1], n[0], n[1], tipping])
+
+    def energy(self, x: np.ndarray, u: np.ndarray) -> float:
+        """Kinetic + soil spring energy [J] minus the work of the constant loads (derived; conserved
+        when damping = 0 and the inputs are constant, also through lift-off)."""
+        v = x[2:4]
+        q, _ = self.settlements(x)
+        w, m = self.applied_loads(u)
+        kinetic = 0.5 * v @ self.mass_matrix @ v
+        spring = 0.5 * self.stiffness * float(np.sum(np.maximum(q, 0.0) ** 2))
+        return float(kinetic + spring + w * x[0] - m * x[1])

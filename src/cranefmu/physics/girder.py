@@ -1,0 +1,168 @@
+"""Overhead crane girder and drum bearing carrying the trolley (seed 001 eq. 6 and 10, Table 6, Fig. 4).
+
+The bridge girder is reduced to a mass m1 at mid-span on a spring c1 with damper b1 (the trolley at
+mid-span is the most unfavourable position, seed 001).  The rope drum (mass m3) sits on it through
+the drum-bearing stiffness c3 (Fig. 4, the E_p term 0.5 c3 (q1 - q3)^2); the rope hangs from the
+drum, so the drum is the suspension point.  Lagrange equations of eq. 6 restricted to q1, q3
+(derived), q positive up and measured from the unloaded, weightless girder:
+
+    m1 q1'' = -c1 q1 - b1 q1' + c3 (q3 - q1) + b3 (q3' - q1') - m1 g
+    m3 q3'' = -c3 (q3 - q1) - b3 (q3' - q1') - m3 g + Fy_rope
+
+Seed 001 eq. 6 has no damper on the bearing: b3 defaults to 0.  ``bearing = "rigid"`` ties the drum
+to the girder (q3 = q1, one degree of freedom of mass m1 + m3; the q3 states then copy q1 so the
+state size is fixed).
+
+Damping, eq. 10: logarithmic decrement of welded box girders delta = 3.8 h / L - 0.13 and
+b1 = delta / pi * sqrt(c1 m1).  That b1 is the small-damping form of the exact single-degree-of-freedom
+relation delta = 2 pi zeta / sqrt(1 - zeta^2), b = 2 zeta sqrt(c m), i.e.
+
+    b1 = 2 delta sqrt(c1 m) / sqrt(4 pi^2 + delta^2)          (derived; = delta/pi sqrt(c1 m) + O(delta^3))
+
+which is used here with m = m1 + m3, the mass moving in the fundamental mode (c3 >> c1 keeps the drum
+riding on the girder), so that the fundamental vibration decays with exactly the decrement delta.
+``damping_model = "table"`` takes b1 from Table 6 (2.3e4 N s/m) instead.  Note that Table 6's b1
+corresponds to delta = 0.465, which eq. 10 would give only for h / L = 0.16 (h = 3.2 m at 20 m span); a
+real 5 t, 20 m box girder is about 1 m high (delta = 0.06 by eq. 10).
+
+Only the vertical direction is dynamic: the girder and headstocks are taken as rigid horizontally
+(seed 001 models vertical motion only), so Fx_rope and Fz_rope are accepted and ignored and the
+suspension point stays at (x_pos, z_pos).  y_top = height + q3.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .component import Model, Signal
+from .params import Params, ParameterError, param
+
+
+@dataclass(frozen=True)
+class GirderParams(Params):
+    component = "girder"
+    bearing: str = param("elastic", "", "drum bearing: elastic spring c3 (2 degrees of freedom) or rigid (1)",
+                         choices=("elastic", "rigid"))
+    damping_model: str = param("table", "", "girder damping: b1 from Table 6, or from the logarithmic decrement "
+                               "of eq. 10 (girder_height / span)", choices=("table", "decrement"))
+    m1: float = param(5000.0, "kg", "reduced mass of the girder at mid-span (Table 6)", min=0, min_open=True)
+    c1: float = param(4.6e6, "N/m", "stiffness of the girder at mid-span (Table 6)", min=0, min_open=True)
+    b1: float = param(2.3e4, "N.s/m", "girder damping when damping_model = 'table' (Table 6)", min=0)
+    span: float = param(20.0, "m", "girder span L (seed 001: 20 m)", min=0, min_open=True)
+    girder_height: float = param(1.0, "m", "girder height h for eq. 10 (estimate for a 5 t, 20 m box girder)",
+                                 min=0, min_open=True)
+    m3: float = param(280.0, "kg", "mass of the rope drum on the bearing (Table 6)", min=0, min_open=True)
+    c3: float = param(1.8e8, "N/m", "stiffness of the drum-bearing axis (Table 6)", min=0, min_open=True)
+    b3: float = param(0.0, "N.s/m", "damping of the drum-bearing axis (none in seed 001 eq. 6)", min=0)
+    g: float = param(9.81, "m/s2", "gravitational acceleration (0 leaves out the weight of girder and drum)",
+                     min=0)
+    height: float = param(10.0, "m", "y of the suspension point on the unloaded, weightless girder")
+    x_pos: float = param(0.0, "m", "x of the suspension point (trolley position; fixed)")
+    z_pos: float = param(0.0, "m", "z of the suspension point (fixed)")
+
+    def check(self) -> None:
+        if self.damping_model == "decrement" and eq10_decrement(self.girder_height, self.span) <= 0.0:
+            raise ParameterError(
+                f"girder.girder_height = {self.girder_height!r} is too low for eq. 10: "
+                f"delta = 3.8 h / L - 0.13 must be > 0, allowed girder_height > {0.13 / 3.8 * self.span:.6g} m "
+                f"at span {self.span!r} m")
+
+
+def eq10_decrement(height: float, span: float) -> float:
+    """Logarithmic decrement of a welded box girder, delta = 3.8 h / L - 0.13 [1] (seed 001 eq. 10)."""
+    return 3.8 * height / span - 0.13
+
+
+def beam_stiffness(E: float, I: float, span: float) -> float:
+    """Mid-span stiffness of a simply supported beam, 48 E I / L^3 [N/m] (for girders without a table value)."""
+    return 48.0 * E * I / span ** 3
+
+
+def modal_mass(p: GirderParams) -> float:
+    """Mass moving in the fundamental girder mode, m1 + m3 [kg] (derived: the drum rides on the girder)."""
+    return p.m1 + p.m3
+
+
+def damping_from_decrement(delta: float, c: float, m: float) -> float:
+    """Viscous damping [N s/m] giving the logarithmic decrement delta to an oscillator (c, m) (derived, eq. 10)."""
+    return 2.0 * delta * math.sqrt(c * m) / math.sqrt(4.0 * math.pi ** 2 + delta ** 2)
+
+
+def girder_damping(p: GirderParams) -> float:
+    """b1 [N s/m] used by the model: Table 6 value or eq. 10 (exact form, see module docstring)."""
+    if p.damping_model == "table":
+        return p.b1
+    return damping_from_decrement(eq10_decrement(p.girder_height, p.span), p.c1, modal_mass(p))
+
+
+def log_decrement(p: GirderParams) -> float:
+    """Logarithmic decrement [1] of the girder mode (m1 + m3, c1, b1) with the damping in use."""
+    zeta = girder_damping(p) / (2.0 * math.sqrt(p.c1 * modal_mass(p)))
+    if zeta >= 1.0:
+        return math.inf
+    return 2.0 * math.pi * zeta / math.sqrt(1.0 - zeta * zeta)
+
+
+def static_deflections(fy: float, p: GirderParams) -> tuple[float, float]:
+    """Static q1 (girder) and q3 (suspension point) [m] under the rope force fy [N, up] and gravity (derived)."""
+    q1 = (fy - (p.m1 + p.m3) * p.g) / p.c1
+    q3 = q1 if p.bearing == "rigid" else q1 + (fy - p.m3 * p.g) / p.c3
+    return q1, q3
+
+
+def energy(x: np.ndarray, fy: float, p: GirderParams) -> float:
+    """Kinetic + spring + gravity potential - work potential of a constant rope force [J] (derived)."""
+    q1, v1, q3, v3 = x
+    if p.bearing == "rigid":
+        return 0.5 * modal_mass(p) * v1 ** 2 + 0.5 * p.c1 * q1 ** 2 + (modal_mass(p) * p.g - fy) * q1
+    return (0.5 * p.m1 * v1 ** 2 + 0.5 * p.m3 * v3 ** 2 + 0.5 * p.c1 * q1 ** 2 + 0.5 * p.c3 * (q3 - q1) ** 2
+            + p.g * (p.m1 * q1 + p.m3 * q3) - fy * q3)
+
+
+_FY = 1
+_TOP = ("x_top", "y_top", "z_top", "vx_top", "vy_top", "vz_top")
+
+
+class GirderModel(Model):
+    Params = GirderParams
+    description = ("Overhead crane girder (mass-spring-damper at mid-span) with the drum bearing in series "
+                   "(seed 001 eq. 6, 10, Table 6); vertical motion of the rope suspension point")
+    inputs = tuple(Signal(f"F{c}_rope", "N", f"{c} component of the rope force on the trolley (up positive)"
+                          + ("" if c == "y" else "; ignored, girder rigid horizontally"), coupling=True)
+                   for c in "xyz")
+    outputs = (
+        *(Signal(n, "m", f"{n[0]} of the rope suspension point (drum)") for n in _TOP[:3]),
+        *(Signal(n, "m/s", f"{n[1]} velocity of the rope suspension point") for n in _TOP[3:]),
+        Signal("deflection", "m", "vertical displacement q3 of the suspension point from the unloaded, weightless "
+               "girder (negative = sag)"),
+        Signal("girder_deflection", "m", "vertical displacement q1 of the girder at mid-span (negative = sag)"),
+    )
+
+    def state_names(self) -> tuple[str, ...]:
+        return ("q1", "v1", "q3", "v3")
+
+    def initial_state(self, u: np.ndarray) -> np.ndarray:
+        q1, q3 = static_deflections(float(u[_FY]), self.p)
+        return np.array([q1, 0.0, q3, 0.0])
+
+    def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        p = self.p
+        q1, v1, q3, v3 = x
+        fy = float(u[_FY])
+        b1 = girder_damping(p)
+        if p.bearing == "rigid":
+            a1 = (-p.c1 * q1 - b1 * v1 + fy) / modal_mass(p) - p.g
+            return np.array([v1, a1, v1, a1])
+        f3 = p.c3 * (q3 - q1) + p.b3 * (v3 - v1)
+        a1 = (-p.c1 * q1 - b1 * v1 + f3) / p.m1 - p.g
+        a3 = (fy - f3) / p.m3 - p.g
+        return np.array([v1, a1, v3, a3])
+
+    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        p = self.p
+        q1, v1, q3, v3 = x
+        if p.bearing == "rigid":
+            q3, v3 = q1, v1
+        return np.array([p.x_pos, p.height + q3, p.z_pos, 0.0, v3, 0.0, q3, q1])

@@ -1,0 +1,333 @@
+"""Hook (and payload) hanging from the rope, with optional ground contact and air drag.
+
+Coordinates: x along the reach, y up, z lateral; g_vec = (0, -g, 0).  ``dimension`` restricts
+the translational motion: 1 = vertical only (hoisting, seed 001), 2 = the working plane x-y
+(seed 000), 3 = free (seed 002).  A frozen direction is carried by a constraint (its force
+components are dropped, its accelerations are zero).
+
+Hook (``payload = "none"``): one point mass ``mass`` (hook and load together),
+    mass * a = F_rope + mass * g_vec + N_ground * e_y + F_drag            (derived: Newton)
+
+Hook + payload (seed 002: hook m_h with its own length, payload m_p on a sling L_p; seed 001
+Fig. 4: pulley/hook mass m_4 joined to the load m_2 by the hook stiffness c_2).  The hook is
+the point on the rope; the payload hangs from it on the sling (length ``L_sling``).  Unit
+vector hook -> payload in terms of the payload angles (same convention as the hook's own
+theta/phi about the suspension point: theta in the x-y plane, phi out of it):
+
+    e(theta, phi) = ( sin(theta) cos(phi), -cos(theta) cos(phi), sin(phi) )
+
+  rigid sling (derived; seed 002's eq. 2-53 are illegible, so re-derived by Newton-Euler,
+  which gives the same equations as Lagrange's with q = (x_h, y_h, z_h, theta, phi) because
+  the constraint force S e does no virtual work along the angles).  With
+  p_p = p_h + L e, e_t = de/dtheta = (cos t cos p, sin t cos p, 0), e_p = de/dphi =
+  (-sin t sin p, cos t sin p, cos p) (e, e_t, e_p orthogonal, |e_t| = cos p, |e_p| = 1),
+  F_h = F_rope + m_h g_vec + F_drag,h and f_p = g_vec + (N e_y + F_drag,p) / m_p:
+
+    hook:      m_h a_h = F_h + S e                    (S = sling tension, > 0 when pulling)
+    payload:   m_p a_p = m_p f_p - S e
+    a_p = a_h + L (e_t theta'' + e_p phi'' + h),  e.h = -|e'|^2 = -(cos^2 p theta'^2 + phi'^2)
+    e . (payload eq. / m_p - hook eq. / m_h), where e.(a_p - a_h) = L e.h (e.e_t = e.e_p = 0):
+               S = mu * ( e.(f_p - F_h/m_h) + L (cos^2 p theta'^2 + phi'^2) ),  mu = m_h m_p / (m_h + m_p)
+    e_t, e_p components of the payload equation (S drops out):
+               theta'' = ( e_t.(f_p - a_h) + 2 L sin p cos p theta' phi' ) / (L cos^2 p)
+               phi''   = ( e_p.(f_p - a_h) -   L sin p cos p theta'^2 ) / L
+  The angles are singular only at phi = +-90 deg (payload level with the hook, sideways).
+  Dimension 2 freezes phi = 0, dimension 1 also theta = 0 (payload rigidly below the hook:
+  the pair moves as one mass m_h + m_p and S is the internal force).
+
+  elastic sling: the payload is a point mass in Cartesian coordinates joined to the hook by a
+  linear spring-damper along the chord (seed 001 eq. 6, term 0.5 c_2 (q_2 - q_4)^2; bilateral as
+  there: c_2 is the stiffness of the hook body, which also carries the hook resting on the load
+  when the rope is loose):
+    d = p_p - p_h, l = |d|, e = d / l,  S = c (l - L) + b e.(v_p - v_h),  b = 2 zeta sqrt(c mu)
+    m_h a_h = F_h + S e,   m_p a_p = m_p f_p - S e
+  (seed 001 has no damper on c_2, so zeta_sling defaults to 0; the damping law is the one of the
+  rope, seed 001 eq. 9, with the reduced mass of the two-mass mode.)
+
+Ground contact (seed 001 eq. 7, with the damper b_p of Fig. 4 / Table 6): the lowest body
+(payload if any, else hook) and a unilateral spring-damper at y = ground_height,
+    pen = ground_height - y,  N = max(0, c_g pen - b_g v_y) if pen > 0 else 0.
+The max(0, .) keeps the damper from pulling the load down while it leaves the ground.
+No friction: in 2-D/3-D a load on the ground slides freely sideways.
+
+Air drag (optional, derived: quadratic drag in still air) on the load body (``drag_area``) and,
+with a payload, on the hook (``drag_area_hook``):  F_drag = -0.5 rho C_d A |v| v.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .component import Model, Signal
+from .params import ParameterError, Params, param
+
+_HALF_PI = 0.5 * math.pi
+
+
+@dataclass(frozen=True)
+class PendulumParams(Params):
+    component = "pendulum"
+    dimension: int = param(2, "1", "degrees of translational freedom: 1 vertical, 2 working plane x-y, 3 free",
+                           choices=(1, 2, 3))
+    mass: float = param(1000.0, "kg", "mass of the hook (of hook and load together when payload = 'none'); "
+                        "seed 002 hook 3-5 kg, seed 001 pulley/hook m_4 = 30 kg", min=0, min_open=True)
+    g: float = param(9.81, "m/s2", "gravitational acceleration", min=0)
+    x0: float = param(0.0, "m", "initial x of the hook")
+    y0: float = param(-10.0, "m", "initial y (height) of the hook")
+    z0: float = param(0.0, "m", "initial z of the hook")
+    vx0: float = param(0.0, "m/s", "initial x velocity of the hook")
+    vy0: float = param(0.0, "m/s", "initial y velocity of the hook")
+    vz0: float = param(0.0, "m/s", "initial z velocity of the hook")
+    # --- payload on a sling below the hook (seed 002; seed 001 hook stiffness c_2) ---
+    payload: str = param("none", "", "payload below the hook: none (hook carries the load), rigid sling "
+                         "(spherical pendulum about the hook), elastic sling (spring-damper, seed 001 c_2)",
+                         choices=("none", "rigid", "elastic"))
+    m_payload: float = param(0.0, "kg", "payload mass (seed 001: m_2 = 1800 kg); 0 when payload = 'none'", min=0)
+    L_sling: float = param(0.5, "m", "sling length hook -> payload centre (seed 002: L_p = 0.5 m)",
+                           min=0, min_open=True)
+    c_sling: float = param(2.0e7, "N/m", "sling/hook stiffness of the elastic sling (seed 001 Table 6: c_2)",
+                           min=0, min_open=True)
+    zeta_sling: float = param(0.0, "1", "damping ratio of the elastic sling, b = 2 zeta sqrt(c mu), mu the "
+                              "reduced mass (seed 001 has none on c_2)", min=0, max=10)
+    theta_payload0: float = param(0.0, "rad", "initial payload angle in the x-y plane from the vertical through "
+                                  "the hook (dimension >= 2)", min=-math.pi, max=math.pi)
+    phi_payload0: float = param(0.0, "rad", "initial lateral payload angle out of the x-y plane (dimension 3)",
+                                min=-_HALF_PI, max=_HALF_PI, min_open=True, max_open=True)
+    # --- ground contact (seed 001 eq. 7) ---
+    ground: str = param("none", "", "ground under the load: none, or a unilateral spring-damper (seed 001 eq. 7)",
+                        choices=("none", "spring_damper"))
+    ground_height: float = param(-10.0, "m", "height y of the ground surface")
+    c_ground: float = param(2.0e8, "N/m", "ground stiffness (seed 001 Table 6: c_p)", min=0, min_open=True)
+    b_ground: float = param(1.0e6, "N.s/m", "ground damping (seed 001 Table 6: b_p)", min=0)
+    # --- air drag ---
+    drag_coefficient: float = param(0.0, "1", "drag coefficient C_d (0: no air drag; seed 002 neglects it)", min=0)
+    drag_area: float = param(1.0, "m2", "frontal area of the load (payload, or the hook when payload = 'none')",
+                             min=0)
+    drag_area_hook: float = param(0.02, "m2", "frontal area of the hook (only with a payload)", min=0)
+    rho_air: float = param(1.225, "kg/m3", "air density", min=0)
+
+    def check(self) -> None:
+        if self.payload == "none" and self.m_payload != 0.0:
+            raise ParameterError(
+                f"pendulum.m_payload = {self.m_payload!r} needs payload = 'rigid' or 'elastic' "
+                f"(with payload = 'none' the load is part of pendulum.mass): allowed 0 here")
+        if self.payload != "none" and self.m_payload <= 0.0:
+            raise ParameterError(
+                f"pendulum.m_payload = {self.m_payload!r} with payload = {self.payload!r}: allowed (0, inf) kg")
+
+
+_FORCE = ("Fx_rope", "Fy_rope", "Fz_rope")
+_TOP = ("x_top", "y_top", "z_top")
+_MASKS = {1: (0.0, 1.0, 0.0), 2: (1.0, 1.0, 0.0), 3: (1.0, 1.0, 1.0)}
+
+
+def _angles(dx: float, dy_down: float, dz: float) -> tuple[float, float]:
+    """Sway angles of a chord: theta in the x-y plane, phi out of it (rad)."""
+    return math.atan2(dx, dy_down), math.atan2(dz, math.hypot(dx, dy_down))
+
+
+def _floats(a) -> list:
+    """Plain Python floats: scalar arithmetic on them is several times cheaper than on numpy scalars."""
+    return a.tolist() if hasattr(a, "tolist") else [float(v) for v in a]
+
+
+def _unit(theta: float, phi: float) -> tuple[float, float, float]:
+    """Unit vector from the pivot down to the bob for payload angles theta, phi."""
+    cp = math.cos(phi)
+    return math.sin(theta) * cp, -math.cos(theta) * cp, math.sin(phi)
+
+
+class PendulumModel(Model):
+    Params = PendulumParams
+    description = ("Hook, optionally with a payload on a rigid or elastic sling (seed 002, seed 001 c_2), "
+                   "under gravity and the rope force, with ground contact (seed 001 eq. 7) and air drag")
+    inputs = (
+        *(Signal(n, "N", f"{n[1]} component of the rope force on the hook", coupling=True) for n in _FORCE),
+        *(Signal(n, "m", f"{n[0]} of the suspension point (for the sway angles)", coupling=True) for n in _TOP),
+    )
+    outputs = (
+        *(Signal(n, "m", f"{n} coordinate of the hook") for n in ("x", "y", "z")),
+        *(Signal(n, "m/s", f"{n[1]} velocity of the hook") for n in ("vx", "vy", "vz")),
+        Signal("theta", "rad", "sway angle in the working plane x-y, from the vertical through the suspension point",
+               depends_on=_TOP),
+        Signal("phi", "rad", "lateral sway angle out of the working plane", depends_on=_TOP),
+        Signal("N_ground", "N", "ground reaction on the load (0 without ground contact)"),
+        *(Signal(f"{c}_payload", "m", f"{c} coordinate of the payload (the hook's without payload)") for c in "xyz"),
+        *(Signal(f"v{c}_payload", "m/s", f"{c} velocity of the payload (the hook's without payload)") for c in "xyz"),
+        Signal("theta_payload", "rad", "payload angle in the x-y plane from the vertical through the hook"),
+        Signal("phi_payload", "rad", "lateral payload angle out of the x-y plane, about the hook"),
+        Signal("sling_force", "N", "sling tension between hook and payload (0 without payload)", depends_on=_FORCE),
+        Signal("lifted", "1", "1 while the load is off the ground (no ground reaction), else 0", discrete=True),
+    )
+
+    def __init__(self, params: PendulumParams):
+        super().__init__(params)
+        p = self.p
+        self._m = _MASKS[p.dimension]
+        self._total = p.mass + p.m_payload
+        self._mu = p.mass * p.m_payload / self._total
+        self._b_sling = 2.0 * p.zeta_sling * math.sqrt(p.c_sling * self._mu)
+        half = 0.5 * p.rho_air * p.drag_coefficient
+        self._k_load = half * p.drag_area
+        self._k_hook = half * p.drag_area_hook if p.payload != "none" else 0.0
+        self._has_ground = p.ground != "none"
+
+    # --- helpers ---------------------------------------------------------------------------
+    def _mask(self) -> np.ndarray:
+        return np.array(self._m)
+
+    def _ground_force(self, y: float, vy: float) -> float:
+        """Seed 001 eq. 7 with damper: unilateral, never pulls."""
+        if not self._has_ground:
+            return 0.0
+        pen = self.p.ground_height - y
+        if pen <= 0.0:
+            return 0.0
+        return max(0.0, self.p.c_ground * pen - self.p.b_ground * vy)
+
+    @staticmethod
+    def _drag(k: float, vx: float, vy: float, vz: float) -> tuple[float, float, float]:
+        if k == 0.0:
+            return 0.0, 0.0, 0.0
+        s = -k * math.sqrt(vx * vx + vy * vy + vz * vz)
+        return s * vx, s * vy, s * vz
+
+    def _hook_force(self, x: np.ndarray, u: np.ndarray) -> tuple[float, float, float]:
+        """Rope + weight + drag on the hook of a hook-payload pair, frozen directions dropped."""
+        p, m = self.p, self._m
+        dx, dy, dz = self._drag(self._k_hook, x[3], x[4], x[5])
+        return ((u[0] + dx) * m[0], (u[1] - p.mass * p.g + dy) * m[1], (u[2] + dz) * m[2])
+
+    def _payload_accel(self, y: float, v: tuple[float, float, float]) -> tuple[tuple[float, float, float], float]:
+        """Applied acceleration f_p of the payload (gravity, ground, drag) and the ground reaction N."""
+        p, m = self.p, self._m
+        n = self._ground_force(y, v[1])
+        dx, dy, dz = self._drag(self._k_load, *v)
+        inv = 1.0 / p.m_payload
+        return (dx * inv * m[0], ((n + dy) * inv - p.g) * m[1], dz * inv * m[2]), n
+
+    def _rigid(self, x: np.ndarray, u: np.ndarray):
+        """Rigid sling: hook acceleration, payload angular accelerations, S and N (see module doc)."""
+        p, m = self.p, self._m
+        L = p.L_sling
+        th, ph, dth, dph = x[6], x[7], x[8], x[9]
+        st, ct, sp, cp = math.sin(th), math.cos(th), math.sin(ph), math.cos(ph)
+        e = (st * cp, -ct * cp, sp)
+        et = (ct * cp, st * cp, 0.0)
+        ep = (-st * sp, ct * sp, cp)
+        vp = (x[3] + L * (et[0] * dth + ep[0] * dph), x[4] + L * (et[1] * dth + ep[1] * dph),
+              x[5] + L * ep[2] * dph)
+        fp, n = self._payload_accel(x[1] + L * e[1], vp)
+        fh = self._hook_force(x, u)
+        mh = p.mass
+        w2 = L * (cp * cp * dth * dth + dph * dph)
+        s = self._mu * (e[0] * (fp[0] - fh[0] / mh) + e[1] * (fp[1] - fh[1] / mh) + e[2] * (fp[2] - fh[2] / mh) + w2)
+        ah = ((fh[0] + s * e[0]) / mh * m[0], (fh[1] + s * e[1]) / mh * m[1], (fh[2] + s * e[2]) / mh * m[2])
+        r = (fp[0] - ah[0], fp[1] - ah[1], fp[2] - ah[2])
+        if p.dimension == 1:
+            ddth = ddph = 0.0
+        else:
+            ddth = (et[0] * r[0] + et[1] * r[1] + 2.0 * L * sp * cp * dth * dph) / (L * cp * cp)
+            ddph = (ep[0] * r[0] + ep[1] * r[1] + ep[2] * r[2] - L * sp * cp * dth * dth) / L \
+                if p.dimension == 3 else 0.0
+        return ah, ddth, ddph, s, n, e, vp
+
+    def _elastic(self, x: np.ndarray, u: np.ndarray):
+        """Elastic sling: hook and payload accelerations, S and N (see module doc)."""
+        p, m = self.p, self._m
+        d0, d1, d2 = x[6] - x[0], x[7] - x[1], x[8] - x[2]
+        length = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        e = (d0 / length, d1 / length, d2 / length) if length > 0.0 else (0.0, -1.0, 0.0)
+        rate = e[0] * (x[9] - x[3]) + e[1] * (x[10] - x[4]) + e[2] * (x[11] - x[5])
+        s = p.c_sling * (length - p.L_sling) + self._b_sling * rate
+        vp = (x[9], x[10], x[11])
+        fp, n = self._payload_accel(x[7], vp)
+        fh = self._hook_force(x, u)
+        mh, mp = p.mass, p.m_payload
+        ah = ((fh[0] + s * e[0]) / mh * m[0], (fh[1] + s * e[1]) / mh * m[1], (fh[2] + s * e[2]) / mh * m[2])
+        ap = ((fp[0] - s * e[0] / mp) * m[0], (fp[1] - s * e[1] / mp) * m[1], (fp[2] - s * e[2] / mp) * m[2])
+        return ah, ap, s, n, e
+
+    # --- interface -------------------------------------------------------------------------
+    def state_names(self) -> tuple[str, ...]:
+        hook = ("x", "y", "z", "vx", "vy", "vz")
+        if self.p.payload == "rigid":
+            return hook + ("theta_payload", "phi_payload", "dtheta_payload", "dphi_payload")
+        if self.p.payload == "elastic":
+            return hook + ("x_payload", "y_payload", "z_payload", "vx_payload", "vy_payload", "vz_payload")
+        return hook
+
+    def initial_state(self, u: np.ndarray) -> np.ndarray:
+        """At rest (apart from the given hook velocity), consistent with the rope force in ``u``.
+
+        Hanging: the sling carries the share of the rope force that accelerates the payload with
+        the hook, S = -(m_p / M) F.e (S = m_p g at equilibrium, 0 in free fall).  On the ground
+        (the load's nominal height <= ground_height): the load sinks in by N / c_g with
+        N = max(0, M g - F_y), and the hook's own balance along the sling gives S = -F.e + m_h g e_y
+        (negative: the hook rests on the load).
+        """
+        p, m = self.p, self._m
+        v = (p.vx0 * m[0], p.vy0 * m[1], p.vz0 * m[2])
+        F = (u[0] * m[0], u[1] * m[1], u[2] * m[2])
+        if p.payload == "none":
+            y = p.y0
+            if self._has_ground and p.y0 <= p.ground_height:
+                y = p.ground_height - max(0.0, p.mass * p.g - F[1]) / p.c_ground
+            return np.array([p.x0, y, p.z0, *v])
+        th = p.theta_payload0 if p.dimension >= 2 else 0.0
+        ph = p.phi_payload0 if p.dimension == 3 else 0.0
+        e = _unit(th, ph)
+        f_e = F[0] * e[0] + F[1] * e[1] + F[2] * e[2]
+        hook = [p.x0, p.y0, p.z0]
+        n = 0.0
+        on_ground = self._has_ground and p.y0 + p.L_sling * e[1] <= p.ground_height
+        if on_ground:
+            n = max(0.0, self._total * p.g - F[1])
+        s = -f_e + p.mass * p.g * e[1] if n > 0.0 else -p.m_payload / self._total * f_e
+        length = p.L_sling + s / p.c_sling if p.payload == "elastic" else p.L_sling
+        if on_ground:
+            hook[1] = p.ground_height - n / p.c_ground - length * e[1]
+        if p.payload == "rigid":
+            return np.array([*hook, *v, th, ph, 0.0, 0.0])
+        return np.array([*hook, *v, *(hook[i] + length * e[i] for i in range(3)), *v])
+
+    def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        p, m = self.p, self._m
+        if p.payload == "none":
+            fx, fy, fz = u[0], u[1], u[2]
+            if self._has_ground:
+                fy = fy + self._ground_force(x[1], x[4])
+            if self._k_load != 0.0:
+                dx, dy, dz = self._drag(self._k_load, x[3], x[4], x[5])
+                fx, fy, fz = fx + dx, fy + dy, fz + dz
+            mass = p.mass
+            return np.array([x[3], x[4], x[5], fx / mass * m[0], (fy / mass - p.g) * m[1], fz / mass * m[2]])
+        x, u = _floats(x), _floats(u)
+        if p.payload == "rigid":
+            ah, ddth, ddph, _, _, _, _ = self._rigid(x, u)
+            dth = x[8] if p.dimension >= 2 else 0.0
+            dph = x[9] if p.dimension == 3 else 0.0
+            return np.array([x[3], x[4], x[5], *ah, dth, dph, ddth, ddph])
+        ah, ap, _, _, _ = self._elastic(x, u)
+        return np.array([x[3], x[4], x[5], *ah, x[9], x[10], x[11], *ap])
+
+    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        p = self.p
+        x, u = _floats(x), _floats(u)
+        theta, phi = _angles(x[0] - u[3], u[4] - x[1], x[2] - u[5])
+        if p.payload == "none":
+            n = self._ground_force(x[1], x[4])
+            pp, vp, s, th_p, ph_p = x[0:3], x[3:6], 0.0, 0.0, 0.0
+        elif p.payload == "rigid":
+            _, _, _, s, n, e, vp = self._rigid(x, u)
+            L = p.L_sling
+            pp = (x[0] + L * e[0], x[1] + L * e[1], x[2] + L * e[2])
+            th_p, ph_p = _angles(e[0], -e[1], e[2])
+        else:
+            _, _, s, n, e = self._elastic(x, u)
+            pp, vp = x[6:9], x[9:12]
+            th_p, ph_p = _angles(e[0], -e[1], e[2])
+        lifted = 1.0 if n == 0.0 else 0.0
+        return np.array([*x[:6], theta, phi, n, *pp, *vp, th_p, ph_p, s, lifted])
