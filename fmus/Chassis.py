@@ -1,0 +1,7 @@
+"""Chassis FMU: truck chassis on elastic outriggers with unilateral contact (cranefmu.physics.chassis)."""
+from cranefmu.fmi_adapter import CraneSlave
+from cranefmu.physics.chassis import ChassisModel
+
+
+class Chassis(CraneSlave):
+    physics = ChassisModel
