@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .component import Model, Signal
-from .params import Params, param
+from .params import ParameterError, Params, param
 
 
 @dataclass(frozen=True)
@@ -38,6 +38,11 @@ class RopeParams(Params):
     zeta: float = param(0.07, "1", "dimensionless damping ratio of steel wire rope (seed 001 eq. 9)", min=0, max=10)
     m_load: float = param(1000.0, "kg", "suspended mass used in the damping law of eq. 9", min=0)
     rho: float = param(7850.0, "kg/m3", "density of the rope metal", min=0)
+
+    def check(self) -> None:
+        if self.model == "bouc_wen":  # physics in boucwen.py; the rope does not integrate z yet
+            raise ParameterError("rope.model = 'bouc_wen' is not available in this version: "
+                                 "allowed 'kelvin_voigt'")
 
 
 # input indices (order of RopeModel.inputs)
