@@ -65,6 +65,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .motion_laws import trapezoid_motion
 from .component import Model, Signal
 from .params import Params, ParameterError, param
 
@@ -223,20 +224,9 @@ def drivetrain_energy(phi: np.ndarray, omega: np.ndarray, p: DriveParams) -> flo
 
 
 def trapezoid(t: float, p: DriveParams) -> tuple[float, float, float]:
-    """Payout [m], payout rate [m/s] and its derivative [m/s^2] of the seed 000 trapezoid law at time t."""
-    tau = t - p.start_time
-    v, ta, te = p.payout_speed, p.t_acc, p.duration
-    a = v / ta
-    if tau <= 0.0:
-        return 0.0, 0.0, 0.0
-    if tau < ta:
-        return 0.5 * a * tau * tau, a * tau, a
-    if tau < te - ta:
-        return v * (tau - 0.5 * ta), v, 0.0
-    if tau < te:
-        td = tau - (te - ta)
-        return v * (te - 1.5 * ta) + v * td - 0.5 * a * td * td, v - a * td, -a
-    return v * (te - ta), 0.0, 0.0
+    """Payout [m], payout rate [m/s] and its derivative [m/s^2] of the seed 000 trapezoid law at time t:
+    ``payout_speed`` reached after ``t_acc``, held, and back to 0 at ``duration``."""
+    return trapezoid_motion(t, p.start_time, p.payout_speed * (p.duration - p.t_acc), p.payout_speed, p.t_acc)
 
 
 def pretwisted_angles(load_torque: float, p: DriveParams) -> np.ndarray:
