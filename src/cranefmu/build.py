@@ -11,6 +11,7 @@ Only what is older than its sources is rebuilt.
 from __future__ import annotations
 
 import hashlib
+import os
 import re
 import shutil
 import sys
@@ -90,7 +91,8 @@ def build_fmu(script: Path, dest: Path | None = None) -> Path:
         staged_script.write_text(_IMPORT.sub(rf"\g<1>{name}\g<2>", script.read_text()))
         built = FmuBuilder.build_FMU(staged_script, dest=stage / "out", project_files=[pkg],
                                      canGetAndSetFMUstate=True, canSerializeFMUstate=True)
-        tmp_fmu = dest.with_suffix(".fmu.tmp")
+        # a name of its own per process: parallel builds (test runs side by side) must not share it
+        tmp_fmu = dest.with_suffix(f".fmu.{os.getpid()}.tmp")
         shutil.copy2(built, tmp_fmu)
         _ensure_binaries(tmp_fmu, script.stem)
         tmp_fmu.replace(dest)  # never leave a half-written FMU behind
@@ -148,7 +150,7 @@ def ssp_is_stale(scene_dir: Path) -> bool:
 def build_ssp(scene_dir: Path) -> Path:
     """Zip SystemStructure.ssd, its .ssv parameter sets and its FMUs into ``ssp/<scene>.ssp``."""
     ssp = scene_dir.with_suffix(".ssp")
-    tmp = ssp.with_suffix(".ssp.tmp")
+    tmp = ssp.with_suffix(f".ssp.{os.getpid()}.tmp")
     with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
         zf.write(scene_dir / "SystemStructure.ssd", "SystemStructure.ssd")
         for f in sorted(scene_dir.glob("*.ssv")):
