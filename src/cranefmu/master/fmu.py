@@ -60,16 +60,28 @@ class FmuComponent:
     """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages."""
 
     def __init__(self, name: str, fmu_path: Path, unzipdir: Path):
-        from fmpy import extract, read_model_description
+        from fmpy import read_model_description
+
+        from .scene import safe_extract
+        from .xml_guard import check_xml
 
         self.name = name
+        # fmpy.extract lets zipfile rewrite '../' entries silently; ours refuses the archive instead
+        self.unzipdir = Path(unzipdir)
         try:
-            self.md = read_model_description(str(fmu_path), validate=False)
+            safe_extract(fmu_path, self.unzipdir)
+            md_xml = (self.unzipdir / "modelDescription.xml").read_bytes()
+        except SceneError as err:
+            raise SceneError(f"component {name!r}: {err}") from None
+        except Exception as err:
+            raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
+        check_xml(md_xml, f"component {name!r}: {fmu_path.name}/modelDescription.xml")
+        try:
+            self.md = read_model_description(str(self.unzipdir), validate=False)
         except Exception as err:
             raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
         if self.md.fmiVersion != "2.0" or self.md.coSimulation is None:
             raise SceneError(f"component {name!r}: {fmu_path.name} is not an FMI 2.0 co-simulation FMU")
-        self.unzipdir = Path(extract(str(fmu_path), unzipdir=str(unzipdir)))
         self.variables = {v.name: v for v in self.md.modelVariables}
         self.fmu = None
         self.alive = False

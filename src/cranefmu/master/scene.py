@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .errors import ParameterSetError, SceneError
+from .xml_guard import check_xml_files
 
 
 @dataclass
@@ -65,6 +66,7 @@ def load_scene(ssp: Path, workdir: Path) -> Scene:
         raise SceneError(f"scene file {ssp} does not exist")
     try:
         safe_extract(ssp, workdir)
+        check_xml_files(workdir, ssp.name)  # no DTD/entities before fmpy's parser sees them
         ssd = read_ssd(str(ssp))
     except SceneError:
         raise

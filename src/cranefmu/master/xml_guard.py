@@ -1,0 +1,49 @@
+"""Untrusted XML (SSD, SSV, modelDescription.xml): refuse documents with a DTD before fmpy reads them.
+
+SSP and FMI files never need a document type declaration.  A DTD is how XML pulls in external
+files (XXE: ``<!ENTITY x SYSTEM "file:///...">``) or expands a few bytes into gigabytes (nested
+entities, "billion laughs").  The check parses with a parser that resolves no entities, loads no
+DTD and touches no network, so the check itself is safe; fmpy (lxml with its defaults) only
+ever sees documents that passed it.
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from .errors import SceneError
+
+_DOCTYPE = re.compile(rb"<!DOCTYPE", re.IGNORECASE)
+_DTD_REFUSED = ("{} declares a document type (<!DOCTYPE ...>): not allowed, SSP and FMI XML needs no DTD "
+                "or entities (refused against external-entity and entity-expansion attacks)")
+XML_SUFFIXES = (".ssd", ".ssv", ".ssm", ".ssb", ".xml")
+
+
+def _parser():
+    from lxml import etree
+
+    return etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False,
+                           dtd_validation=False)
+
+
+def check_xml(data: bytes, where: str) -> None:
+    """Raise :class:`SceneError` if ``data`` is not well-formed XML or declares a DTD or entities."""
+    from lxml import etree
+
+    if _DOCTYPE.search(data):  # before parsing: an entity bomb is refused without being expanded
+        raise SceneError(_DTD_REFUSED.format(where))
+    try:
+        root = etree.fromstring(data, _parser())
+    except etree.XMLSyntaxError as err:
+        raise SceneError(f"{where} is not well-formed XML: {err}") from None
+    doc = root.getroottree().docinfo
+    if doc.internalDTD is not None or doc.externalDTD is not None or doc.doctype:
+        raise SceneError(_DTD_REFUSED.format(where))
+
+
+def check_xml_files(directory: Path, label: str) -> None:
+    """Check every SSP/FMI XML file under ``directory`` (an extracted archive named ``label``)."""
+    directory = Path(directory)
+    for path in sorted(directory.rglob("*")):
+        if path.suffix.lower() in XML_SUFFIXES and path.is_file():
+            check_xml(path.read_bytes(), f"{label}: {path.relative_to(directory).as_posix()}")
