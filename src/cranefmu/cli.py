@@ -70,6 +70,21 @@ def _cmd_info(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_converge(args: argparse.Namespace) -> int:
+    from .converge import format_report, parse_numbers, study, write_outputs
+
+    steps = parse_numbers(args.steps, "--steps") if args.steps else []
+    tolerances = parse_numbers(args.tolerances, "--tolerances") if args.tolerances else []
+    s = study(args.scene, steps, algorithm=args.algorithm, extrapolation=args.extrapolation,
+              reference=args.reference, tolerances=tolerances, target=args.target, stop_time=args.stop_time,
+              parameter_set=args.parameter_set, parameters=_parse_set(args.set),
+              progress=lambda text: print(text, file=sys.stderr, flush=True))
+    print(format_report(s))
+    table, png = write_outputs(s, Path(args.output or f"converge_{args.scene}"))
+    print(f"results: {table} and {png}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="cranefmu", description="Crane dynamics as FMI co-simulation components.")
     sub = p.add_subparsers(dest="command", required=True)
@@ -94,6 +109,25 @@ def build_parser() -> argparse.ArgumentParser:
     i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
     i.add_argument("scene")
     i.set_defaults(func=_cmd_info)
+
+    c = sub.add_parser("converge", help="error of the key outputs against a reference at several steps; "
+                                        "recommends the cheapest setting meeting --target")
+    c.add_argument("scene", help="scene name (one of cranefmu.scenes.SCENES)")
+    c.add_argument("--steps", default="4e-3,2e-3,1e-3,5e-4", help="macro steps [s], comma-separated "
+                   "(default 4e-3,2e-3,1e-3,5e-4)")
+    c.add_argument("--tolerances", default=None, help="adaptive-step tolerances, comma-separated (if the master "
+                   "supports adaptive stepping)")
+    c.add_argument("--algorithm", default="jacobi", help="coupling algorithm (default jacobi)")
+    c.add_argument("--extrapolation", type=int, default=0, help="order of the input extrapolation: 0, 1, 2")
+    c.add_argument("--reference", default="monolithic", help="monolithic (the scene's scipy solve) or finest "
+                   "(a co-simulation at min(H)/4)")
+    c.add_argument("--target", type=float, default=1e-2, help="largest error / signal range accepted (default 1e-2)")
+    c.add_argument("--stop-time", type=float, default=None, help="end of each run [s] (default: the scene's)")
+    c.add_argument("--parameter-set", default=None, help="a parameter set of the scene")
+    c.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE", help="override (repeatable)")
+    c.add_argument("--output", default=None, help="directory for converge.csv and error_vs_wall.png "
+                   "(default converge_SCENE)")
+    c.set_defaults(func=_cmd_converge)
     return p
 
 
