@@ -12,6 +12,24 @@ eq. 25-28): the reeving of ``n_lines`` parallel lines acts as one spring-damper
 with delta = |p_hook - p_top| - L_u.  A rope cannot push: no compression when slack, and the
 damping force cannot turn the total negative while taut (it would pull the load through a rope
 that is contracting faster than it can relax).  The drum sees one line: T / n_lines.
+
+Modified Bouc-Wen (``model = "bouc_wen"``, seed 001 eq. 1-3, physics in :mod:`.boucwen`): the
+reeving is one Bouc-Wen element with x = delta (elongation) and x' = delta_dot from the geometry,
+
+    T = max(0, F_2(delta) (z + F_1(delta)))  if delta > 0 else 0,   z' = rope_z_rate(delta, delta', z)
+
+with the nine parameters ``k1 .. n`` given for ONE line of 1 m (the convention of
+``cranefmu fit-boucwen``) and scaled to ``n_lines`` lines of the current unstretched length L_u
+by :func:`.boucwen.for_length`.  The hysteresis state z [N] (all lines) is the FMU's internal
+state, integrated by its solver; ``after_step`` projects it onto its admissible set (z = 0 while
+slack, no compression).  In this mode ``E``, ``A``, ``zeta``, ``m_load`` and ``rho`` are not used:
+the elastic law and the dissipation come from the nine parameters (eq. 2 has no viscous term).
+The default set (module docstring of :mod:`.boucwen`) is constructed for the 12 mm rope of
+seed 001 with alpha + k1 = E A / 1 m for the default E and A, so both models have the same
+small-amplitude stiffness.  Initial state: the rope was loaded monotonically from slack to the
+initial elongation (virgin curve, :func:`.boucwen.virgin_z`), so a rope at rest under the load
+that this elongation carries is in equilibrium (z' = 0 when delta' = 0).  Scene authors place
+the hook with :func:`static_elongation`.
 """
 from __future__ import annotations
 
@@ -20,8 +38,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import boucwen
+from .boucwen import BoucWenParams
 from .component import Model, Signal
-from .params import ParameterError, Params, param
+from .params import Params, param
+
+
+def _bouc_wen_param(name: str):
+    """A Rope parameter carrying Bouc-Wen parameter ``name`` (one 1 m line), default and range
+    from :class:`.boucwen.BoucWenParams`."""
+    default, meta = next((d, m) for n, d, m in BoucWenParams.field_specs() if n == name)
+    unit, description = meta["unit"], meta["description"] + "; one line of 1 m, used when model = 'bouc_wen'"
+    if "^" in unit:  # N^(1-n)/m changes with n: no fixed SI unit for modelDescription.xml
+        unit, description = "", f"{description}; unit {meta['unit']}"
+    return param(default, unit, description,
+                 min=meta["min"], max=meta["max"], min_open=meta["min_open"], max_open=meta["max_open"])
 
 
 @dataclass(frozen=True)
@@ -39,10 +70,24 @@ class RopeParams(Params):
     m_load: float = param(1000.0, "kg", "suspended mass used in the damping law of eq. 9", min=0)
     rho: float = param(7850.0, "kg/m3", "density of the rope metal", min=0)
 
+    # modified Bouc-Wen (seed 001 eq. 1-3) of one 1 m line, names as in the paper's vector Y (eq. 3)
+    k1: float = _bouc_wen_param("k1")
+    k2: float = _bouc_wen_param("k2")
+    k3: float = _bouc_wen_param("k3")
+    b: float = _bouc_wen_param("b")
+    c: float = _bouc_wen_param("c")
+    alpha: float = _bouc_wen_param("alpha")
+    beta: float = _bouc_wen_param("beta")
+    gamma: float = _bouc_wen_param("gamma")
+    n: float = _bouc_wen_param("n")
+
     def check(self) -> None:
-        if self.model == "bouc_wen":  # physics in boucwen.py; the rope does not integrate z yet
-            raise ParameterError("rope.model = 'bouc_wen' is not available in this version: "
-                                 "allowed 'kelvin_voigt'")
+        if self.model == "bouc_wen":
+            self.bouc_wen()  # refuses an inadmissible set (unbounded or energy-generating loops)
+
+    def bouc_wen(self) -> BoucWenParams:
+        """The nine Bouc-Wen parameters of one 1 m line (validated for admissibility)."""
+        return BoucWenParams(**{name: getattr(self, name) for name, _, _ in BoucWenParams.field_specs()})
 
 
 # input indices (order of RopeModel.inputs)
@@ -114,13 +159,64 @@ class RopeModel(Model):
         Signal("elongation", "m", "chord length minus unstretched length (negative when slack)",
                depends_on=_KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9] + ("payout",)),
         Signal("slack", "1", "1 when the rope carries no force, else 0", depends_on=_KINEMATIC_INPUTS),
+        Signal("z_hysteresis", "N", "Bouc-Wen hysteresis state z of the reeving (seed 001 eq. 1; 0 for "
+               "kelvin_voigt)"),
     )
+
+    def __init__(self, params: RopeParams):
+        super().__init__(params)
+        self._bw = params.bouc_wen() if params.model == "bouc_wen" else None
+        self._scaled: tuple[float, BoucWenParams | None] = (math.nan, None)
+
+    def bouc_wen_at(self, l_u: float) -> BoucWenParams:
+        """Bouc-Wen set of the whole reeving at unstretched line length ``l_u`` [m] (cached:
+        the length changes only with payout)."""
+        if self._scaled[0] != l_u:
+            self._scaled = (l_u, boucwen.for_length(self._bw, l_u, self.p.n_lines))
+        return self._scaled[1]
+
+    def state_names(self) -> tuple[str, ...]:
+        return ("z_hysteresis",) if self._bw is not None else ()
+
+    def initial_state(self, u: np.ndarray) -> np.ndarray:
+        """Bouc-Wen: z on the virgin curve at the initial elongation (static equilibrium at rest)."""
+        if self._bw is None:
+            return np.zeros(0)
+        _, length, l_u, _ = geometry(u, self.p)
+        return np.array([boucwen.virgin_z(length - l_u, self.bouc_wen_at(l_u))])
+
+    def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        if self._bw is None:
+            return np.zeros(0)
+        _, length, l_u, delta_dot = geometry(u, self.p)
+        return np.array([boucwen.rope_z_rate(length - l_u, delta_dot, float(x[0]), self.bouc_wen_at(l_u))])
+
+    def after_step(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        if self._bw is None:
+            return x
+        _, length, l_u, _ = geometry(u, self.p)
+        return np.array([boucwen.project_state(length - l_u, float(x[0]), self.bouc_wen_at(l_u))])
 
     def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         p = self.p
         e, length, l_u, delta_dot = geometry(u, p)
-        c = stiffness(p, l_u)
-        tension = kelvin_voigt_tension(length - l_u, delta_dot, c, damping(p, c, l_u))
+        if self._bw is None:
+            c = stiffness(p, l_u)
+            tension = kelvin_voigt_tension(length - l_u, delta_dot, c, damping(p, c, l_u))
+            z = 0.0
+        else:
+            z = float(x[0])
+            tension = boucwen.tension(length - l_u, delta_dot, z, self.bouc_wen_at(l_u))
         f_hook = -tension * e
         return np.array([tension, tension / p.n_lines, *f_hook, *(-f_hook), length, length - l_u,
-                         1.0 if tension == 0.0 else 0.0])
+                         1.0 if tension == 0.0 else 0.0, z])
+
+
+def static_elongation(p: RopeParams, load: float, payout: float = 0.0) -> float:
+    """Elongation [m] of the reeving at rest carrying ``load`` [N] (all lines) after ``payout`` [m]:
+    load / c for Kelvin-Voigt, the virgin loading curve for Bouc-Wen (the state ``initial_state``
+    assumes).  The hook of a scene at rest hangs ``length + payout / n_lines + this`` below the top."""
+    l_u = p.length + payout / p.n_lines
+    if p.model == "bouc_wen":
+        return boucwen.virgin_elongation(load, boucwen.for_length(p.bouc_wen(), l_u, p.n_lines))
+    return max(0.0, load) / stiffness(p, l_u)
