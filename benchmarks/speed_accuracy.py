@@ -1,0 +1,567 @@
+"""Speed against accuracy for every scene, on one core, in one run.
+
+For each scene: the master at every algorithm x extrapolation order x macro step H, fmpy's
+``fmpy.ssp.simulate_ssp`` on the same .ssp (same FMUs) at the same H, and the monolithic scipy solve
+at a sweep of tolerances; every error is the worst over the scene's key outputs of max|y - y_ref| /
+range(y_ref), against one tight monolithic solve (rtol 1e-10) or, where no monolithic model exists,
+the master's finest run (Jacobi, extrapolation 2, H_min / 4).  Then the equal-accuracy comparison
+(cheapest of each method meeting an error level), the hot-path profile (--profile), the cost of one
+pythonfmu call, and peak memory against simulated length with ``keep=False``.
+
+Writes benchmarks/results/speed_accuracy.{md,csv}, speed_accuracy_<scene>.png, profile.txt.
+Every run executes in a spawned child (pythonfmu FMUs cannot be instantiated again in one process);
+all processes are pinned to one core.  Compare later runs as ratios, never as absolute times.
+
+    .venv/bin/python benchmarks/speed_accuracy.py [--quick] [--profile] [--scenes a,b] [--cpu 0]
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import multiprocessing
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time as clock
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+RESULTS = ROOT / "benchmarks" / "results"
+LEVELS = (1e-2, 1e-3)  # error levels (fraction of the signal's range) for the equal-accuracy comparison
+MONO_RTOLS = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
+
+
+def in_child(fn, *args):
+    """fn(*args) in a fresh spawned process (inherits the CPU pinning)."""
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        return pool.apply(fn, args)
+
+
+# --- fmpy's simulate_ssp ---------------------------------------------------------------------------
+def _fmpy_parameter_set(scene: str, parameter_set: str | None):
+    """The scene's parameter set as fmpy's ParameterSet, without the values fmpy cannot set.
+
+    fmpy's set_value converts every value with float() and has no String branch ("Unsupported type"):
+    non-numeric values are dropped (they stay at the FMU's default) and reported."""
+    from fmpy.ssp.ssd import read_ssv
+
+    ps = read_ssv(str(ROOT / "ssp" / scene / "default.ssv"))
+    if parameter_set and parameter_set != "default":
+        extra = read_ssv(str(ROOT / "ssp" / scene / f"{parameter_set}.ssv"))
+        names = {p.name for p in extra.parameters}
+        ps.parameters = [p for p in ps.parameters if p.name not in names] + list(extra.parameters)
+    kept, dropped = [], []
+    for p in ps.parameters:
+        try:
+            float(p.value)
+            kept.append(p)
+        except (TypeError, ValueError):
+            dropped.append(f"{p.name}={p.value}")
+    ps.parameters = kept
+    return ps, dropped
+
+
+def fmpy_run(ssp: str, scene: str, stop: float, h: float, keys: tuple[str, ...]) -> dict:
+    """fmpy.ssp.simulate_ssp in this (child) process; times shifted to where the values belong."""
+    from fmpy.ssp.simulation import simulate_ssp
+
+    ps, dropped = _fmpy_parameter_set(scene, None)
+    out = {"dropped": dropped}
+    t0 = clock.perf_counter()
+    try:
+        res = simulate_ssp(ssp, stop_time=stop, step_size=h, parameter_set=ps)
+    except Exception as err:  # measured and reported, whatever it is
+        out.update(error=f"{type(err).__name__}: {err}"[:300], wall=clock.perf_counter() - t0)
+        return out
+    out["wall"] = clock.perf_counter() - t0
+    # simulate_ssp records the values after the step from t to t+h under the label t, and never the
+    # initial values; shift the label to the time the values belong to
+    t = res["time"] + h
+    keep = t <= stop * (1 + 1e-9)
+    out["steps"] = len(res)
+    out["time"] = t[keep]
+    out["cols"] = {k: np.asarray(res[k])[keep] for k in keys if k in res.dtype.names}
+    out["missing"] = [k for k in keys if k not in res.dtype.names]
+    return out
+
+
+# --- the monolithic solve at a sweep of tolerances ----------------------------------------------------
+def mono_sweep(scene: str, stop: float, times: np.ndarray, reference, keys) -> list[dict]:
+    from cranefmu.converge import monolithic_reference
+
+    rows = []
+    exact = reference.at(times)
+    for rtol in MONO_RTOLS:
+        t0 = clock.perf_counter()
+        try:
+            sol = monolithic_reference(scene, stop, times, rtol=rtol)
+        except Exception as err:
+            rows.append({"rtol": rtol, "error": str(err)[:200]})
+            continue
+        wall = clock.perf_counter() - t0
+        rel = {}
+        for k in keys:
+            span = float(np.ptp(exact[k]))
+            rel[k] = float(np.max(np.abs(np.asarray(sol[k]) - exact[k]))) / span if span > 0 else math.inf
+        rows.append({"rtol": rtol, "wall": wall, "worst": max(rel.values()), "rel": rel})
+    return rows
+
+
+# --- profile of the hot path -----------------------------------------------------------------------
+FMI_LOOP_CALLS = ("doStep", "setReal", "getReal", "setInteger", "getInteger", "getBoolean", "setBoolean",
+                  "getFMUstate", "setFMUstate", "freeFMUstate", "setRealInputDerivatives")
+SETUP_CALLS = ("load_scene", "instantiate", "enterInitializationMode", "exitInitializationMode", "initialize",
+               "setupExperiment", "terminate", "freeInstance", "free", "__init__")
+
+
+def profile_run(scene: str, stop: float, h: float, algorithm: str, extrapolation: int, top: int = 25) -> dict:
+    """cProfile of one master run in this (child) process: time inside the FMI calls and in the master."""
+    import cProfile
+    import io
+    import pstats
+
+    from cranefmu.master.run import run
+
+    prof = cProfile.Profile()
+    t0 = clock.perf_counter()
+    prof.enable()
+    res = run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
+              keep=False, isolate=False)
+    prof.disable()
+    total = clock.perf_counter() - t0
+    st = pstats.Stats(prof)
+    fmi = {name: 0.0 for name in FMI_LOOP_CALLS}
+    ncalls = {name: 0 for name in FMI_LOOP_CALLS}
+    setup = 0.0
+    for (path, _line, func), (_cc, nc, _tt, ct, _callers) in st.stats.items():
+        if path.endswith(os.path.join("fmpy", "fmi2.py")) and func in fmi:
+            fmi[func] += ct
+            ncalls[func] += nc
+        if func in ("load_scene", "initialize", "free") and "cranefmu" in path and "master" in path:
+            setup += ct
+    inside = sum(fmi.values())
+    loop = total - setup
+    buf = io.StringIO()
+    pstats.Stats(prof, stream=buf).sort_stats("tottime").print_stats(top)
+    return {"total": total, "setup": setup, "loop": loop, "fmi": fmi, "ncalls": ncalls, "inside": inside,
+            "overhead": loop - inside, "steps": res.stats.steps, "fmu_time": dict(res.stats.fmu_time),
+            "fmu_calls": dict(res.stats.fmu_calls), "text": buf.getvalue()}
+
+
+def unprofiled_split(scene: str, stop: float, h: float, algorithm: str, extrapolation: int) -> dict:
+    """Without the profiler: wall time, time inside each FMU's doStep (the master's own count)."""
+    from cranefmu.master.run import run
+
+    res = run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
+              keep=False, isolate=False)
+    return {"wall": res.stats.wall_time, "fmu_time": dict(res.stats.fmu_time), "steps": res.stats.steps}
+
+
+def call_cost(fmu_path: str, n: int = 3000) -> dict:
+    """Per-call cost [us] of setReal (all Real inputs) + doStep (1 ms) + getReal (all Real outputs) of
+    one FMU alone, through fmpy's wrappers and through ctypes with preallocated arrays."""
+    import ctypes
+
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave, fmi2Real, fmi2ValueReference
+
+    md = read_model_description(fmu_path)
+    unzip = extract(fmu_path)
+    fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.coSimulation.modelIdentifier,
+                    instanceName="bench")
+    ins = [v for v in md.modelVariables if v.causality == "input" and v.type == "Real"]
+    outs = [v for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
+    vin = [v.valueReference for v in ins]
+    vout = [v.valueReference for v in outs]
+    start = [float(v.start) if v.start is not None else 0.0 for v in ins]
+    fmu.instantiate()
+    out = {"fmu": Path(fmu_path).stem, "inputs": len(vin), "outputs": len(vout)}
+    try:
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        h, t = 1e-3, 0.0
+
+        def timed(body) -> float:
+            nonlocal t
+            t0 = clock.perf_counter()
+            for _ in range(n):
+                body()
+                t += h
+            return (clock.perf_counter() - t0) / n * 1e6
+
+        out["set+step+get"] = timed(lambda: (fmu.setReal(vin, start), fmu.doStep(t, h), fmu.getReal(vout)))
+        out["doStep"] = timed(lambda: fmu.doStep(t, h))
+        out["setReal"] = timed(lambda: fmu.setReal(vin, start))
+        out["getReal"] = timed(lambda: fmu.getReal(vout))
+        # the same calls on the raw ctypes functions with arrays allocated once (no fmpy wrapper logic)
+        cvin, cvout = (fmi2ValueReference * len(vin))(*vin), (fmi2ValueReference * len(vout))(*vout)
+        cstart, cres = (fmi2Real * len(vin))(*start), (fmi2Real * len(vout))()
+        lib = fmu.dll
+        raw_set, raw_get, raw_step = lib.fmi2SetReal, lib.fmi2GetReal, lib.fmi2DoStep
+        raw_step.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int]
+        comp = fmu.component
+        out["raw set+step+get"] = timed(lambda: (raw_set(comp, cvin, len(vin), cstart),
+                                                 raw_step(comp, t, h, 1), raw_get(comp, cvout, len(vout), cres)))
+    except Exception as err:
+        out["error"] = f"{type(err).__name__}: {err}"[:200]
+    finally:
+        try:
+            fmu.terminate()
+            fmu.freeInstance()
+        except Exception:
+            pass
+    return out
+
+
+# --- memory ---------------------------------------------------------------------------------------------
+def memory_run(scene: str, stop: float, h: float) -> dict:
+    """Peak RSS of this (child) process running the scene with keep=False and a streamed CSV."""
+    import resource
+
+    from cranefmu.master.run import run
+
+    def rss_now_kb() -> int:
+        with open("/proc/self/status") as f:
+            return next(int(line.split()[1]) for line in f if line.startswith("VmRSS"))
+
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "long.csv"
+        res = run(scene, stop_time=stop, step_size=h, keep=False, isolate=False, output=out)
+        size = out.stat().st_size
+        rows = len(res.result)
+    return {"stop": stop, "steps": res.stats.steps, "wall": res.stats.wall_time, "rows_kept": rows,
+            "csv_bytes": size, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+            "end_rss_mb": rss_now_kb() / 1024}
+
+
+# --- the study of one scene --------------------------------------------------------------------------
+def scene_stop(scene: str, quick: bool) -> float:
+    full = {"truck_telescope": 30.0}.get(scene, 10.0)
+    return min(full, 3.0) if quick else full
+
+
+def study_scene(scene: str, quick: bool, say) -> dict:
+    from cranefmu import converge as cv
+    from cranefmu.master.run import ALGORITHMS, resolve_scene
+
+    keys = cv.key_outputs(scene)
+    stop = scene_stop(scene, quick)
+    steps = [4e-3, 2e-3, 1e-3] if quick else [8e-3, 4e-3, 2e-3, 1e-3, 5e-4]
+    series: dict[tuple[str, int], tuple[list, list]] = {}
+    for alg in ALGORITHMS:
+        for ex in (0, 1, 2):
+            runs, results, _ = cv.run_settings(scene, [(h, None) for h in steps], stop, alg, ex, progress=say)
+            series[(alg, ex)] = (runs, results)
+    ssp = str(resolve_scene(scene))
+    fm = []
+    for h in steps:
+        say(f"fmpy simulate_ssp H={h:g} ...")
+        fm.append(in_child(fmpy_run, ssp, scene, stop, h, keys))
+    all_results = [r for _, rs in series.values() for r in rs if r is not None]
+    fm_results = [np.array(list(zip(f["time"], *f["cols"].values())),
+                           dtype=[("time", float)] + [(k, float) for k in f["cols"]])
+                  if "time" in f and not f.get("missing") else None for f in fm]
+    try:
+        ref = cv.Reference.monolithic(scene, keys, stop, all_results + [r for r in fm_results if r is not None],
+                                      progress=say)
+    except cv.CraneFmuError as err:
+        say(f"no monolithic reference ({err}); the finest co-simulation instead")
+        ref = cv.Reference.finest(scene, keys, stop, min(steps) / cv.FINEST_FACTOR, "jacobi", 2, progress=say)
+    for runs, results in series.values():
+        cv.evaluate(runs, results, ref)
+    fm_rows, fm_late = [], []
+    settle = min(1.0, stop / 3)
+    for h, f, r in zip(steps, fm, fm_results):
+        row = cv.ConvergenceRun(h, None)
+        row.wall_time = f.get("wall", math.nan)
+        row.steps = f.get("steps", 0)
+        row.simulated = stop
+        if r is None:
+            row.failure = f.get("error") or f"key outputs missing from simulate_ssp's result: {f.get('missing')}"
+        else:
+            try:
+                cv.measure(row, r, ref.at(r["time"]), keys)
+            except cv.CraneFmuError as err:
+                row.failure = str(err)
+        fm_rows.append(row)
+        # the same run with the start-up transient left out: does simulate_ssp's jolt settle?
+        late = cv.ConvergenceRun(h, None)
+        late.wall_time, late.steps, late.simulated, late.failure = row.wall_time, row.steps, stop, row.failure
+        if r is not None and row.failure is None:
+            r_late = r[r["time"] >= settle]
+            cv.measure(late, r_late, ref.at(r_late["time"]), keys)
+        fm_late.append(late)
+    cv.observed_orders(fm_rows)
+    cv.observed_orders(fm_late)
+    mono = []
+    if ref.kind == "monolithic":
+        finest = next(r for r in series[("jacobi", 0)][1][::-1] if r is not None)
+        say("monolithic tolerance sweep ...")
+        mono = mono_sweep(scene, stop, finest["time"], ref, keys)
+    return {"scene": scene, "stop": stop, "keys": keys, "steps": steps, "series": series, "fmpy": fm_rows,
+            "fmpy_late": fm_late, "settle": settle,
+            "fmpy_dropped": fm[0].get("dropped", []), "fmpy_first": _first_rows(fm, keys), "reference": ref,
+            "mono": mono}
+
+
+def _first_rows(fm: list[dict], keys) -> str:
+    """What simulate_ssp's start from all-zero connectors does to the first recorded values."""
+    f = next((f for f in fm if "cols" in f), None)
+    if f is None:
+        return "no result"
+    return "; ".join(f"{k}: {', '.join(f'{v:.4g}' for v in f['cols'][k][:3])}" for k in f["cols"])
+
+
+def cheapest(rows, level: float):
+    ok = [r for r in rows if r.failure is None and r.worst_rel <= level]
+    return min(ok, key=lambda r: r.wall_time) if ok else None
+
+
+# --- report --------------------------------------------------------------------------------------------
+def machine() -> list[str]:
+    import fmpy
+    import pythonfmu
+    import scipy
+
+    cpu = "unknown"
+    try:
+        cpu = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                            text=True).stdout.strip()
+    dirty = subprocess.run(["git", "status", "--porcelain", "src"], cwd=ROOT, capture_output=True,
+                           text=True).stdout.strip()
+    return [f"- date: {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, commit {commit}"
+            + (" (src/ has uncommitted changes of other engineers)" if dirty else ""),
+            f"- machine: {platform.platform()}, {cpu}, {os.cpu_count()} cores, pinned to core(s) "
+            f"{sorted(os.sched_getaffinity(0))}",
+            f"- python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
+            f"fmpy {fmpy.__version__}, pythonfmu {pythonfmu.__version__}"]
+
+
+def fmt(x, spec=".3g"):
+    return "-" if x is None or (isinstance(x, float) and (math.isnan(x))) else format(x, spec)
+
+
+def scene_report(s: dict) -> list[str]:
+    ref = s["reference"]
+    out = [f"## {s['scene']} ({s['stop']:g} s simulated; key outputs {', '.join(s['keys'])})", "",
+           f"Reference: {ref.kind} ({'scipy Radau/solve rtol 1e-10' if ref.kind == 'monolithic' else 'finest run'},"
+           f" {ref.wall_time:.2f} s). Error = worst over the key outputs of max|y - y_ref| / range(y_ref).", "",
+           "| method | H [s] | worst rel err | order | steps | wall [s] | RTF |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    for (alg, ex), (runs, _) in s["series"].items():
+        for r in runs:
+            wk = r.worst_key
+            out.append(f"| master {alg} x{ex} | {r.step_size:g} | {fmt(r.worst_rel)} | "
+                       f"{fmt(r.order.get(wk) if wk else None, '.2f')} | {r.steps} | {fmt(r.wall_time, '.3f')} | "
+                       f"{fmt(r.real_time_factor, '.1f')} |" + (f" FAILED: {r.failure[:80]}" if r.failure else ""))
+    for r in s["fmpy"]:
+        wk = r.worst_key
+        out.append(f"| fmpy simulate_ssp | {r.step_size:g} | {fmt(r.worst_rel)} | "
+                   f"{fmt(r.order.get(wk) if wk else None, '.2f')} | {r.steps} | {fmt(r.wall_time, '.3f')} | "
+                   f"{fmt(s['stop'] / r.wall_time if r.wall_time else None, '.1f')} |"
+                   + (f" FAILED: {r.failure[:120]}" if r.failure else ""))
+    for r in s["fmpy_late"]:
+        wk = r.worst_key
+        if r.failure is None:
+            out.append(f"| fmpy simulate_ssp, t >= {s['settle']:g} s only | {r.step_size:g} | {fmt(r.worst_rel)} | "
+                       f"{fmt(r.order.get(wk) if wk else None, '.2f')} | {r.steps} | {fmt(r.wall_time, '.3f')} | "
+                       f"{fmt(s['stop'] / r.wall_time if r.wall_time else None, '.1f')} |")
+    for m in s["mono"]:
+        if "error" in m:
+            out.append(f"| monolithic rtol {m['rtol']:g} | - | FAILED {m['error'][:80]} | | | | |")
+        else:
+            out.append(f"| monolithic rtol {m['rtol']:g} | - | {fmt(m['worst'])} | - | - | {m['wall']:.3f} | "
+                       f"{s['stop'] / m['wall']:.1f} |")
+    out += ["", f"fmpy simulate_ssp: starts every connector at 0.0 (first three recorded values: "
+            f"{s['fmpy_first']}); parameters it cannot set (no String support, left at the FMU default): "
+            f"{', '.join(s['fmpy_dropped']) or 'none'}; it labels the values after a step with the step's start "
+            "time, so its times were shifted by +H before comparing.", "",
+            "Equal accuracy (cheapest run of each method meeting the level):", "",
+            "| level | master (setting, wall s) | fmpy (H, wall s) | monolithic (rtol, wall s) | fmpy / master | "
+            "monolithic / master |", "| --- | --- | --- | --- | --- | --- |"]
+    all_master = [(f"{a} x{e} H={r.step_size:g}", r) for (a, e), (runs, _) in s["series"].items() for r in runs]
+    settle = s["settle"]
+    for level in LEVELS:
+        ok = [(n, r) for n, r in all_master if r.failure is None and r.worst_rel <= level]
+        best = min(ok, key=lambda p: p[1].wall_time) if ok else None
+        f = cheapest(s["fmpy"], level)
+        fl = cheapest(s["fmpy_late"], level)
+        ms = [m for m in s["mono"] if "worst" in m and m["worst"] <= level]
+        m = min(ms, key=lambda m: m["wall"]) if ms else None
+        bw = best[1].wall_time if best else None
+        out.append(f"| {level:g} | {best[0] + f', {bw:.3f}' if best else 'none'} | "
+                   f"{f'H={f.step_size:g}, {f.wall_time:.3f}' if f else 'none'}"
+                   f"{f' (t >= {settle:g} s only: H={fl.step_size:g}, {fl.wall_time:.3f})' if fl else ''} | "
+                   f"{format(m['rtol'], 'g') + ', ' + format(m['wall'], '.3f') if m else 'none'} | "
+                   f"{fmt(f.wall_time / bw if f and bw else None, '.2f')}"
+                   f"{' (' + fmt(fl.wall_time / bw, '.2f') + ')' if fl and bw else ''} | "
+                   f"{fmt(m['wall'] / bw if m and bw else None, '.2f')} |")
+    same = []
+    jac = {r.step_size: r for r in s["series"][("jacobi", 0)][0]}
+    for f in s["fmpy"]:
+        r = jac.get(f.step_size)
+        if r and r.failure is None and f.failure is None:
+            same.append(f"H={f.step_size:g}: wall fmpy/master {f.wall_time / r.wall_time:.2f}, "
+                        f"error fmpy/master {f.worst_rel / r.worst_rel:.2f}")
+    out += ["", "Same H, master Jacobi x0 against fmpy (the same algorithm): " + ("; ".join(same) or "no pair"), ""]
+    return out
+
+
+def write_csv(scenes: list[dict], path: Path) -> None:
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["scene", "method", "setting", "worst_rel", "steps", "wall_time", "failure"])
+        for s in scenes:
+            for (alg, ex), (runs, _) in s["series"].items():
+                for r in runs:
+                    w.writerow([s["scene"], f"master {alg} x{ex}", r.step_size, r.worst_rel, r.steps, r.wall_time,
+                                r.failure or ""])
+            for r in s["fmpy"]:
+                w.writerow([s["scene"], "fmpy simulate_ssp", r.step_size, r.worst_rel, r.steps, r.wall_time,
+                            r.failure or ""])
+            for m in s["mono"]:
+                w.writerow([s["scene"], "monolithic", m["rtol"], m.get("worst"), "", m.get("wall"),
+                            m.get("error", "")])
+
+
+def plot_scene(s: dict, path: Path) -> None:
+    from cranefmu.converge import plot
+
+    series = {f"master {a} x{e}": runs for (a, e), (runs, _) in s["series"].items()}
+    series["fmpy simulate_ssp"] = s["fmpy"]
+    from cranefmu.converge import ConvergenceRun
+
+    mono = []
+    for m in s["mono"]:
+        if "worst" in m:
+            r = ConvergenceRun(math.nan, m["rtol"])
+            r.wall_time, r.rel_err = m["wall"], {"worst": m["worst"]}
+            mono.append(r)
+    if mono:
+        series["monolithic (rtol)"] = mono
+    plot(series, path, LEVELS[0], f"{s['scene']}: error against wall time (one core)")
+
+
+def profile_report(scene: str, stop: float, h: float, say) -> list[str]:
+    say(f"profile {scene} H={h:g} ...")
+    p = in_child(profile_run, scene, stop, h, "jacobi", 0)
+    u = in_child(unprofiled_split, scene, stop, h, "jacobi", 0)
+    (RESULTS / "profile.txt").write_text(f"cProfile of cranefmu.master.run.run({scene!r}, stop_time={stop}, "
+                                         f"step_size={h}, jacobi, extrapolation 0), sorted by own time\n\n"
+                                         + p["text"])
+    steps = max(p["steps"], 1)
+    per = {k: v / steps * 1e6 for k, v in p["fmi"].items() if v}
+    out = [f"## Hot path: {scene}, H = {h:g} s, {stop:g} s simulated, Jacobi x0", "",
+           f"Profiled (cProfile inflates Python-side time): run {p['total']:.2f} s, setup (load, instantiate, "
+           f"initialize, free) {p['setup']:.2f} s, stepping loop {p['loop']:.2f} s = inside fmpy's FMI calls "
+           f"{p['inside']:.2f} s + master {p['overhead']:.2f} s; "
+           f"**master overhead = {p['overhead'] / p['inside'] * 100:.0f} % of the FMI time** (target <= 25 %).",
+           "", "Per macro step inside the FMI calls [us]: " + ", ".join(f"{k} {v:.1f} ({p['ncalls'][k] / steps:.1f} "
+                                                                          "calls)" for k, v in per.items()),
+           "", f"Unprofiled: wall {u['wall']:.3f} s for {u['steps']} steps ({u['wall'] / max(u['steps'], 1) * 1e6:.1f} "
+           "us/step incl. setup); inside doStep per FMU: "
+           + ", ".join(f"{k} {v:.3f} s ({v / max(u['steps'], 1) * 1e6:.1f} us/step)" for k, v in u["fmu_time"].items())
+           + f"; everything outside doStep: {u['wall'] - sum(u['fmu_time'].values()):.3f} s "
+           f"({(u['wall'] - sum(u['fmu_time'].values())) / sum(u['fmu_time'].values()) * 100:.0f} % of doStep time, "
+           "setup included).", "", "Top functions by own time: benchmarks/results/profile.txt.", ""]
+    return out
+
+
+def call_cost_report(scene: str, say) -> list[str]:
+    from cranefmu.build import FMU_DIR
+
+    out = ["## Cost of one pythonfmu call (setReal all inputs + doStep 1 ms + getReal all outputs)", "",
+           "| FMU | inputs | outputs | set+step+get [us] | doStep | setReal | getReal | raw ctypes set+step+get |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for fmu in sorted(FMU_DIR.glob("*.fmu")):
+        say(f"call cost {fmu.stem} ...")
+        c = in_child(call_cost, str(fmu))
+        if "error" in c:
+            out.append(f"| {c['fmu']} | {c['inputs']} | {c['outputs']} | failed: {c['error'][:80]} | | | | |")
+            continue
+        out.append(f"| {c['fmu']} | {c['inputs']} | {c['outputs']} | {c['set+step+get']:.1f} | {c['doStep']:.1f} | "
+                   f"{c['setReal']:.1f} | {c['getReal']:.1f} | {c['raw set+step+get']:.1f} |")
+    return out + [""]
+
+
+def memory_report(scene: str, quick: bool, say) -> list[str]:
+    lengths = (2.0, 8.0) if quick else (5.0, 20.0, 60.0)
+    rows = []
+    for stop in lengths:
+        say(f"memory {scene} {stop:g} s at 1 ms ...")
+        rows.append(in_child(memory_run, scene, stop, 1e-3))
+    out = [f"## Memory: {scene} at H = 1 ms, keep=False, CSV streamed", "",
+           "| simulated [s] | steps | wall [s] | CSV [MB] | rows kept | peak RSS [MB] | RSS at end [MB] |",
+           "| --- | --- | --- | --- | --- | --- | --- |"]
+    for r in rows:
+        out.append(f"| {r['stop']:g} | {r['steps']} | {r['wall']:.2f} | {r['csv_bytes'] / 1e6:.1f} | {r['rows_kept']} | "
+                   f"{r['peak_rss_mb']:.1f} | {r['end_rss_mb']:.1f} |")
+    slope = (rows[-1]["peak_rss_mb"] - rows[0]["peak_rss_mb"]) / (rows[-1]["stop"] - rows[0]["stop"])
+    per_step = rows[-1]["wall"] / rows[-1]["steps"]
+    out += ["", f"Peak RSS grows {slope * 1000:.2f} MB per 1000 s simulated (fit between the shortest and longest "
+            f"run): one simulated hour at 1 ms (3.6e6 steps) extrapolates to {rows[-1]['peak_rss_mb'] + slope * (3600 - rows[-1]['stop']):.0f} MB "
+            f"peak, {3.6e6 * per_step / 60:.0f} min wall and "
+            f"{rows[-1]['csv_bytes'] / rows[-1]['stop'] * 3600 / 1e9:.2f} GB of CSV.", ""]
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="3 s runs, 3 steps, short memory runs")
+    ap.add_argument("--profile", action="store_true", help="cProfile of the hot path and the per-call cost")
+    ap.add_argument("--scenes", default=None, help="comma-separated scenes (default: every scene with key outputs)")
+    ap.add_argument("--cpu", type=int, default=None, help="core to pin to (default: the last allowed)")
+    ap.add_argument("--output", default=None, help="results directory (default benchmarks/results)")
+    args = ap.parse_args(argv)
+    global RESULTS
+    RESULTS = Path(args.output) if args.output else RESULTS
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    cpu = args.cpu if args.cpu is not None else max(os.sched_getaffinity(0))
+    os.sched_setaffinity(0, {cpu})  # children inherit it
+
+    from cranefmu.scenes import SCENES
+
+    names = args.scenes.split(",") if args.scenes else [n for n in SCENES if (ROOT / "ssp" / n).is_dir()]
+
+    def say(text: str) -> None:
+        print(f"[{clock.strftime('%H:%M:%S')}] {text}", file=sys.stderr, flush=True)
+
+    wall0 = clock.perf_counter()
+    lines = ["# Speed against accuracy", "", *machine(), f"- mode: {'quick' if args.quick else 'full'}", "",
+             "Command: `.venv/bin/python benchmarks/speed_accuracy.py" + (" --quick" if args.quick else "")
+             + (" --profile" if args.profile else "") + "`", ""]
+    done = []
+    for name in names:
+        try:
+            s = study_scene(name, args.quick, say)
+        except Exception as err:  # one scene failing must not lose the others
+            lines += [f"## {name}", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
+            continue
+        done.append(s)
+        lines += scene_report(s)
+        plot_scene(s, RESULTS / f"speed_accuracy_{name}.png")
+        (RESULTS / "speed_accuracy.md").write_text("\n".join(lines) + "\n")  # a cut-off run keeps what it had
+    write_csv(done, RESULTS / "speed_accuracy.csv")
+    if args.profile and names:
+        scene = names[0]
+        lines += profile_report(scene, 2.0 if args.quick else 5.0, 1e-3, say)
+        lines += call_cost_report(scene, say)
+    if names:
+        lines += memory_report("elastic_pendulum" if "elastic_pendulum" in names else names[0], args.quick, say)
+    lines += [f"Benchmark wall time {clock.perf_counter() - wall0:.0f} s.", ""]
+    (RESULTS / "speed_accuracy.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
