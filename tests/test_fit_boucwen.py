@@ -148,3 +148,32 @@ def test_cli_bad_file(tmp_path, capsys) -> None:
     assert main([path]) == 2
     err = capsys.readouterr().err
     assert "broken.csv" in err and "only 1 data row(s)" in err
+
+
+# --- through the cranefmu command ---------------------------------------------------------------
+
+def test_cranefmu_fit_boucwen_subcommand(tmp_path, capsys) -> None:
+    from cranefmu.cli import main as cranefmu_main
+    from cranefmu.physics.rope import RopeParams
+
+    out = tmp_path / "fit.json"
+    assert cranefmu_main(["fit-boucwen", DATA, "--output", str(out)]) == 0
+    text = capsys.readouterr().out
+    rms_pct = float(text.split("RMS error")[1].split("=")[1].split("%")[0])
+    assert rms_pct < 0.5  # the example loop carries 0.25 % noise
+    doc = json.loads(out.read_text())
+    # the written parameters are the Rope FMU's bouc_wen parameters (one 1 m line), ready to --set
+    rope = RopeParams(model="bouc_wen", **doc["parameters"])
+    assert rope.alpha + rope.k1 == pytest.approx(P0.alpha + P0.k1, rel=0.02)
+    assert rope.n == pytest.approx(P0.n, rel=0.05)
+
+
+def test_cranefmu_fit_boucwen_bad_file_exits_2_with_one_line(tmp_path, capsys) -> None:
+    from cranefmu.cli import main as cranefmu_main
+
+    path = _write(tmp_path, "noforce.csv", "elongation,load\n" + GOOD_ROWS)
+    assert cranefmu_main(["fit-boucwen", path]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "noforce.csv" in err[0] and "'force'" in err[0]
+    assert cranefmu_main(["fit-boucwen", str(tmp_path / "missing.csv")]) == 2
+    assert "missing.csv" in capsys.readouterr().err

@@ -85,6 +85,12 @@ def _cmd_converge(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_fit_boucwen(args: argparse.Namespace) -> int:
+    from .fit_boucwen import run
+
+    return run(args)
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="cranefmu", description="Crane dynamics as FMI co-simulation components.")
     sub = p.add_subparsers(dest="command", required=True)
@@ -128,6 +134,13 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--output", default=None, help="directory for converge.csv and error_vs_wall.png "
                    "(default converge_SCENE)")
     c.set_defaults(func=_cmd_converge)
+
+    from .fit_boucwen import add_arguments as fit_boucwen_arguments
+
+    f = sub.add_parser("fit-boucwen", help="fit the nine modified Bouc-Wen rope parameters (seed 001 eq. 1-3) "
+                                           "to a measured load-unload loop CSV (elongation, force)")
+    fit_boucwen_arguments(f)
+    f.set_defaults(func=_cmd_fit_boucwen)
     return p
 
 

@@ -26,7 +26,6 @@ import sys
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from cranefmu.physics.boucwen import (BoucWenParams, elastic_force, for_length, shape_factor, simulate_path,
                                       z_bound)
@@ -215,6 +214,8 @@ def fit_boucwen(elongation: np.ndarray, force: np.ndarray, initial: BoucWenParam
         except ParameterError:
             return np.full(len(f), 1e3)
         return (simulate_loop(x, f, p) - f) / sc.fr
+
+    from scipy.optimize import least_squares  # imported here: `cranefmu --help` should not load scipy
 
     # step 1e-6 of the scaled variables: well above the integrator's round-off, far below their O(1) size
     sol = least_squares(residual, th0, bounds=(_LOWER, _UPPER), method="trf", diff_step=1e-6,
