@@ -169,19 +169,20 @@ def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: f
     return row, res.result
 
 
-def monolithic_reference(scene: str, stop_time: float, times: np.ndarray, parameter_set: str | None,
-                         parameters: dict | None) -> dict[str, np.ndarray]:
+def monolithic_reference(scene: str, stop_time: float, times: np.ndarray, parameter_set: str | None = None,
+                         parameters: dict | None = None, rtol: float = 1e-10) -> dict[str, np.ndarray]:
     """The scene's monolithic solve at ``times`` (``reference.solve`` when it exists)."""
     from . import reference
 
     if hasattr(reference, "solve"):
         return reference.solve(scene, stop_time, times, parameter_set=parameter_set or "default",
-                               parameters=parameters)
+                               parameters=parameters, rtol=rtol)
     if scene == "elastic_pendulum":
         if parameter_set not in (None, "default"):
             raise SettingsError(f"parameter_set = {parameter_set!r} is not allowed with the monolithic reference "
                                 "of elastic_pendulum: only the default set (or --reference finest)")
-        return reference.elastic_pendulum(stop_time, times, overrides=parameters)
+        return reference.elastic_pendulum(stop_time, times, overrides=parameters, rtol=rtol,
+                                          atol=min(1e-12, rtol * 1e-2))
     raise SettingsError(f"reference = 'monolithic' is not available for scene {scene!r} "
                         "(cranefmu.reference has no solve for it): use --reference finest")
 
@@ -216,6 +217,79 @@ def observed_orders(runs: list[ConvergenceRun]) -> None:
                     cur.order[k] = math.log(e0 / e1) / math.log(x0 / x1)
 
 
+def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_time: float | None, algorithm: str,
+                 extrapolation: int, parameter_set: str | None = None, parameters: dict | None = None,
+                 progress=None, **run_options) -> tuple[list[ConvergenceRun], list, float | None]:
+    """Run every (H, tolerance) setting; returns the rows, the result arrays (None where failed) and the
+    stop time actually reached (the scene's own when ``stop_time`` is None)."""
+    say = progress or (lambda text: None)
+    runs, results = [], []
+    for h, tol in settings:
+        say(f"run {algorithm} x{extrapolation} {'tol=%g' % tol if tol is not None else 'H=%g' % h} ...")
+        row, res = run_once(scene, stop_time, h, tol, algorithm, extrapolation, parameter_set, parameters,
+                            **run_options)
+        runs.append(row)
+        results.append(res)
+        if res is not None and stop_time is None:
+            stop_time = float(res["time"][-1])
+    return runs, results, stop_time
+
+
+class Reference:
+    """Reference values of the key outputs at any of the times it was built for (monolithic) or
+    anywhere in the run (finest co-simulation, cubic spline)."""
+
+    def __init__(self, kind: str, keys: tuple[str, ...], wall_time: float, table=None, splines=None):
+        self.kind, self.keys, self.wall_time = kind, keys, wall_time
+        self._table, self._splines = table, splines
+
+    @classmethod
+    def monolithic(cls, scene: str, keys: tuple[str, ...], stop_time: float, results: list,
+                   parameter_set: str | None = None, parameters: dict | None = None, rtol: float = 1e-10,
+                   progress=None) -> "Reference":
+        """One solve at the union of the runs' communication times (each run is then compared exactly)."""
+        import time as clock
+
+        times = np.unique(np.concatenate([r["time"] for r in results if r is not None]))
+        times = times[(times >= 0.0) & (times <= stop_time)]
+        (progress or (lambda text: None))(f"monolithic reference at {len(times)} times ...")
+        wall0 = clock.perf_counter()
+        ref = monolithic_reference(scene, stop_time, times, parameter_set, parameters, rtol=rtol)
+        return cls("monolithic", keys, clock.perf_counter() - wall0,
+                   table=(times, {k: np.asarray(ref[k], dtype=float) for k in keys if k in ref}))
+
+    @classmethod
+    def finest(cls, scene: str, keys: tuple[str, ...], stop_time: float, h_ref: float, algorithm: str,
+               extrapolation: int, parameter_set: str | None = None, parameters: dict | None = None,
+               progress=None, **run_options) -> "Reference":
+        from scipy.interpolate import CubicSpline
+
+        (progress or (lambda text: None))(f"finest run H={h_ref:g} as the reference ...")
+        row, fine = run_once(scene, stop_time, h_ref, None, algorithm, extrapolation, parameter_set, parameters,
+                             **run_options)
+        if fine is None:
+            raise CraneFmuError(f"the reference run at H = {h_ref:g} s failed: {row.failure}")
+        return cls("finest", keys, row.wall_time,
+                   splines={k: CubicSpline(fine["time"], fine[k]) for k in keys if k in fine.dtype.names})
+
+    def at(self, t: np.ndarray) -> dict[str, np.ndarray]:
+        if self._splines is not None:
+            return {k: s(t) for k, s in self._splines.items()}
+        times, cols = self._table
+        idx = np.clip(np.searchsorted(times, t), 0, len(times) - 1)
+        if not np.allclose(times[idx], t, rtol=0, atol=1e-12 * max(1.0, float(times[-1]))):
+            raise CraneFmuError("internal: the monolithic reference was not solved at these times")
+        return {k: c[idx] for k, c in cols.items()}
+
+
+def evaluate(runs: list[ConvergenceRun], results: list, reference: Reference) -> None:
+    """Errors of every run against the reference, then the observed orders between neighbours."""
+    for row, res in zip(runs, results):
+        if res is not None:
+            measure(row, res, reference.at(res["time"]), reference.keys)
+    observed_orders(runs)
+
+
 def study(scene: str, steps: list[float], algorithm: str = "jacobi", extrapolation: int = 0,
           reference: str = "monolithic", tolerances: list[float] | None = None, target: float = 1e-2,
           stop_time: float | None = None, parameter_set: str | None = None, parameters: dict | None = None,
@@ -226,54 +300,19 @@ def study(scene: str, steps: list[float], algorithm: str = "jacobi", extrapolati
     check_settings(steps, tolerances, algorithm, extrapolation, reference, target, stop_time)
     keys = key_outputs(scene)
     steps = sorted(steps, reverse=True)
-    tolerances = sorted(tolerances, reverse=True)
-    say = progress or (lambda text: None)
-    settings = [(h, None) for h in steps] + [(min(steps) if steps else 1e-3, tol) for tol in tolerances]
-    runs, results = [], []
-    for h, tol in settings:
-        say(f"run {'tol=%g' % tol if tol is not None else 'H=%g' % h} ...")
-        row, res = run_once(scene, stop_time, h, tol, algorithm, extrapolation, parameter_set, parameters,
-                            **run_options)
-        runs.append(row)
-        results.append(res)
-        if res is not None and stop_time is None:
-            stop_time = float(res["time"][-1])
+    settings = [(h, None) for h in steps] + [(min(steps) if steps else 1e-3, tol)
+                                              for tol in sorted(tolerances, reverse=True)]
+    runs, results, stop_time = run_settings(scene, settings, stop_time, algorithm, extrapolation, parameter_set,
+                                            parameters, progress, **run_options)
     if stop_time is None:
         raise CraneFmuError(f"every run of {scene} failed; the first: {runs[0].failure}")
-
-    import time as clock
-
-    wall0 = clock.perf_counter()
     if reference == "monolithic":
-        times = np.unique(np.concatenate([r["time"] for r in results if r is not None]))
-        times = times[(times >= 0.0) & (times <= stop_time)]
-        say(f"monolithic reference at {len(times)} times ...")
-        ref = monolithic_reference(scene, stop_time, times, parameter_set, parameters)
-        ref_wall = clock.perf_counter() - wall0
-
-        def ref_at(t: np.ndarray) -> dict[str, np.ndarray]:
-            idx = np.searchsorted(times, t)
-            return {k: np.asarray(ref[k])[idx] for k in keys if k in ref}
+        ref = Reference.monolithic(scene, keys, stop_time, results, parameter_set, parameters, progress=progress)
     else:
-        h_ref = min(steps or [1e-3]) / FINEST_FACTOR
-        say(f"finest run H={h_ref:g} as the reference ...")
-        fine_row, fine = run_once(scene, stop_time, h_ref, None, algorithm, extrapolation, parameter_set,
-                                  parameters, **run_options)
-        if fine is None:
-            raise CraneFmuError(f"the reference run at H = {h_ref:g} s failed: {fine_row.failure}")
-        ref_wall = fine_row.wall_time
-        from scipy.interpolate import CubicSpline
-
-        splines = {k: CubicSpline(fine["time"], fine[k]) for k in keys if k in fine.dtype.names}
-
-        def ref_at(t: np.ndarray) -> dict[str, np.ndarray]:
-            return {k: s(t) for k, s in splines.items()}
-
-    for row, res in zip(runs, results):
-        if res is not None:
-            measure(row, res, ref_at(res["time"]), keys)
-    observed_orders(runs)
-    return Study(scene, keys, algorithm, extrapolation, reference, target, stop_time, runs, ref_wall)
+        ref = Reference.finest(scene, keys, stop_time, min(steps or [1e-3]) / FINEST_FACTOR, algorithm,
+                               extrapolation, parameter_set, parameters, progress, **run_options)
+    evaluate(runs, results, ref)
+    return Study(scene, keys, algorithm, extrapolation, reference, target, stop_time, runs, ref.wall_time)
 
 
 # --- report -----------------------------------------------------------------------------------------
