@@ -11,3 +11,11 @@ def built():
 
     b.build(verbose=False)
     return b.FMU_DIR
+
+
+@pytest.fixture(scope="session")
+def oscillator_ssp(tmp_path_factory):
+    """The master's test problem (tests/oscillator): two FMUs built from test models, one .ssp."""
+    from oscillator import build_oscillator
+
+    return build_oscillator(tmp_path_factory.mktemp("oscillator"))

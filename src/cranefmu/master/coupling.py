@@ -30,6 +30,7 @@ class InputGroup:
     dt_vrs: list[int] | None = None    # the destination's <input>_dt inputs, if it offers them
     dt2_vrs: list[int] | None = None
     history: list[tuple[float, np.ndarray]] = field(default_factory=list)  # newest last
+    fed: tuple | None = None  # (value, d1, d2) last fed to the destination
 
 
 def feedthrough(comp: FmuComponent) -> dict[str, set[str]]:

@@ -1,7 +1,9 @@
-"""Run a scene: instantiate, initialize, couple step by step, record; nothing lost on failure.
+"""Run a scene: load, initialize, step with an algorithm under step control, observe; nothing lost on failure.
 
-The algorithm (how far each FMU steps and when values move) lives here; recording is an observer
-(:mod:`.results`); parameter overrides are applied once before initialization.
+The pieces: :mod:`.system` (the FMUs and the values between them), :mod:`.initialization`,
+:mod:`.algorithms` (Jacobi, Gauss-Seidel, iterative), :mod:`.step_control` (error estimate, PI
+controller), observers that never steer (:mod:`.results` recorder, :mod:`.power_bonds` monitor,
+:mod:`.progress`).  Each run executes in a fresh child process (see :func:`run`).
 """
 from __future__ import annotations
 
@@ -9,32 +11,26 @@ import math
 import shutil
 import tempfile
 import time as clock
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .coupling import InputGroup, check_connection, input_groups, rates, visit_order
+from .acceleration import ACCELERATORS
+from .algorithms import GaussSeidel, Iterative, Jacobi
 from .errors import CraneFmuError, ParameterSetError, SceneError, SettingsError, SimulationError
-from .fmu import FmuComponent
+from .initialization import initialize
+from .power_bonds import BondMonitor, read_bonds, resolve
+from .progress import Progress
 from .results import Recorder
 from .scene import Scene, load_scene
+from .step_control import PIController, coupling_error, ecco_error
+from .system import CoSystem, RunStats
 
-ALGORITHMS = ("jacobi", "gauss-seidel")
-INIT_MAX_ITERATIONS = 100
-INIT_TOLERANCE = 1e-12
+ALGORITHMS = ("jacobi", "gauss-seidel", "iterative")
+STEP_CONTROLS = ("extrapolation", "ecco")
 
-
-@dataclass
-class RunStats:
-    steps: int = 0
-    wall_time: float = 0.0
-    init_iterations: int = 0
-    fmu_time: dict[str, float] = field(default_factory=dict)   # seconds inside each FMU's doStep
-    fmu_calls: dict[str, int] = field(default_factory=dict)
-
-    def real_time_factor(self, simulated: float) -> float:
-        return simulated / self.wall_time if self.wall_time > 0 else math.inf
+__all__ = ["run", "simulate", "RunResult", "RunStats", "Settings", "ALGORITHMS"]
 
 
 @dataclass
@@ -43,6 +39,76 @@ class RunResult:
     stats: RunStats
     output: Path | None
     scene: str
+
+
+@dataclass
+class Settings:
+    """Every run setting (see :func:`run` for their meaning); checked by :meth:`check`."""
+
+    stop_time: float | None = None
+    step_size: float = 1e-3
+    algorithm: str = "jacobi"
+    extrapolation: int = 0
+    start_time: float = 0.0
+    adaptive: bool = False
+    tolerance: float = 1e-3
+    min_step: float | None = None
+    max_step: float | None = None
+    step_control: str = "extrapolation"
+    coupling_tolerance: float = 1e-10
+    max_iterations: int = 50
+    accelerator: str = "iqn-ils"
+    order: list[str] | None = None
+    energy_alarm: float | None = None
+    init_tolerance: float = 1e-12
+    progress: bool | None = None
+
+    def check(self) -> None:
+        for name in ("start_time", "stop_time", "step_size", "tolerance", "coupling_tolerance", "init_tolerance"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise SettingsError(f"{name} = {value!r} is not allowed: a finite number")
+        if self.stop_time <= self.start_time:
+            raise SettingsError(f"stop_time = {self.stop_time!r} is not allowed: must be > start_time = "
+                                f"{self.start_time!r} s")
+        span = self.stop_time - self.start_time
+        if self.step_size <= 0:
+            raise SettingsError(f"step_size = {self.step_size!r} is not allowed: must be > 0 s")
+        if self.step_size > span:
+            raise SettingsError(f"step_size = {self.step_size!r} is not allowed: must be <= stop_time - start_time "
+                                f"= {span!r} s")
+        if self.algorithm not in ALGORITHMS:
+            raise SettingsError(f"algorithm = {self.algorithm!r} is not allowed: one of {', '.join(ALGORITHMS)}")
+        if isinstance(self.extrapolation, bool) or self.extrapolation not in (0, 1, 2):
+            raise SettingsError(f"extrapolation = {self.extrapolation!r} is not allowed: 0, 1 or 2")
+        for name in ("tolerance", "coupling_tolerance", "init_tolerance"):
+            if not 0 < getattr(self, name) < 1:
+                raise SettingsError(f"{name} = {getattr(self, name)!r} is not allowed: between 0 and 1 (relative)")
+        if self.step_control not in STEP_CONTROLS:
+            raise SettingsError(f"step_control = {self.step_control!r} is not allowed: one of "
+                                f"{', '.join(STEP_CONTROLS)}")
+        if self.accelerator not in ACCELERATORS:
+            raise SettingsError(f"accelerator = {self.accelerator!r} is not allowed: one of {', '.join(ACCELERATORS)}")
+        if isinstance(self.max_iterations, bool) or not isinstance(self.max_iterations, int) or self.max_iterations < 1:
+            raise SettingsError(f"max_iterations = {self.max_iterations!r} is not allowed: an integer >= 1")
+        for name in ("min_step", "max_step", "energy_alarm"):
+            value = getattr(self, name)
+            if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
+                                      or not math.isfinite(value) or value <= 0):
+                raise SettingsError(f"{name} = {value!r} is not allowed: a number > 0 (or None)")
+        if self.adaptive and self.h_min > self.step_size:
+            raise SettingsError(f"min_step = {self.h_min!r} is not allowed: must be <= step_size = {self.step_size!r} s")
+        if self.adaptive and self.h_max < self.step_size:
+            raise SettingsError(f"max_step = {self.h_max!r} is not allowed: must be >= step_size = {self.step_size!r} s")
+
+    @property
+    def h_min(self) -> float:
+        return self.min_step if self.min_step is not None else 1e-3 * self.step_size
+
+    @property
+    def h_max(self) -> float:
+        span = self.stop_time - self.start_time
+        return self.max_step if self.max_step is not None else min(span, 100 * self.step_size)
 
 
 def resolve_scene(scene: str | Path) -> Path:
@@ -61,30 +127,12 @@ def resolve_scene(scene: str | Path) -> Path:
     return b.SSP_DIR / f"{scene}.ssp"
 
 
-def _check_settings(start_time: float, stop_time: float, step_size: float, algorithm: str,
-                    extrapolation: int) -> None:
-    for name, value in (("start_time", start_time), ("stop_time", stop_time), ("step_size", step_size)):
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise SettingsError(f"{name} = {value!r} is not allowed: a finite number of seconds")
-    if stop_time <= start_time:
-        raise SettingsError(f"stop_time = {stop_time!r} is not allowed: must be > start_time = {start_time!r} s")
-    if step_size <= 0:
-        raise SettingsError(f"step_size = {step_size!r} is not allowed: must be > 0 s")
-    if step_size > stop_time - start_time:
-        raise SettingsError(f"step_size = {step_size!r} is not allowed: must be <= stop_time - start_time = "
-                            f"{stop_time - start_time!r} s")
-    if algorithm not in ALGORITHMS:
-        raise SettingsError(f"algorithm = {algorithm!r} is not allowed: one of {', '.join(ALGORITHMS)}")
-    if extrapolation not in (0, 1, 2):
-        raise SettingsError(f"extrapolation = {extrapolation!r} is not allowed: 0, 1 or 2")
-
-
 def _overrides(scene: Scene, parameter_set: str | None, parameters: dict | None) -> dict[tuple[str, str], object]:
     values: dict[str, object] = dict(scene.parameters)
     if parameter_set is not None and parameter_set != "default":
         if parameter_set not in scene.parameter_sets:
             raise ParameterSetError(f"parameter set {parameter_set!r} is not in scene {scene.name}: one of "
-                                    f"{', '.join(['default', *scene.parameter_sets]) }")
+                                    f"{', '.join(['default', *scene.parameter_sets])}")
         values.update(scene.parameter_sets[parameter_set])
     values.update(parameters or {})
     names = {c.name for c in scene.components}
@@ -98,181 +146,35 @@ def _overrides(scene: Scene, parameter_set: str | None, parameters: dict | None)
     return out
 
 
-class Master:
-    """Fixed-step master over the FMUs of one scene (Jacobi or Gauss-Seidel, extrapolation 0-2)."""
-
-    def __init__(self, scene: Scene, workdir: Path, algorithm: str, extrapolation: int):
-        self.scene = scene
-        self.algorithm = algorithm
-        self.order_of_extrapolation = extrapolation
-        self.comps = [FmuComponent(c.name, c.fmu, workdir / f"fmu_{c.name}") for c in scene.components]
-        by_name = {c.name: c for c in self.comps}
-        for c in scene.connections:
-            check_connection(c, by_name)
-        self.order = visit_order(self.comps, scene.connections)
-        self.groups = input_groups(self.comps, scene.connections)
-        # what is recorded: every Real output of every component
-        self.out_vrs, self.columns = [], []
-        for comp in self.comps:
-            reals = [v for v in comp.md.modelVariables if v.causality == "output" and v.type == "Real"]
-            self.out_vrs.append([v.valueReference for v in reals])
-            self.columns += [f"{comp.name}.{v.name}" for v in reals]
-        self.stats = RunStats(fmu_time={c.name: 0.0 for c in self.comps}, fmu_calls={c.name: 0 for c in self.comps})
-
-    # --- values -----------------------------------------------------------------------------
-    def _pull(self, g: InputGroup) -> np.ndarray:
-        try:
-            return self.comps[g.src].get_real(g.src_vrs) * g.factor + g.offset
-        except Exception:
-            raise self._refused(self.comps[g.src], "reading its outputs") from None
-
-    def _push(self, g: InputGroup, value: np.ndarray, d1: np.ndarray | None, d2: np.ndarray | None) -> None:
-        fmu = self.comps[g.dst].fmu
-        try:
-            fmu.setReal(g.dst_vrs, value.tolist())
-            if g.dt_vrs is not None and d1 is not None:
-                fmu.setReal(g.dt_vrs + g.dt2_vrs, d1.tolist() + d2.tolist())
-        except Exception:
-            raise self._refused(self.comps[g.dst], "setting its inputs") from None
-
-    @staticmethod
-    def _refused(comp: FmuComponent, what: str) -> CraneFmuError:
-        msg = comp.last_error()
-        cls = ParameterSetError if "ParameterError" in msg else SimulationError
-        return cls(f"component {comp.name} failed {what}: {msg}")
-
-    def exchange(self, t: float, dst_only: int | None = None) -> float:
-        """Move values along every connection at time t, in feedthrough order; returns the largest change."""
-        change = 0.0
-        for d in self.order:
-            if dst_only is not None and d != dst_only:
-                continue
-            for g in self.groups[d]:
-                value = self._pull(g)
-                if g.history:
-                    change = max(change, float(np.max(np.abs(value - g.history[-1][1]), initial=0.0)))
-                if g.history and g.history[-1][0] == t:
-                    g.history[-1] = (t, value)
-                else:
-                    g.history.append((t, value))
-                    del g.history[:-3]
-                d1, d2 = rates(g.history[-(self.order_of_extrapolation + 1):], t)
-                self._push(g, value, d1, d2)
-        return change
-
-    def outputs(self) -> np.ndarray:
-        try:
-            return np.concatenate([c.get_real(v) for c, v in zip(self.comps, self.out_vrs)])
-        except Exception:
-            bad = next(c for c in self.comps if c.messages) if any(c.messages for c in self.comps) else self.comps[0]
-            raise self._refused(bad, "reading its outputs") from None
-
-    # --- life cycle -----------------------------------------------------------------------------
-    def initialize(self, start_time: float, overrides: dict, h: float) -> None:
-        by_name = {c.name: c for c in self.comps}
-        for comp in self.comps:
-            comp.instantiate()
-            comp.fmu.setupExperiment(startTime=start_time)
-        for (comp, var), value in overrides.items():
-            by_name[comp].set_start(var, value)
-        for comp in self.comps:
-            self._call(comp, "enterInitializationMode", start_time)
-        # iterate the exchange until the connections agree (values of outputs that depend on inputs)
-        for it in range(1, INIT_MAX_ITERATIONS + 1):
-            change = self.exchange(start_time)
-            self.stats.init_iterations = it
-            if it > 1 and change <= INIT_TOLERANCE * (1.0 + self._scale()):
-                break
-        else:
-            raise SimulationError(f"initialization did not converge in {INIT_MAX_ITERATIONS} exchanges "
-                                  f"(last change {change:.3g}); the connections do not agree at t = {start_time}")
-        for comp in self.comps:
-            self._call(comp, "exitInitializationMode", start_time)
-        for g in (g for gs in self.groups for g in gs):
-            # before the start the scene is taken to be at rest: the past equals the initial values,
-            # so extrapolation starts at its full order with exact (constant) history
-            g.history.clear()
-        self.exchange(start_time)
-        for g in (g for gs in self.groups for g in gs):
-            t0, u0 = g.history[-1]
-            g.history[:] = [(t0 - 2 * h, u0), (t0 - h, u0), (t0, u0)]
-
-    def _scale(self) -> float:
-        vals = [np.max(np.abs(g.history[-1][1]), initial=0.0) for gs in self.groups for g in gs if g.history]
-        return max(vals, default=0.0)
-
-    def _call(self, comp: FmuComponent, what: str, t: float) -> None:
-        try:
-            getattr(comp.fmu, what)()
-        except Exception:
-            raise self._refused(comp, f"in {what} at t = {t:.6g} s") from None
-
-    def step(self, t: float, h: float) -> None:
-        """One macro step from t to t + h (inputs at t already set by the previous exchange)."""
-        if self.algorithm == "jacobi":
-            for i, comp in enumerate(self.comps):
-                self._do_step(comp, t, h)
-            self.exchange(t + h)
-        else:  # gauss-seidel: each component sees the new outputs of those stepped before it
-            stepped = set()
-            for d in self.order:
-                for g in self.groups[d]:
-                    if g.src in stepped:
-                        self._interpolate(g, t, t + h)
-                self._do_step(self.comps[d], t, h)
-                stepped.add(d)
-            self.exchange(t + h)
-
-    def _interpolate(self, g: InputGroup, t: float, t1: float) -> None:
-        """Gauss-Seidel: the source already reached t1; feed the destination the polynomial through
-        the past values and the new one, evaluated over [t, t1] (value at t, rates at t)."""
-        new = self._pull(g)
-        points = [*g.history[-self.order_of_extrapolation:], (t1, new)] if self.order_of_extrapolation else \
-            [(t, g.history[-1][1])]
-        if self.order_of_extrapolation:
-            d1, d2 = rates(points, t)
-        else:  # zero-order hold of the newest value
-            d1 = d2 = np.zeros_like(new)
-            self._push(g, new, d1, d2)
-            return
-        self._push(g, g.history[-1][1], d1, d2)
-
-    def _do_step(self, comp: FmuComponent, t: float, h: float) -> None:
-        t0 = clock.perf_counter()
-        try:
-            comp.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-        except Exception:
-            raise SimulationError(f"component {comp.name} failed in the step from t = {t:.6g} s (H = {h:.3g} s): "
-                                  f"{comp.last_error()}. Try a smaller --step or another --algorithm.") from None
-        finally:
-            self.stats.fmu_time[comp.name] += clock.perf_counter() - t0
-            self.stats.fmu_calls[comp.name] += 1
-
-    def check_finite(self, values: np.ndarray, t: float) -> None:
-        if not np.all(np.isfinite(values)):
-            bad = self.columns[int(np.flatnonzero(~np.isfinite(values))[0])]
-            raise SimulationError(f"{bad} became non-finite at t = {t:.6g} s: the coupling is unstable at this "
-                                  "step size. Try a smaller --step, or --algorithm gauss-seidel.")
-
-    def free(self) -> None:
-        for comp in self.comps:
-            comp.free()
-
-
 def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e-3, algorithm: str = "jacobi",
         extrapolation: int = 0, parameter_set: str | None = None, parameters: dict | None = None,
         output: str | Path | None = None, start_time: float = 0.0, keep: bool = True,
-        isolate: bool = True) -> RunResult:
-    """Run a scene and return its results and statistics (see :func:`simulate`).
+        isolate: bool = True, *, adaptive: bool = False, tolerance: float = 1e-3, min_step: float | None = None,
+        max_step: float | None = None, step_control: str = "extrapolation", coupling_tolerance: float = 1e-10,
+        max_iterations: int = 50, accelerator: str = "iqn-ils", order: list[str] | None = None,
+        energy_alarm: float | None = None, init_tolerance: float = 1e-12,
+        progress: bool | None = None) -> RunResult:
+    """Run a scene and return its results and statistics (arguments as :func:`simulate`, plus):
+
+    keep: hold the rows in memory (the result array); isolate: run in a child process.
+    min_step, max_step [s]: bounds of the adaptive step (default step_size/1000 and 100 step_size);
+    step_control: "extrapolation" (error of the extrapolated coupling values, rejecting) or "ecco"
+    (power-bond energy residuals, never rejecting); coupling_tolerance, max_iterations, accelerator
+    ("iqn-ils", "aitken", "none"): the iterative algorithm; order: Gauss-Seidel order of component
+    names; energy_alarm [J]: stop when a power bond's total residual exceeds it; init_tolerance:
+    relative agreement of the connections after initialization; progress: bar on/off (default: on a
+    terminal, after 3 s).
 
     With ``isolate`` (the default) the FMUs run in a fresh child process.  pythonfmu FMUs share the
     host's interpreter and do not survive being instantiated again after a previous run in the same
     process was freed (measured: a hang or a segmentation fault in fmi2Instantiate), nor a crash of
     their own; a child process keeps the caller safe from both.
     """
+    settings = Settings(stop_time, step_size, algorithm, extrapolation, start_time, adaptive, tolerance, min_step,
+                        max_step, step_control, coupling_tolerance, max_iterations, accelerator, order, energy_alarm,
+                        init_tolerance, progress)
     ssp = resolve_scene(scene)  # build in the parent, once
-    args = (ssp, stop_time, step_size, algorithm, extrapolation, parameter_set, parameters, output,
-            start_time, keep)
+    args = (ssp, settings, parameter_set, parameters, output, keep)
     if not isolate:
         return _run_here(*args)
     import multiprocessing
@@ -282,36 +184,29 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
         return pool.apply(_run_here, args)
 
 
-def _run_here(ssp: Path, stop_time: float | None, step_size: float, algorithm: str, extrapolation: int,
-              parameter_set: str | None, parameters: dict | None, output: str | Path | None,
-              start_time: float, keep: bool) -> RunResult:
+def _run_here(ssp: Path, settings: Settings, parameter_set: str | None, parameters: dict | None,
+              output: str | Path | None, keep: bool) -> RunResult:
     workdir = Path(tempfile.mkdtemp(prefix="cranefmu_run_"))
-    master = recorder = None
+    system = recorder = progress = None
     wall0 = clock.perf_counter()
     try:
         loaded = load_scene(ssp, workdir)
-        stop = stop_time if stop_time is not None else (loaded.stop_time or 10.0)
-        _check_settings(start_time, stop, step_size, algorithm, extrapolation)
+        if settings.stop_time is None:
+            settings.stop_time = loaded.stop_time or 10.0
+        settings.check()
         overrides = _overrides(loaded, parameter_set, parameters)
-        master = Master(loaded, workdir, algorithm, extrapolation)
-        recorder = Recorder(master.columns, Path(output) if output else None, keep=keep)
-        master.initialize(start_time, overrides, step_size)
-        n_steps = max(1, round((stop - start_time) / step_size))
-        t = start_time
-        values = master.outputs()
-        master.check_finite(values, t)
-        recorder.record(t, values)
-        for n in range(n_steps):
-            h = min(step_size, stop - t) if n < n_steps - 1 else stop - t
-            master.step(t, h)
-            t = start_time + (n + 1) * step_size if n < n_steps - 1 else stop
-            values = master.outputs()
-            master.check_finite(values, t)
-            recorder.record(t, values)
-            master.stats.steps += 1
-        master.stats.wall_time = clock.perf_counter() - wall0
+        system = CoSystem(loaded, workdir, settings.extrapolation)
+        bonds = BondMonitor(system, resolve(system, read_bonds(workdir / "SystemStructure.ssd")))
+        _check_capabilities(system, settings, bonds)
+        recorder = Recorder(system.columns + bonds.columns, Path(output) if output else None, keep=keep)
+        system.stats.init_iterations = initialize(system, settings.start_time, overrides, settings.init_tolerance)
+        progress = Progress(settings.start_time, settings.stop_time, settings.progress)
+        _loop(system, settings, recorder, bonds, progress)
+        system.stats.wall_time = clock.perf_counter() - wall0
+        system.stats.master_time = system.stats.wall_time - sum(system.stats.fmu_time.values())
+        system.stats.bond_energy = bonds.totals()
         recorder.close()
-        return RunResult(recorder.result(), master.stats, recorder.output, loaded.name)
+        return RunResult(recorder.result(), system.stats, recorder.output, loaded.name)
     except CraneFmuError as err:
         if recorder is not None:
             recorder.close()
@@ -321,23 +216,165 @@ def _run_here(ssp: Path, stop_time: float | None, step_size: float, algorithm: s
                 raise SimulationError(str(err) + where, recorder.result(), recorder.output) from None
         raise
     finally:
+        if progress is not None:
+            progress.close()
         if recorder is not None:
             recorder.close()
-        if master is not None:
-            master.free()
+        if system is not None:
+            system.free()
         shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> None:
+    if s.adaptive or s.algorithm == "iterative":
+        cannot = [c.name for c in system.comps if not c.can_get_state]
+        if cannot:
+            what = "adaptive" if s.adaptive else "algorithm = 'iterative'"
+            raise SettingsError(f"{what} is not allowed for this scene: component(s) {', '.join(cannot)} cannot save "
+                                "and restore their state (canGetAndSetFMUstate is false); use a fixed step with "
+                                "jacobi or gauss-seidel")
+    if s.adaptive and s.step_control == "ecco" and not bonds.bonds:
+        raise SettingsError("step_control = 'ecco' is not allowed for this scene: it declares no power bonds "
+                            "(see README, 'Power bonds')")
+
+
+def _algorithm(system: CoSystem, s: Settings):
+    if s.algorithm == "jacobi":
+        return Jacobi(system)
+    if s.algorithm == "gauss-seidel":
+        return GaussSeidel(system, s.order)
+    return Iterative(system, degree=max(1, s.extrapolation), tolerance=s.coupling_tolerance,
+                     max_iterations=s.max_iterations, accelerator=s.accelerator)
+
+
+def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor, progress: Progress) -> None:
+    """Step from start to stop: fixed steps, or adaptive with rejection, rollback and event location.
+
+    Start-up: an explicit scheme of extrapolation order p takes its first p steps with iterative
+    coupling (degree p), so the extrapolation starts from exact past values and the order is kept;
+    FMUs that cannot roll back start from a past at rest instead.
+    """
+    stats = system.stats
+    algo = _algorithm(system, s)
+    p = s.extrapolation
+    startup = None
+    if p > 0 and algo.name != "iterative":
+        if system.can_rollback:
+            startup = Iterative(system, degree=p, tolerance=min(s.coupling_tolerance, 1e-10),
+                                max_iterations=max(s.max_iterations, 50))
+        else:
+            for g in system.links:
+                t0, u0 = g.history[-1]
+                g.history[:] = [(t0 - 2 * s.step_size, u0), (t0 - s.step_size, u0), (t0, u0)]
+            system.exchange(s.start_time)
+    t, stop = s.start_time, s.stop_time
+    ecco = s.adaptive and s.step_control == "ecco"
+    controller = PIController(p + 1 if not ecco else 2, s.h_min, s.h_max) if s.adaptive else None
+    row = _row(system, bonds)
+    recorder.record(t, row)
+    n_fixed = max(1, round((stop - t) / s.step_size))
+    flags = system.flags() if s.adaptive else None
+    h = s.step_size
+    locating = False
+    n = 0
+    while True:
+        if s.adaptive:
+            remaining = stop - t
+            if remaining <= 1e-12 * max(1.0, abs(stop)):
+                break
+            if h >= remaining or remaining - h < 0.1 * h:
+                h = remaining
+        else:
+            if n >= n_fixed:
+                break
+            t_next = stop if n == n_fixed - 1 else s.start_time + (n + 1) * s.step_size
+            h = t_next - t
+        use = startup if startup is not None and n < p else algo
+        snap = system.save() if (s.adaptive or use.needs_snapshot) else None
+        predicted = system.predicted(t, h) if (s.adaptive and not ecco) else None
+        try:
+            iterations = use.step(t, h, snap)
+            err = 0.0
+            if s.adaptive:
+                new_flags = system.flags()
+                event = new_flags != flags
+                if event and h > s.h_min * (1 + 1e-9):
+                    _reject(system, snap, stats)
+                    h, locating = max(0.5 * h, s.h_min), True
+                    continue
+                if not ecco and use is algo:
+                    err, worst = coupling_error(predicted, system.coupling_values(), system.scale, s.tolerance)
+                    if err > 1.0 and h > s.h_min * (1 + 1e-9) and not locating:
+                        _reject(system, snap, stats)
+                        h = controller.rejected(h, err)
+                        continue
+                flags = new_flags
+        finally:
+            system.release(snap)
+        t = t + h if s.adaptive else t_next
+        n += 1
+        stats.steps += 1
+        stats.iterations += iterations
+        stats.max_iterations = max(stats.max_iterations, iterations)
+        stats.min_step = h if stats.steps == 1 else min(stats.min_step, h)
+        stats.max_step = max(stats.max_step, h)
+        if bonds.bonds:
+            bonds.measure(h)
+        row = _row(system, bonds)
+        _check(system, bonds, row, t, s)
+        recorder.record(t, row)
+        progress.update(t)
+        if s.adaptive:
+            if locating and event:      # the switch is located to min_step: restart small
+                locating = False
+                h = s.h_min
+            elif not locating:
+                if ecco:
+                    err = ecco_error(bonds.residual, bonds.carried, s.tolerance, 1e-3 * s.tolerance)
+                h = controller.accepted(h, err)
+
+
+def _reject(system: CoSystem, snap, stats: RunStats) -> None:
+    system.restore(snap)
+    stats.rejections += 1
+
+
+def _row(system: CoSystem, bonds: BondMonitor) -> np.ndarray:
+    values = system.outputs()
+    return np.concatenate((values, bonds.row)) if bonds.bonds else values
+
+
+def _check(system: CoSystem, bonds: BondMonitor, row: np.ndarray, t: float, s: Settings) -> None:
+    """Stop on a non-finite value or a power bond over its energy alarm, naming what and where."""
+    if not np.all(np.isfinite(row)):
+        i = int(np.flatnonzero(~np.isfinite(row))[0])
+        name = (system.columns + bonds.columns)[i]
+        comp, _, var = name.partition(".")
+        raise SimulationError(f"component {comp}, variable {var} became non-finite at t = {t:.9g} s: the coupling is "
+                              "unstable at this step size. Try a smaller --step, --adaptive, or --algorithm iterative.")
+    if s.energy_alarm is not None and bonds.bonds:
+        k = int(np.argmax(bonds.total))
+        if bonds.total[k] > s.energy_alarm:
+            raise SimulationError(f"power bond {bonds.names[k]} has put {bonds.total[k]:.6g} J of coupling error into "
+                                  f"the scene by t = {t:.9g} s (energy alarm {s.energy_alarm:g} J): the coupling is "
+                                  "unstable or too coarse. Try a smaller --step, --adaptive, or --algorithm "
+                                  "iterative.")
 
 
 def simulate(scene: str | Path, stop_time: float | None = None, step_size: float = 1e-3, algorithm: str = "jacobi",
              extrapolation: int = 0, parameter_set: str | None = None, parameters: dict | None = None,
-             output: str | Path | None = None, start_time: float = 0.0) -> np.ndarray:
+             output: str | Path | None = None, start_time: float = 0.0, *, adaptive: bool = False,
+             tolerance: float = 1e-3, **options) -> np.ndarray:
     """Run a scene (name under ssp/ or path to an .ssp) and return a structured array with fields
-    ``time`` and ``component.variable`` for every Real output.
+    ``time``, ``component.variable`` for every Real output and ``bond.<name>.dE``/``.E`` per power bond.
 
-    stop_time, step_size [s]; algorithm: jacobi | gauss-seidel; extrapolation: 0, 1, 2 (order of the
-    polynomial the coupling inputs follow inside a step); parameter_set: a .ssv in the scene;
-    parameters: {"comp.var": value} overrides; output: CSV written as the run goes.
+    stop_time, step_size [s] (the initial step when adaptive); algorithm: jacobi | gauss-seidel |
+    iterative; extrapolation: 0, 1, 2 (order of the polynomial the coupling inputs follow inside a
+    step; for iterative the degree of the interpolation, at least 1); adaptive: control the step so
+    that the coupling values' local error stays below ``tolerance`` (relative); parameter_set: a
+    .ssv in the scene; parameters: {"comp.var": value} overrides; output: CSV written as the run
+    goes.  Further keyword options as :func:`run`.
     Raises a :class:`~cranefmu.master.errors.CraneFmuError` subclass naming what is wrong.
     """
     return run(scene, stop_time, step_size, algorithm, extrapolation, parameter_set, parameters, output,
-               start_time).result
+               start_time, adaptive=adaptive, tolerance=tolerance, **options).result

@@ -1,0 +1,84 @@
+"""Dependency graph of the initialization: which components' values must be settled before which,
+and which strongly connected groups must be iterated together.
+
+A connection src -> dst makes dst's inputs depend on src's output; that output depends on src's
+inputs at initialization if the FMU says so (ModelStructure/InitialUnknowns; an output not
+listed, or listed without a dependencies attribute, may depend on every input).
+"""
+from __future__ import annotations
+
+from .fmu import FmuComponent
+from .scene import ConnectionSpec
+
+
+def init_feedthrough(comp: FmuComponent) -> dict[str, bool]:
+    """Output name -> does it depend on some input at initialization."""
+    md = comp.md
+    inputs = {v.name for v in md.modelVariables if v.causality == "input"}
+    listed = {u.variable.name: u for u in getattr(md, "initialUnknowns", []) or []}
+    out = {}
+    for v in md.modelVariables:
+        if v.causality != "output":
+            continue
+        u = listed.get(v.name)
+        if u is None or u.dependencies is None:
+            out[v.name] = bool(inputs)
+        else:
+            out[v.name] = any(d.name in inputs for d in u.dependencies)
+    return out
+
+
+def component_graph(comps: list[FmuComponent], connections: list[ConnectionSpec]) -> dict[int, set[int]]:
+    """dst -> the sources whose connected output depends on their own inputs at initialization."""
+    index = {c.name: i for i, c in enumerate(comps)}
+    ft = [init_feedthrough(c) for c in comps]
+    graph: dict[int, set[int]] = {i: set() for i in range(len(comps))}
+    for c in connections:
+        s, d = index[c.src], index[c.dst]
+        if ft[s].get(c.src_var, True):
+            graph[d].add(s)
+    return graph
+
+
+def strongly_connected(graph: dict[int, set[int]]) -> list[list[int]]:
+    """Strongly connected components (Tarjan 1972), sources before the nodes that need them.
+
+    ``graph[d]`` are the nodes d depends on.  A component of one node is a loop only if it
+    depends on itself.
+    """
+    index: dict[int, int] = {}
+    low: dict[int, int] = {}
+    stack: list[int] = []
+    on_stack: set[int] = set()
+    out: list[list[int]] = []
+    counter = [0]
+
+    def visit(v: int) -> None:  # recursion depth = number of components: small
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            block = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                block.append(w)
+                if w == v:
+                    break
+            out.append(sorted(block))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out  # Tarjan emits a block after every block it depends on
+
+
+def is_loop(block: list[int], graph: dict[int, set[int]]) -> bool:
+    return len(block) > 1 or block[0] in graph[block[0]]

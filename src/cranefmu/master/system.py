@@ -1,0 +1,228 @@
+"""The FMUs of one scene and the values between them: batched exchange, extrapolation, snapshots.
+
+An algorithm (:mod:`.algorithms`) decides when FMUs step and when values move; this class only
+moves them.  Every connection group (one source -> one destination component) is read with one
+``getReal`` and written with one ``setReal``; inputs that offer ``<input>_dt``/``<input>_dt2``
+get the slope and curvature of the polynomial through the last values (extrapolation order 0-2).
+"""
+from __future__ import annotations
+
+import time as clock
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .coupling import InputGroup, check_connection, input_groups, rates, visit_order
+from .errors import CraneFmuError, ParameterSetError, SimulationError
+from .fmu import FmuComponent
+from .scene import Scene
+
+
+@dataclass
+class RunStats:
+    """What a run cost: steps, rejections, coupling iterations, calls and seconds per FMU."""
+
+    steps: int = 0
+    wall_time: float = 0.0
+    init_iterations: int = 0
+    fmu_time: dict[str, float] = field(default_factory=dict)   # seconds inside each FMU's doStep
+    fmu_calls: dict[str, int] = field(default_factory=dict)    # doStep calls per FMU
+    rejections: int = 0              # adaptive steps rolled back (error or discrete event)
+    iterations: int = 0              # coupling iterations of the iterative algorithm (all steps)
+    max_iterations: int = 0          # most iterations one macro step needed
+    min_step: float = 0.0            # smallest and largest accepted macro step [s]
+    max_step: float = 0.0
+    master_time: float = 0.0         # wall time outside the FMUs' doStep [s]
+    bond_energy: dict[str, float] = field(default_factory=dict)  # ECCO residual total per power bond [J]
+
+    def real_time_factor(self, simulated: float) -> float:
+        return simulated / self.wall_time if self.wall_time > 0 else float("inf")
+
+
+class CoSystem:
+    """Instantiated FMUs, their connections in exchange order, and the coupling values' history."""
+
+    def __init__(self, scene: Scene, workdir: Path, extrapolation: int):
+        self.scene = scene
+        self.order_of_extrapolation = extrapolation
+        self.comps = [FmuComponent(c.name, c.fmu, workdir / f"fmu_{c.name}") for c in scene.components]
+        self.by_name = {c.name: c for c in self.comps}
+        for c in scene.connections:
+            check_connection(c, self.by_name)
+        self.order = visit_order(self.comps, scene.connections)
+        self.groups = input_groups(self.comps, scene.connections)
+        # every group in exchange order, and its slice in the vector of all coupling values
+        self.links: list[InputGroup] = [g for d in self.order for g in self.groups[d]]
+        self.slices: list[slice] = []
+        n = 0
+        for g in self.links:
+            self.slices.append(slice(n, n + len(g.dst_vrs)))
+            n += len(g.dst_vrs)
+        self.n_coupling = n
+        self.scale = np.full(n, 0.0)        # running max |value| per coupling variable
+        self.input_end = np.zeros(n)        # each input's value at the end of the last step, as fed
+        self.variable_names = self._variable_names(scene)
+        # recorded: every Real output; watched for events: every Integer/Boolean output
+        self.out_vrs, self.columns, self.flag_vrs = [], [], []
+        for comp in self.comps:
+            reals = [v for v in comp.md.modelVariables if v.causality == "output" and v.type == "Real"]
+            self.out_vrs.append([v.valueReference for v in reals])
+            self.columns += [f"{comp.name}.{v.name}" for v in reals]
+            self.flag_vrs.append([v for v in comp.md.modelVariables
+                                  if v.causality == "output" and v.type in ("Integer", "Boolean", "Enumeration")])
+        self.flag_names = [f"{c.name}.{v.name}" for c, vs in zip(self.comps, self.flag_vrs) for v in vs]
+        self.stats = RunStats(fmu_time={c.name: 0.0 for c in self.comps}, fmu_calls={c.name: 0 for c in self.comps})
+        self.can_rollback = all(c.can_get_state for c in self.comps)
+
+    def _variable_names(self, scene: Scene) -> list[str]:
+        """'src.out -> dst.in' for each coupling variable, in the order of the coupling vector."""
+        by_dst = {(c.dst, c.dst_var): c for c in scene.connections}
+        names = []
+        for g in self.links:
+            dst = self.comps[g.dst]
+            vr_name = {v.valueReference: v.name for v in dst.md.modelVariables if v.causality == "input"}
+            names += [str(by_dst[(dst.name, vr_name[vr])]) for vr in g.dst_vrs]
+        return names
+
+    # --- values -----------------------------------------------------------------------------
+    def pull(self, g: InputGroup) -> np.ndarray:
+        try:
+            return self.comps[g.src].get_real(g.src_vrs) * g.factor + g.offset
+        except Exception:
+            raise self.refused(self.comps[g.src], "reading its outputs") from None
+
+    def push(self, g: InputGroup, value: np.ndarray, d1: np.ndarray, d2: np.ndarray) -> None:
+        """Feed ``value`` (at the step start) and its first and second time derivative."""
+        fmu = self.comps[g.dst].fmu
+        try:
+            fmu.setReal(g.dst_vrs, value.tolist())
+            if g.dt_vrs is not None:
+                fmu.setReal(g.dt_vrs + g.dt2_vrs, d1.tolist() + d2.tolist())
+        except Exception:
+            raise self.refused(self.comps[g.dst], "setting its inputs") from None
+        g.fed = (value, d1, d2)
+
+    @staticmethod
+    def refused(comp: FmuComponent, what: str) -> CraneFmuError:
+        msg = comp.last_error()
+        cls = ParameterSetError if "ParameterError" in msg else SimulationError
+        return cls(f"component {comp.name} failed {what}: {msg}")
+
+    def record_history(self, g: InputGroup, t: float, value: np.ndarray) -> None:
+        if g.history and g.history[-1][0] == t:
+            g.history[-1] = (t, value)
+        else:
+            g.history.append((t, value))
+            if len(g.history) > 3:
+                del g.history[0]
+
+    def exchange(self, t: float, order: int | None = None) -> float:
+        """Move values along every connection at time t, in feedthrough order, feeding the rates of
+        the extrapolation polynomial (of ``order``, default the run's); returns the largest change
+        relative to each variable's scale."""
+        p = self.order_of_extrapolation if order is None else order
+        change = 0.0
+        for g, sl in zip(self.links, self.slices):
+            value = self.pull(g)
+            if g.history:
+                change = max(change, self._relative(value - g.history[-1][1], sl))
+            self.record_history(g, t, value)
+            np.maximum(self.scale[sl], np.abs(value), out=self.scale[sl])
+            d1, d2 = rates(g.history[-(p + 1):], t)
+            self.push(g, value, d1, d2)
+        return change
+
+    def _relative(self, diff: np.ndarray, sl: slice) -> float:
+        return float(np.max(np.abs(diff) / np.maximum(self.scale[sl], 1e-12), initial=0.0))
+
+    def capture_input_ends(self, h: float) -> None:
+        """Remember each input's fed value at the end of a step of ``h`` (before the next exchange)."""
+        for g, sl in zip(self.links, self.slices):
+            u, d1, d2 = g.fed
+            self.input_end[sl] = u + h * (d1 + 0.5 * h * d2)
+
+    def coupling_values(self) -> np.ndarray:
+        """The newest value of every coupling variable (the vector the iterative algorithm solves for)."""
+        return np.concatenate([g.history[-1][1] for g in self.links]) if self.links else np.zeros(0)
+
+    def predicted(self, t: float, h: float, order: int | None = None) -> np.ndarray:
+        """Every coupling variable extrapolated from its history to t + h (polynomial of ``order``)."""
+        p = self.order_of_extrapolation if order is None else order
+        out = np.empty(self.n_coupling)
+        for g, sl in zip(self.links, self.slices):
+            d1, d2 = rates(g.history[-(p + 1):], t)
+            out[sl] = g.history[-1][1] + h * (d1 + 0.5 * h * d2)
+        return out
+
+    def outputs(self) -> np.ndarray:
+        try:
+            return np.concatenate([c.get_real(v) for c, v in zip(self.comps, self.out_vrs)])
+        except Exception:
+            bad = next((c for c in self.comps if c.messages), self.comps[0])
+            raise self.refused(bad, "reading its outputs") from None
+
+    def flags(self) -> list[int]:
+        """Every Integer/Boolean output (mode flags: slack, lifted, tipping, ...)."""
+        out: list[int] = []
+        for comp, vs in zip(self.comps, self.flag_vrs):
+            if not vs:
+                continue
+            try:
+                ints = [v.valueReference for v in vs if v.type != "Boolean"]
+                bools = [v.valueReference for v in vs if v.type == "Boolean"]
+                if ints:
+                    out += [int(x) for x in comp.fmu.getInteger(ints)]
+                if bools:
+                    out += [int(bool(x)) for x in comp.fmu.getBoolean(bools)]
+            except Exception:
+                raise self.refused(comp, "reading its discrete outputs") from None
+        return out
+
+    # --- stepping -----------------------------------------------------------------------------
+    def do_step(self, i: int, t: float, h: float) -> None:
+        comp = self.comps[i]
+        t0 = clock.perf_counter()
+        try:
+            comp.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+        except Exception:
+            raise SimulationError(f"component {comp.name} failed in the step from t = {t:.9g} s (H = {h:.3g} s): "
+                                  f"{comp.last_error()}. Try a smaller --step, --adaptive, or --algorithm "
+                                  "iterative.") from None
+        finally:
+            self.stats.fmu_time[comp.name] += clock.perf_counter() - t0
+            self.stats.fmu_calls[comp.name] += 1
+
+    # --- rollback -------------------------------------------------------------------------------
+    def save(self) -> list:
+        """Snapshot every FMU's state and the coupling history (for a retry of the step)."""
+        try:
+            states = [c.fmu.getFMUstate() for c in self.comps]
+        except Exception:
+            bad = next((c for c in self.comps if c.messages), self.comps[0])
+            raise self.refused(bad, "saving its state (getFMUstate)") from None
+        return [states, [list(g.history) for g in self.links], [g.fed for g in self.links]]
+
+    def restore(self, snap: list) -> None:
+        states, histories, fed = snap
+        for c, s in zip(self.comps, states):
+            try:
+                c.fmu.setFMUstate(s)
+            except Exception:
+                raise self.refused(c, "restoring its state (setFMUstate)") from None
+        for g, hist, f in zip(self.links, histories, fed):
+            g.history[:] = hist
+            g.fed = f
+
+    def release(self, snap: list | None) -> None:
+        if snap is None:
+            return
+        for c, s in zip(self.comps, snap[0]):
+            try:
+                c.fmu.freeFMUstate(s)
+            except Exception:
+                pass
+
+    def free(self) -> None:
+        for comp in self.comps:
+            comp.free()
