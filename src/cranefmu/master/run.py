@@ -55,7 +55,7 @@ class Settings:
     min_step: float | None = None
     max_step: float | None = None
     step_control: str = "extrapolation"
-    coupling_tolerance: float = 1e-10
+    coupling_tolerance: float = 1e-8
     max_iterations: int = 50
     accelerator: str = "iqn-ils"
     order: list[str] | None = None
@@ -150,7 +150,7 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
         extrapolation: int = 0, parameter_set: str | None = None, parameters: dict | None = None,
         output: str | Path | None = None, start_time: float = 0.0, keep: bool = True,
         isolate: bool = True, *, adaptive: bool = False, tolerance: float = 1e-3, min_step: float | None = None,
-        max_step: float | None = None, step_control: str = "extrapolation", coupling_tolerance: float = 1e-10,
+        max_step: float | None = None, step_control: str = "extrapolation", coupling_tolerance: float = 1e-8,
         max_iterations: int = 50, accelerator: str = "iqn-ils", order: list[str] | None = None,
         energy_alarm: float | None = None, init_tolerance: float = 1e-12,
         progress: bool | None = None) -> RunResult:
@@ -321,8 +321,8 @@ def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor,
         if bonds.bonds:
             bonds.measure(h)
         row = _row(system, bonds)
+        recorder.record(t, row)   # the failing row too: it shows what went wrong
         _check(system, bonds, row, t, s)
-        recorder.record(t, row)
         progress.update(t)
         if s.adaptive:
             if locating and event:      # the switch is located to min_step: restart small
