@@ -47,26 +47,15 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
+    import tempfile
+
     from .master.run import resolve_scene
     from .master.scene import load_scene
-    from .scenes import SCENES
-    import tempfile
+    from .scenes import describe
 
     ssp = resolve_scene(args.scene)
     with tempfile.TemporaryDirectory(prefix="cranefmu_info_") as tmp:
-        scene = load_scene(ssp, Path(tmp))
-        info = SCENES.get(scene.name)
-        print(f"scene {scene.name} ({ssp})")
-        if info:
-            print(f"  question: {info.question}")
-        print("  components: " + ", ".join(f"{c.name} ({c.fmu.name})" for c in scene.components))
-        print("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
-        print("  parameters (default set):")
-        for k, v in scene.parameters.items():
-            print(f"    {k} = {v}")
-        print("  connections:")
-        for c in scene.connections:
-            print(f"    {c}")
+        print("\n".join(describe(load_scene(ssp, Path(tmp)))))
     return 0
 
 

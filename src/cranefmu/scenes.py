@@ -1,34 +1,317 @@
-"""The named scenes: what each answers and which outputs summarise it."""
+"""The named scenes: what each answers, what it contains, which outputs summarise and plot it.
+
+A result is anything indexable by column name with a ``time`` column: the master's structured
+array or :func:`cranefmu.reference.solve`'s dict.
+"""
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
 
 import numpy as np
+
+G = 9.81
 
 
 @dataclass(frozen=True)
 class SceneInfo:
     name: str
     question: str
-    key_outputs: tuple[str, ...]  # columns a convergence study and the summary look at
+    components: tuple[tuple[str, str, str], ...]   # (instance, FMU, role and fidelity in this scene)
+    key_outputs: tuple[str, ...]                   # columns a convergence study and the summary look at
+    fidelity: dict[str, str] = field(default_factory=dict)   # 'comp.switch' -> what the values change
+    paper: str = ""
+    plots: tuple[tuple[str, tuple[str, ...]], ...] = ()      # (figure title, columns)
 
 
 SCENES = {
     "elastic_pendulum": SceneInfo(
         "elastic_pendulum",
         "a load on an elastic rope under a fixed point, released from 5 deg: swing and axial vibration",
+        (("rope", "Rope", "Kelvin-Voigt rope, fixed top"), ("pendulum", "Pendulum", "point mass, 2-D")),
         ("pendulum.theta", "rope.tension"),
+        {"rope.model": "kelvin_voigt | bouc_wen", "pendulum.dimension": "2 (working plane) | 3"},
+        plots=(("Rope tension", ("rope.tension",)), ("Sway angle", ("pendulum.theta",))),
+    ),
+    "overhead_lift": SceneInfo(
+        "overhead_lift",
+        "dynamic factor of lifting a grounded 1800 kg load with tight or loose rope (seed 001 Table 7, EN 13001-2)",
+        (("drive", "Drive", "asynchronous motor + torsional drivetrain + twin drum (mode motor)"),
+         ("rope", "Rope", "4-line reeving, Kelvin-Voigt or Bouc-Wen"),
+         ("girder", "Girder", "girder + elastic drum bearing, vertical only"),
+         ("pendulum", "Pendulum", "1-D: hook 30 kg + load 1800 kg on the hook spring c_2, ground contact")),
+        ("rope.tension", "pendulum.y_payload", "drive.motor_speed"),
+        {"rope.model": "kelvin_voigt | bouc_wen (seed 001 eq. 1-3)", "drive.mode": "motor | kinematic",
+         "girder.bearing": "elastic | rigid", "pendulum.payload": "elastic (hook spring c_2) | rigid"},
+        "seed 001 (Haniszewski): Tables 4-7",
+        (("Rope tension", ("rope.tension",)), ("Ground reaction", ("pendulum.N_ground",)),
+         ("Load and hook height", ("pendulum.y_payload", "pendulum.y")),
+         ("Motor torque", ("drive.motor_torque",)), ("Motor speed", ("drive.motor_speed",)),
+         ("Girder and drum deflection", ("girder.girder_deflection", "girder.deflection"))),
+    ),
+    "truck_telescope": SceneInfo(
+        "truck_telescope",
+        "sway, rope elongation, settlements and outrigger loads while the truck crane telescopes 10.5 -> 22.4 m "
+        "at 60 deg with the load height held (seed 000 Fig. 3-10)",
+        (("drive", "Drive", "kinematic payout keeping the load height"),
+         ("rope", "Rope", "Kelvin-Voigt, 2 lines, rope run along the boom folded into E"),
+         ("boom", "Boom", "telescoping trapezoid law, rigid luffing cylinder, moves with the chassis"),
+         ("chassis", "Chassis", "body + platform on two elastic outriggers, unilateral soil contact"),
+         ("pendulum", "Pendulum", "2-D point mass (hook + load)")),
+        ("pendulum.theta", "rope.elongation", "chassis.N_front", "chassis.N_rear"),
+        {"boom.cylinder": "prescribed | spring_damper", "rope.model": "kelvin_voigt | bouc_wen",
+         "pendulum.dimension": "2 | 3"},
+        "seed 000 (truck crane 55713-1K): Tables 1-2, telescoping law, Fig. 3-10",
+        (("Rope tension", ("rope.tension",)), ("Rope elongation", ("rope.elongation",)),
+         ("Sway angle", ("pendulum.theta",)), ("Outrigger reactions", ("chassis.N_front", "chassis.N_rear")),
+         ("Settlements", ("chassis.q1", "chassis.q2")), ("Boom length", ("boom.boom_length",))),
+    ),
+    "hook_sway": SceneInfo(
+        "hook_sway",
+        "payload sway below a hook of its own mass and length, released from an offset (seed 002)",
+        (("boom", "Boom", "kinematic tip at rest (no telescoping, no chassis)"),
+         ("rope", "Rope", "Kelvin-Voigt link tip -> hook: seed 002's hook length L_h"),
+         ("pendulum", "Pendulum", "3-D: hook (mass = seed 002's m_h) + payload on a rigid link L_sling = L_p")),
+        ("pendulum.theta_payload", "pendulum.phi_payload", "pendulum.theta"),
+        {"pendulum.payload": "rigid | elastic", "pendulum.dimension": "3 | 2"},
+        "seed 002 (hydraulic floor crane hook): eq. 54, Fig. 3-7",
+        (("Payload sway", ("pendulum.theta_payload", "pendulum.phi_payload")),
+         ("Hook sway", ("pendulum.theta", "pendulum.phi")), ("Rope tension", ("rope.tension",)),
+         ("Sling force", ("pendulum.sling_force",))),
     ),
 }
 
 
-def summary(name: str, result: np.ndarray) -> list[tuple[str, str]]:
-    """(label, value text) lines describing a run: range of each key output, for known scenes."""
+def plot_groups(scene_name: str, columns) -> list[tuple[str, list[str]]]:
+    """(figure title, columns) a crane engineer looks at, limited to the columns present."""
+    cols = list(columns)
+    info = SCENES.get(scene_name)
+    groups = info.plots if info else ()
+    if not groups:  # unknown scene: the usual crane signals by name
+        wanted = (("Rope tension", ("tension",)), ("Sway angle", ("theta", "phi")),
+                  ("Outrigger reactions", ("N_front", "N_rear")), ("Settlements", ("q1", "q2")),
+                  ("Motor torque", ("motor_torque",)), ("Motor speed", ("motor_speed",)))
+        groups = tuple((title, tuple(c for c in cols if c.split(".")[-1] in names)) for title, names in wanted)
+    out = []
+    for title, names in groups:
+        present = [c for c in names if c in cols]
+        if present:
+            out.append((title, present))
+    return out
+
+
+# --- metrics -------------------------------------------------------------------------------------
+def _names(result) -> tuple[str, ...]:
+    return tuple(result.dtype.names) if hasattr(result, "dtype") else tuple(result.keys())
+
+
+def _col(result, name: str) -> np.ndarray:
+    return np.asarray(result[name], dtype=float)
+
+
+def overhead_lift_metrics(r) -> dict[str, float]:
+    """Dynamic factor = max rope tension / suspended weight, the weight from the start (at rest the
+    rope and the ground carry it together: W = T(0) + N(0)); lift-off = first time N = 0 [s]."""
+    t, tension, n = _col(r, "time"), _col(r, "rope.tension"), _col(r, "pendulum.N_ground")
+    weight = tension[0] + n[0]
+    off = np.flatnonzero(n <= 0.0)
+    return {"weight": weight, "max_tension": float(tension.max()), "dynamic_factor": float(tension.max() / weight),
+            "lift_off_time": float(t[off[0]]) if len(off) else math.nan}
+
+
+def _motion_end(t: np.ndarray, length: np.ndarray) -> float:
+    """Time the boom stops telescoping (last change of its length) [s]."""
+    moving = np.flatnonzero(np.abs(np.diff(length)) > 1e-12)
+    return float(t[moving[-1] + 1]) if len(moving) else float(t[0])
+
+
+def truck_telescope_metrics(r) -> dict[str, float]:
+    """Sway [deg] (largest, and the amplitude of the free swing after telescoping), rope elongation,
+    settlements and outrigger reactions (min/max), tipping (an outrigger without load)."""
+    t, theta = _col(r, "time"), np.degrees(_col(r, "pendulum.theta"))
+    t_end = _motion_end(t, _col(r, "boom.boom_length"))
+    after = t > t_end
+    out = {"max_sway_deg": float(np.max(np.abs(theta))), "telescoping_end": t_end,
+           "sway_after_deg": float(np.max(np.abs(theta[after]))) if after.any() else math.nan}
+    for name, key in (("elongation", "rope.elongation"), ("q1", "chassis.q1"), ("q2", "chassis.q2"),
+                      ("N_front", "chassis.N_front"), ("N_rear", "chassis.N_rear")):
+        v = _col(r, key)
+        out[f"{name}_min"], out[f"{name}_max"] = float(v.min()), float(v.max())
+    out["tipping"] = float(min(out["N_front_min"], out["N_rear_min"]) <= 0.0)
+    return out
+
+
+def payload_sway(r) -> np.ndarray:
+    """Angle [rad] of the line tip -> payload from the vertical (the sway an accelerometer on the load sees)."""
+    dx = _col(r, "pendulum.x_payload") - _col(r, "boom.x_tip")
+    dy = _col(r, "pendulum.y_payload") - _col(r, "boom.y_tip")
+    dz = _col(r, "pendulum.z_payload") - _col(r, "boom.z_tip")
+    return np.arctan2(np.hypot(dx, dz), -dy)
+
+
+def hook_sway_metrics(r, window: float = 2.0) -> dict[str, float]:
+    """Payload sway amplitude [deg] in the first and the last ``window`` seconds, and their ratio."""
+    t, sway = _col(r, "time"), np.degrees(payload_sway(r))
+    first, last = sway[t <= t[0] + window], sway[t >= t[-1] - window]
+    a0, a1 = float(first.max()), float(last.max())
+    return {"sway_first_deg": a0, "sway_last_deg": a1, "sway_ratio": a1 / a0 if a0 > 0 else math.nan}
+
+
+def elastic_pendulum_metrics(r) -> dict[str, float]:
+    theta, tension = np.degrees(_col(r, "pendulum.theta")), _col(r, "rope.tension")
+    return {"max_sway_deg": float(np.max(np.abs(theta))), "tension_min": float(tension.min()),
+            "tension_max": float(tension.max())}
+
+
+METRICS: dict[str, Callable[[object], dict[str, float]]] = {
+    "elastic_pendulum": elastic_pendulum_metrics, "overhead_lift": overhead_lift_metrics,
+    "truck_telescope": truck_telescope_metrics, "hook_sway": hook_sway_metrics}
+
+
+def metrics(name: str, result) -> dict[str, float]:
+    """The summary numbers of a run of scene ``name`` (empty for an unknown scene)."""
+    fn = METRICS.get(name)
+    return fn(result) if fn is not None and len(_col(result, "time")) > 1 else {}
+
+
+def summary(name: str, result) -> list[tuple[str, str]]:
+    """(label, value text) lines describing a run: the scene's metrics, then the range of each key output."""
+    lines: list[tuple[str, str]] = []
+    m = metrics(name, result) if all(k in _names(result) for k in _metric_columns(name)) else {}
+    if name == "overhead_lift" and m:
+        lines += [("dynamic factor", f"{m['dynamic_factor']:.4f} (max tension {m['max_tension']:.6g} N / "
+                                     f"weight {m['weight']:.6g} N)"),
+                  ("lift-off time", f"{m['lift_off_time']:.4g} s" if math.isfinite(m["lift_off_time"])
+                   else "the load did not leave the ground")]
+    elif name == "truck_telescope" and m:
+        lines += [("max sway", f"{m['max_sway_deg']:.3f} deg (after telescoping: {m['sway_after_deg']:.3f} deg)"),
+                  ("rope elongation", f"{m['elongation_min'] * 1e3:.3f} .. {m['elongation_max'] * 1e3:.3f} mm"),
+                  ("settlements q1, q2", f"{m['q1_min'] * 1e3:.3f} .. {m['q1_max'] * 1e3:.3f} mm, "
+                                         f"{m['q2_min'] * 1e3:.3f} .. {m['q2_max'] * 1e3:.3f} mm"),
+                  ("outrigger N_front", f"{m['N_front_min'] / 1e3:.2f} .. {m['N_front_max'] / 1e3:.2f} kN"),
+                  ("outrigger N_rear", f"{m['N_rear_min'] / 1e3:.2f} .. {m['N_rear_max'] / 1e3:.2f} kN"),
+                  ("tipping", "yes (an outrigger lifted off)" if m["tipping"] else "no")]
+    elif name == "hook_sway" and m:
+        lines += [("payload sway", f"first 2 s {m['sway_first_deg']:.3f} deg, last 2 s {m['sway_last_deg']:.3f} deg "
+                                   f"(ratio {m['sway_ratio']:.3f})")]
     info = SCENES.get(name)
-    keys = info.key_outputs if info else tuple(n for n in result.dtype.names if n != "time")[:6]
-    lines = []
+    names = _names(result)
+    keys = info.key_outputs if info else tuple(n for n in names if n != "time")[:6]
     for k in keys:
-        if k in result.dtype.names and len(result):
-            col = result[k]
+        if k in names and len(result["time"]):
+            col = _col(result, k)
             lines.append((k, f"min {col.min():.6g}  max {col.max():.6g}  final {col[-1]:.6g}"))
+    return lines
+
+
+def _metric_columns(name: str) -> tuple[str, ...]:
+    return {"overhead_lift": ("rope.tension", "pendulum.N_ground"),
+            "truck_telescope": ("pendulum.theta", "boom.boom_length", "rope.elongation", "chassis.q1", "chassis.q2",
+                                "chassis.N_front", "chassis.N_rear"),
+            "hook_sway": ("pendulum.x_payload", "pendulum.y_payload", "pendulum.z_payload", "boom.x_tip",
+                          "boom.y_tip", "boom.z_tip"),
+            "elastic_pendulum": ("pendulum.theta", "rope.tension")}.get(name, ())
+
+
+# --- parameter sets computed from the seeds' data ----------------------------------------------------
+def truck_telescope_parameters(speed: float = 0.35, angle_deg: float = 60.0, load: float = 2500.0,
+                               boom_start: float = 10.5, boom_end: float = 22.4, t_acc: float = 3.0,
+                               rope_length: float = 9.09, n_lines: int = 2) -> dict[str, float]:
+    """'comp.var' values of truck_telescope for a telescoping speed V10 = V20 [m/s], luffing angle
+    [deg] and hook load [kg], derived from seed 000 (see ssp/truck_telescope/default.ssv):
+
+    - both segments at ``speed``: T2 = (L_end - L_start) / (2 speed), T3 = T2 + t_acc;
+    - the hook keeps its height: the hanging length grows with the tip height, (L_end - L_start)
+      sin(angle), so the drum pays out n_lines times that on the same trapezoid (duration T3);
+    - the hook starts at rest under the tip with the rope stretched by the static load (static
+      equilibrium of chassis, boom and rope, solved with the scene's own models).
+    """
+    rise = (boom_end - boom_start) * math.sin(math.radians(angle_deg))
+    t2 = (boom_end - boom_start) / (2.0 * speed)
+    values = {"boom.luff_angle": math.radians(angle_deg), "boom.telescope_speed": speed,
+              "boom.boom_length_start": boom_start, "boom.boom_length_end": boom_end, "boom.t_acc": t_acc,
+              "drive.payout_speed": n_lines * rise / t2, "drive.duration": t2 + t_acc, "drive.t_acc": t_acc,
+              "rope.length": rope_length, "rope.n_lines": n_lines, "rope.m_load": load, "pendulum.mass": load}
+    phi = math.radians(angle_deg)   # first guess: rigid supports
+    values.update({"pendulum.x0": boom_start * math.cos(phi), "pendulum.y0": boom_start * math.sin(phi) - rope_length})
+    values.update(hanging_start("truck_telescope", values))
+    return values
+
+
+def hanging_start(scene: str, values: Mapping[str, float], iterations: int = 30) -> dict[str, float]:
+    """pendulum.x0, y0 of a hook hanging at rest under its suspension point in ``scene`` with ``values``:
+    the static equilibrium of every component (the tip moves as the supports settle), by fixed point."""
+    from .physics.rope import stiffness
+    from .reference import Monolith
+
+    start = {k: float(values[k]) for k in ("pendulum.x0", "pendulum.y0") if k in values}
+    for _ in range(iterations):
+        mono = Monolith(scene, "default", {**values, **start})
+        mono.initial_state(0.0)
+        rope = mono.models[mono.names.index("rope")]
+        u = mono.u[mono.names.index("rope")]
+        weight = mono.models[mono.names.index("pendulum")].p.mass * G
+        l_u = rope.p.length
+        new = {"pendulum.x0": float(u[0]), "pendulum.y0": float(u[1] - l_u - weight / stiffness(rope.p, l_u))}
+        if max(abs(new[k] - start[k]) for k in new) < 1e-14 * (1.0 + abs(new["pendulum.y0"])):
+            return new
+        start = new
+    return start
+
+
+def hook_sway_parameters(m_hook: float = 3.0, hook_length: float = 0.4, L_sling: float = 0.5,
+                         m_payload: float = 10.0) -> dict[str, float]:
+    """'comp.var' values of hook_sway for seed 002's hook mass m_h [kg] (pendulum.mass, the issue's
+    ``pendulum.m_hook``), hook length L_h [m] (rope.length), link L_p [m] and payload [kg]: the hook
+    starts at rest under the tip with the rope stretched by the hanging weight (see default.ssv)."""
+    from .reference import Monolith
+    from .physics.rope import stiffness
+
+    values = {"pendulum.mass": m_hook, "rope.length": hook_length, "pendulum.L_sling": L_sling,
+              "pendulum.m_payload": m_payload, "rope.m_load": m_hook + m_payload}
+    mono = Monolith("hook_sway", "default", values)
+    boom = mono.models[mono.names.index("boom")]
+    tip = boom.output_values(0.0, np.zeros(3), boom.default_inputs())
+    rope = mono.models[mono.names.index("rope")].p
+    values["pendulum.x0"] = float(tip[0])
+    values["pendulum.y0"] = float(tip[1] - hook_length - (m_hook + m_payload) * G / stiffness(rope, hook_length))
+    return values
+
+
+def describe(scene) -> list[str]:
+    """Lines for ``cranefmu info``: question, components with their role, fidelity switches, parameter
+    sets and values, outputs per component (with units), connections.  ``scene`` is a loaded
+    :class:`cranefmu.master.scene.Scene`."""
+    from fmpy import read_model_description
+
+    info = SCENES.get(scene.name)
+    roles = {c[0]: c[2] for c in info.components} if info else {}
+    lines = [f"scene {scene.name} ({scene.path})"]
+    if info:
+        lines.append(f"  question: {info.question}")
+        if info.paper:
+            lines.append(f"  source: {info.paper}")
+    lines.append("  components:")
+    for c in scene.components:
+        lines.append(f"    {c.name} ({c.fmu.name})" + (f": {roles[c.name]}" if c.name in roles else ""))
+    if info and info.fidelity:
+        lines.append("  fidelity switches (--set comp.var=value):")
+        lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
+    lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
+    lines.append("  parameters (default set):")
+    lines += [f"    {k} = {v}" for k, v in scene.parameters.items()]
+    for name, values in scene.parameter_sets.items():
+        lines.append(f"  parameter set {name} (over default):")
+        lines += [f"    {k} = {v}" for k, v in values.items()]
+    if info:
+        lines.append("  key outputs: " + ", ".join(info.key_outputs))
+    lines.append("  outputs (columns of a run):")
+    for c in scene.components:
+        md = read_model_description(str(c.fmu), validate=False)
+        outs = [f"{v.name} [{v.unit}]" if getattr(v, "unit", None) else v.name
+                for v in md.modelVariables if v.causality == "output"]
+        lines.append(f"    {c.name}: " + ", ".join(outs))
+    lines.append("  connections:")
+    lines += [f"    {c}" for c in scene.connections]
     return lines

@@ -1,0 +1,42 @@
+"""The co-simulation converges to the monolithic solve of the same models (cranefmu.reference)."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cranefmu.master.run import run
+from cranefmu.reference import Monolith, solve
+
+STOP = 1.0
+KEYS = ("pendulum.theta_payload", "pendulum.phi_payload", "pendulum.theta")
+
+
+@pytest.fixture(scope="module")
+def reference():
+    return solve("hook_sway", STOP, np.linspace(0.0, STOP, 251), rtol=1e-10)
+
+
+def relative_error(res, ref) -> float:
+    """Largest error of the key outputs over the run, relative to each output's amplitude."""
+    return max(float(np.max(np.abs(np.interp(ref["time"], res["time"], res[k]) - ref[k])) / np.max(np.abs(ref[k])))
+               for k in KEYS)
+
+
+def test_reference_wires_every_output_of_the_scene():
+    mono = Monolith("truck_telescope")
+    assert "chassis.N_rear" in mono.columns and "boom.x_tip" in mono.columns
+    ssd = (Path(__file__).resolve().parent.parent / "ssp" / "truck_telescope" / "SystemStructure.ssd").read_text()
+    assert len(mono.links) == ssd.count("<ssd:Connection ") == 31
+
+
+@pytest.mark.parametrize("extrapolation, order, steps", [(0, 1.0, (4e-3, 2e-3, 1e-3)),
+                                                         (1, 2.0, (4e-3, 2e-3, 1e-3, 5e-4))])
+def test_cosimulation_error_falls_with_the_step_at_the_scheme_order(built, reference, extrapolation, order, steps):
+    """hook_sway (Jacobi): order 1 with zero-order hold, 2 with linear extrapolation, and below 1e-4
+    relative at the smallest step."""
+    errors = [relative_error(run("hook_sway", stop_time=STOP, step_size=h, extrapolation=extrapolation).result,
+                             reference) for h in steps]
+    observed = np.polyfit(np.log(steps), np.log(errors), 1)[0]
+    assert observed == pytest.approx(order, abs=0.3)
+    if extrapolation == 1:
+        assert errors[-1] < 1e-4

@@ -1,0 +1,108 @@
+"""The crane scenes: static equilibrium at the start, and summaries that are finite and physically ordered."""
+import math
+
+import numpy as np
+import pytest
+
+from cranefmu.master.run import run
+from cranefmu.reference import Monolith, solve
+from cranefmu.scenes import (SCENES, hook_sway_parameters, metrics, plot_groups, summary,
+                             truck_telescope_parameters)
+
+G = 9.81
+AT_REST = {"hook_sway": {"pendulum.theta_payload0": 0.0, "pendulum.phi_payload0": 0.0}}
+CASES = [("elastic_pendulum", "default"), ("overhead_lift", "default"), ("overhead_lift", "loose"),
+         ("truck_telescope", "default"), ("truck_telescope", "luff45"), ("hook_sway", "default")]
+
+
+@pytest.mark.parametrize("scene, parameter_set", CASES)
+def test_every_scene_starts_in_static_equilibrium(scene, parameter_set):
+    """All accelerations of the initialized scene vanish (below 1e-7 g): no start-up transient.
+    elastic_pendulum is released from 5 deg: only its axial (radial) direction is at rest."""
+    mono = Monolith(scene, parameter_set, AT_REST.get(scene))
+    x0 = mono.initial_state(0.0)
+    dx = mono.split(mono.rhs(0.0, x0))
+    for name, model, d, x in zip(mono.names, mono.models, dx, mono.split(x0)):
+        states = model.state_names()
+        if scene == "elastic_pendulum" and name == "pendulum":
+            radial = x[:2] / np.linalg.norm(x[:2])
+            assert abs(d[3:5] @ radial) < 1e-7 * G
+            continue
+        for s, v in zip(states, d):
+            if s.startswith(("v", "w_", "d")) or s in ("M_e", "Theta", "gamma_rate", "psi_rate"):
+                assert abs(v) < 1e-7 * max(G, 1.0), f"{name}.{s}' = {v} at t = 0"
+
+
+def test_truck_start_matches_the_static_outrigger_loads_of_seed_000():
+    """2.5 t at 60 deg, 10.5 m: N2 = 104.13 kN (rear, boom side), N1 = 77.8 kN (seed 000, labels swapped)."""
+    mono = Monolith("truck_telescope")
+    y = dict(zip(mono.columns, mono.output_row(0.0, mono.initial_state(0.0))))
+    assert y["chassis.N_rear"] == pytest.approx(104.13e3, rel=2e-3)
+    assert y["chassis.N_front"] == pytest.approx(77.8e3, rel=2e-3)
+    assert y["rope.tension"] == pytest.approx(2500 * G, rel=1e-7)
+
+
+def test_hook_sway_at_rest_stays_at_rest_in_the_cosimulation(built):
+    res = run("hook_sway", stop_time=0.05, step_size=1e-3, parameters=AT_REST["hook_sway"]).result
+    for k in ("pendulum.x", "pendulum.y", "pendulum.z", "rope.tension"):
+        drift = np.max(np.abs(res[k] - res[k][0]))
+        assert drift < 1e-9 * max(1.0, abs(res[k][0])), (k, drift)
+
+
+@pytest.mark.xfail(strict=False, reason="the master (issue 4) orders components, not variables: boom <-> rope "
+                   "is refused as an algebraic loop although no variable loop exists; overhead_lift's stiff "
+                   "rope-on-girder initialization stalls above the master's 1e-12 tolerance")
+@pytest.mark.parametrize("scene", ["truck_telescope", "overhead_lift"])
+def test_crane_scenes_start_at_rest_in_the_cosimulation(built, scene):
+    res = run(scene, stop_time=0.05, step_size=1e-3).result
+    assert np.max(np.abs(res["pendulum.vy"])) < 1e-7
+
+
+@pytest.fixture(scope="module")
+def lifts():
+    """Tight and loose lift until shortly after lift-off (monolithic solve, loose rtol: ordering only)."""
+    return {ps: solve("overhead_lift", stop, np.linspace(0.0, stop, 801), parameter_set=ps, rtol=1e-5)
+            for ps, stop in (("default", 1.0), ("loose", 1.5))}
+
+
+def test_loose_rope_gives_a_larger_dynamic_factor_than_tight(lifts):
+    tight, loose = (metrics("overhead_lift", lifts[k]) for k in ("default", "loose"))
+    assert all(math.isfinite(v) for v in (*tight.values(), *loose.values()))
+    assert 1.0 < tight["dynamic_factor"] < loose["dynamic_factor"] < 2.0
+    assert tight["lift_off_time"] < loose["lift_off_time"]      # the slack is taken up first
+    assert tight["weight"] == pytest.approx(1830 * G, rel=1e-9)
+    labels = [label for label, _ in summary("overhead_lift", lifts["loose"])]
+    assert labels[:2] == ["dynamic factor", "lift-off time"]
+
+
+def test_faster_telescoping_gives_larger_sway():
+    """Over the first 6 s (acceleration T1 = 3 s, then the free swing) the tip accelerates at V / T1."""
+    sway = {}
+    for v in (0.2, 0.55):
+        r = solve("truck_telescope", 6.0, np.linspace(0.0, 6.0, 601), parameters=truck_telescope_parameters(speed=v),
+                  rtol=1e-6)
+        m = metrics("truck_telescope", r)
+        assert math.isnan(m["sway_after_deg"])          # still telescoping at 6 s: no free swing yet
+        assert all(math.isfinite(x) for k, x in m.items() if k != "sway_after_deg")
+        assert m["tipping"] == 0.0
+        sway[v] = m["max_sway_deg"]
+    assert 0.0 < sway[0.2] < sway[0.55]
+
+
+def test_hook_parameters_place_the_hook_under_the_tip():
+    p = hook_sway_parameters(m_hook=5.0, hook_length=0.5)
+    mono = Monolith("hook_sway", "default", {**p, **AT_REST["hook_sway"]})
+    x0 = mono.initial_state(0.0)
+    y = dict(zip(mono.columns, mono.output_row(0.0, x0)))
+    assert y["rope.tension"] == pytest.approx(15.0 * G, rel=1e-9)
+    assert y["pendulum.x"] == pytest.approx(y["boom.x_tip"], abs=1e-12)
+
+
+def test_plot_groups_cover_the_crane_signals():
+    cols = ["time", "rope.tension", "chassis.N_front", "chassis.N_rear", "chassis.q1", "chassis.q2",
+            "pendulum.theta", "boom.boom_length"]
+    groups = dict(plot_groups("truck_telescope", cols))
+    assert groups["Outrigger reactions"] == ["chassis.N_front", "chassis.N_rear"]
+    assert groups["Settlements"] == ["chassis.q1", "chassis.q2"]
+    assert "Motor torque" not in groups          # no drive torque column given
+    assert set(SCENES) >= {"overhead_lift", "truck_telescope", "hook_sway", "elastic_pendulum"}
