@@ -37,10 +37,46 @@ LEVELS = (1e-2, 1e-3)  # error levels (fraction of the signal's range) for the e
 MONO_RTOLS = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 
 
-def in_child(fn, *args):
-    """fn(*args) in a fresh spawned process (inherits the CPU pinning)."""
-    with multiprocessing.get_context("spawn").Pool(1) as pool:
-        return pool.apply(fn, args)
+class ChildFailed(Exception):
+    """The child process died (e.g. a segmentation fault inside an FMU) or ran past its time limit."""
+
+
+def in_child(fn, *args, timeout: float = 900.0, **kwargs):
+    """fn(*args, **kwargs) in a fresh spawned process (inherits the CPU pinning).  A child that dies or
+    hangs raises ChildFailed instead of blocking the benchmark (a multiprocessing.Pool waits forever)."""
+    from concurrent.futures import ProcessPoolExecutor, TimeoutError as FutureTimeout
+    from concurrent.futures.process import BrokenProcessPool
+
+    ex = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+    try:
+        return ex.submit(fn, *args, **kwargs).result(timeout=timeout)
+    except BrokenProcessPool:
+        raise ChildFailed("the child process died (crash inside an FMU?)") from None
+    except FutureTimeout:
+        for proc in list(getattr(ex, "_processes", {}).values()):  # our own child, by its process object
+            proc.kill()
+        raise ChildFailed(f"no result within {timeout:g} s; the child was killed") from None
+    finally:
+        ex.shutdown(wait=False, cancel_futures=True)
+
+
+def master_runs(scene: str, settings: list, stop: float, algorithm: str, extrapolation: int, say) -> tuple[list, list]:
+    """converge.run_once for each (H, tolerance), each in a guarded child (isolate=False inside it)."""
+    from cranefmu import converge as cv
+
+    runs, results = [], []
+    for h, tol in settings:
+        say(f"run {algorithm} x{extrapolation} {'tol=%g' % tol if tol is not None else 'H=%g' % h} ...")
+        try:
+            row, res = in_child(cv.run_once, scene, stop, h, tol, algorithm, extrapolation, None, None,
+                                isolate=False, timeout=max(300.0, 200 * stop))
+        except ChildFailed as err:
+            row, res = cv.ConvergenceRun(h, tol, failure=str(err)), None
+        except cv.CraneFmuError as err:
+            row, res = cv.ConvergenceRun(h, tol, failure=str(err).splitlines()[0]), None
+        runs.append(row)
+        results.append(res)
+    return runs, results
 
 
 # --- fmpy's simulate_ssp ---------------------------------------------------------------------------
@@ -147,11 +183,21 @@ def profile_run(scene: str, stop: float, h: float, algorithm: str, extrapolation
             setup += ct
     inside = sum(fmi.values())
     loop = total - setup
+    # own (not cumulative) time of the layers a value crosses: fmpy's generic call wrapper, pythonfmu's
+    # per-variable set/get loops, the adapter's do_step
+    layers = {"fmpy _call wrapper": [0.0, 0], "pythonfmu set_real": [0.0, 0], "pythonfmu get_real": [0.0, 0]}
+    for (path, _line, func), (_cc, nc, tt, _ct, _callers) in st.stats.items():
+        key = ("fmpy _call wrapper" if func == "_call" and "fmpy" in path else
+               "pythonfmu set_real" if func == "set_real" and path.endswith("fmi2slave.py") else
+               "pythonfmu get_real" if func == "get_real" and path.endswith("fmi2slave.py") else None)
+        if key:
+            layers[key][0] += tt
+            layers[key][1] += nc
     buf = io.StringIO()
     pstats.Stats(prof, stream=buf).sort_stats("tottime").print_stats(top)
     return {"total": total, "setup": setup, "loop": loop, "fmi": fmi, "ncalls": ncalls, "inside": inside,
             "overhead": loop - inside, "steps": res.stats.steps, "fmu_time": dict(res.stats.fmu_time),
-            "fmu_calls": dict(res.stats.fmu_calls), "text": buf.getvalue()}
+            "fmu_calls": dict(res.stats.fmu_calls), "layers": layers, "text": buf.getvalue()}
 
 
 def unprofiled_split(scene: str, stop: float, h: float, algorithm: str, extrapolation: int) -> dict:
@@ -247,23 +293,31 @@ def scene_stop(scene: str, quick: bool) -> float:
     return min(full, 3.0) if quick else full
 
 
-def study_scene(scene: str, quick: bool, say) -> dict:
+ADAPTIVE_TOLERANCES = (1e-3, 1e-4, 1e-5)
+
+
+def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: list[float] | None = None) -> dict:
     from cranefmu import converge as cv
     from cranefmu.master.run import ALGORITHMS, resolve_scene
 
     keys = cv.key_outputs(scene)
-    stop = scene_stop(scene, quick)
-    steps = [4e-3, 2e-3, 1e-3] if quick else [8e-3, 4e-3, 2e-3, 1e-3, 5e-4]
+    stop = stop or scene_stop(scene, quick)
+    steps = steps or [4e-3, 2e-3, 1e-3]
     series: dict[tuple[str, int], tuple[list, list]] = {}
     for alg in ALGORITHMS:
         for ex in (0, 1, 2):
-            runs, results, _ = cv.run_settings(scene, [(h, None) for h in steps], stop, alg, ex, progress=say)
-            series[(alg, ex)] = (runs, results)
+            series[(alg, ex)] = master_runs(scene, [(h, None) for h in steps], stop, alg, ex, say)
+    if cv.master_supports_adaptive():  # adaptive Jacobi, extrapolation 1, started at the finest fixed H
+        series[("jacobi adaptive", 1)] = master_runs(scene, [(min(steps), tol) for tol in ADAPTIVE_TOLERANCES],
+                                                     stop, "jacobi", 1, say)
     ssp = str(resolve_scene(scene))
     fm = []
     for h in steps:
         say(f"fmpy simulate_ssp H={h:g} ...")
-        fm.append(in_child(fmpy_run, ssp, scene, stop, h, keys))
+        try:
+            fm.append(in_child(fmpy_run, ssp, scene, stop, h, keys, timeout=max(300.0, 200 * stop)))
+        except ChildFailed as err:
+            fm.append({"error": str(err)})
     all_results = [r for _, rs in series.values() for r in rs if r is not None]
     fm_results = [np.array(list(zip(f["time"], *f["cols"].values())),
                            dtype=[("time", float)] + [(k, float) for k in f["cols"]])
@@ -360,7 +414,7 @@ def scene_report(s: dict) -> list[str]:
     for (alg, ex), (runs, _) in s["series"].items():
         for r in runs:
             wk = r.worst_key
-            out.append(f"| master {alg} x{ex} | {r.step_size:g} | {fmt(r.worst_rel)} | "
+            out.append(f"| master {alg} x{ex} | {r.label[2:] if r.tolerance is None else r.label} | {fmt(r.worst_rel)} | "
                        f"{fmt(r.order.get(wk) if wk else None, '.2f')} | {r.steps} | {fmt(r.wall_time, '.3f')} | "
                        f"{fmt(r.real_time_factor, '.1f')} |" + (f" FAILED: {r.failure[:80]}" if r.failure else ""))
     for r in s["fmpy"]:
@@ -388,7 +442,7 @@ def scene_report(s: dict) -> list[str]:
             "Equal accuracy (cheapest run of each method meeting the level):", "",
             "| level | master (setting, wall s) | fmpy (H, wall s) | monolithic (rtol, wall s) | fmpy / master | "
             "monolithic / master |", "| --- | --- | --- | --- | --- | --- |"]
-    all_master = [(f"{a} x{e} H={r.step_size:g}", r) for (a, e), (runs, _) in s["series"].items() for r in runs]
+    all_master = [(f"{a} x{e} {r.label}", r) for (a, e), (runs, _) in s["series"].items() for r in runs]
     settle = s["settle"]
     for level in LEVELS:
         ok = [(n, r) for n, r in all_master if r.failure is None and r.worst_rel <= level]
@@ -413,6 +467,16 @@ def scene_report(s: dict) -> list[str]:
             same.append(f"H={f.step_size:g}: wall fmpy/master {f.wall_time / r.wall_time:.2f}, "
                         f"error fmpy/master {f.worst_rel / r.worst_rel:.2f}")
     out += ["", "Same H, master Jacobi x0 against fmpy (the same algorithm): " + ("; ".join(same) or "no pair"), ""]
+    adaptive = s["series"].get(("jacobi adaptive", 1), ([], []))[0]
+    fixed = s["series"][("jacobi", 1)][0]
+    for a in adaptive:
+        if a.failure is None:
+            f = [r for r in fixed if r.failure is None and r.worst_rel <= a.worst_rel]
+            best = min(f, key=lambda r: r.steps) if f else None
+            out.append(f"- adaptive Jacobi x1 {a.label}: error {a.worst_rel:.3g} in {a.steps} steps "
+                       f"({a.rejections} rejected); cheapest fixed Jacobi x1 at least as accurate: "
+                       + (f"{best.label}, {best.steps} steps" if best else "none of the fixed steps run"))
+    out.append("")
     return out
 
 
@@ -473,6 +537,29 @@ def profile_report(scene: str, stop: float, h: float, say) -> list[str]:
            + f"; everything outside doStep: {u['wall'] - sum(u['fmu_time'].values()):.3f} s "
            f"({(u['wall'] - sum(u['fmu_time'].values())) / sum(u['fmu_time'].values()) * 100:.0f} % of doStep time, "
            "setup included).", "", "Top functions by own time: benchmarks/results/profile.txt.", ""]
+    n = {k: p["ncalls"][k] / steps for k in ("getReal", "setReal", "doStep")}
+    lay = {k: (v[0] / max(v[1], 1) * 1e6, v[1] / steps) for k, v in p["layers"].items()}
+    floor = sum(u["fmu_time"].values()) / max(u["steps"], 1)
+    out += ["Findings (measured above; proposals for the owners of master/ and fmi_adapter.py):", "",
+            f"1. FMI calls per macro step: {n['doStep']:.0f} doStep, {n['setReal']:.0f} setReal, {n['getReal']:.0f} "
+            "getReal.  The master reads every output for the recorder (`CoSystem.outputs`) and again the coupling "
+            "outputs for the exchange (`CoSystem.pull`): one getReal per component per step, sliced for both, "
+            "saves the second read.  Values and their `_dt`/`_dt2` go in two setReal calls per connection group: "
+            "one call with both, and none for `_dt`/`_dt2` at extrapolation 0 (they stay 0), saves the second "
+            "write.",
+            f"2. fmpy's generic wrapper (`fmpy.fmi1._call`, status check and logging hooks) costs "
+            f"{lay['fmpy _call wrapper'][0]:.1f} us own time per call (profiled), {lay['fmpy _call wrapper'][1]:.0f} "
+            "calls per step; calling the ctypes functions directly with value-reference and value arrays "
+            "allocated once per connection group removes it and the per-call list->array conversion "
+            "(see the raw ctypes column of the call-cost table).",
+            f"3. pythonfmu's set_real/get_real loop over variables in Python: {lay['pythonfmu set_real'][0]:.1f} us "
+            f"per set_real, {lay['pythonfmu get_real'][0]:.1f} us per get_real (profiled); the Rope declares 42 Real "
+            "inputs (14 values + their _dt and _dt2).  This is inside the FMU: only fewer calls or fewer variables "
+            "per call help.",
+            f"4. Floor with the present design: the FMUs' own doStep time is {floor * 1e6:.0f} us per macro step, "
+            f"so at H = {h:g} s no master can exceed a real-time factor of {h / floor:.1f} on this machine; "
+            "a faster scene needs a larger H (higher extrapolation order or iterative coupling at equal accuracy) "
+            "or cheaper FMU steps (the internal integrator's substeps).", ""]
     return out
 
 
@@ -484,7 +571,10 @@ def call_cost_report(scene: str, say) -> list[str]:
            "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for fmu in sorted(FMU_DIR.glob("*.fmu")):
         say(f"call cost {fmu.stem} ...")
-        c = in_child(call_cost, str(fmu))
+        try:
+            c = in_child(call_cost, str(fmu), timeout=300)
+        except ChildFailed as err:
+            c = {"fmu": fmu.stem, "inputs": "-", "outputs": "-", "error": str(err)}
         if "error" in c:
             out.append(f"| {c['fmu']} | {c['inputs']} | {c['outputs']} | failed: {c['error'][:80]} | | | | |")
             continue
@@ -519,6 +609,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quick", action="store_true", help="3 s runs, 3 steps, short memory runs")
     ap.add_argument("--profile", action="store_true", help="cProfile of the hot path and the per-call cost")
     ap.add_argument("--scenes", default=None, help="comma-separated scenes (default: every scene with key outputs)")
+    ap.add_argument("--stop-time", type=float, default=None, help="simulated length of every run [s] "
+                    "(default 10 s, truck_telescope 30 s; --quick 3 s)")
+    ap.add_argument("--steps", default=None, help="macro steps, comma-separated (default 4e-3,2e-3,1e-3)")
     ap.add_argument("--cpu", type=int, default=None, help="core to pin to (default: the last allowed)")
     ap.add_argument("--output", default=None, help="results directory (default benchmarks/results)")
     args = ap.parse_args(argv)
@@ -537,12 +630,14 @@ def main(argv: list[str] | None = None) -> int:
 
     wall0 = clock.perf_counter()
     lines = ["# Speed against accuracy", "", *machine(), f"- mode: {'quick' if args.quick else 'full'}", "",
-             "Command: `.venv/bin/python benchmarks/speed_accuracy.py" + (" --quick" if args.quick else "")
-             + (" --profile" if args.profile else "") + "`", ""]
+             "Command: `.venv/bin/python benchmarks/speed_accuracy.py " + " ".join(argv or sys.argv[1:]) + "`", "",
+             "The machine is shared (2 cores, several engineers' jobs): absolute times are inflated and noisy; "
+             "compare the ratios measured in one run.", ""]
     done = []
     for name in names:
         try:
-            s = study_scene(name, args.quick, say)
+            s = study_scene(name, args.quick, say, args.stop_time,
+                            [float(x) for x in args.steps.split(",")] if args.steps else None)
         except Exception as err:  # one scene failing must not lose the others
             lines += [f"## {name}", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
             continue
@@ -551,12 +646,19 @@ def main(argv: list[str] | None = None) -> int:
         plot_scene(s, RESULTS / f"speed_accuracy_{name}.png")
         (RESULTS / "speed_accuracy.md").write_text("\n".join(lines) + "\n")  # a cut-off run keeps what it had
     write_csv(done, RESULTS / "speed_accuracy.csv")
+    sections = []
     if args.profile and names:
-        scene = names[0]
-        lines += profile_report(scene, 2.0 if args.quick else 5.0, 1e-3, say)
-        lines += call_cost_report(scene, say)
+        sections += [("Hot path", lambda: profile_report(names[0], 2.0 if args.quick else 5.0, 1e-3, say)),
+                     ("Call cost", lambda: call_cost_report(names[0], say))]
     if names:
-        lines += memory_report("elastic_pendulum" if "elastic_pendulum" in names else names[0], args.quick, say)
+        scene = "elastic_pendulum" if "elastic_pendulum" in names else names[0]
+        sections.append(("Memory", lambda: memory_report(scene, args.quick, say)))
+    for title, section in sections:
+        try:
+            lines += section()
+        except Exception as err:  # reported, and the other sections still run
+            lines += [f"## {title}", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
+        (RESULTS / "speed_accuracy.md").write_text("\n".join(lines) + "\n")
     lines += [f"Benchmark wall time {clock.perf_counter() - wall0:.0f} s.", ""]
     (RESULTS / "speed_accuracy.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
