@@ -270,10 +270,10 @@ def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor,
     t, stop = s.start_time, s.stop_time
     ecco = s.adaptive and s.step_control == "ecco"
     controller = PIController(p + 1 if not ecco else 2, s.h_min, s.h_max) if s.adaptive else None
-    row = _row(system, bonds)
+    flags = system.flags() if s.adaptive else None
+    row = _row(system, bonds, s.adaptive)
     recorder.record(t, row)
     n_fixed = max(1, round((stop - t) / s.step_size))
-    flags = system.flags() if s.adaptive else None
     h = s.step_size
     locating = False
     n = 0
@@ -320,7 +320,7 @@ def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor,
         stats.max_step = max(stats.max_step, h)
         if bonds.bonds:
             bonds.measure(h)
-        row = _row(system, bonds)
+        row = _row(system, bonds, s.adaptive)
         recorder.record(t, row)   # the failing row too: it shows what went wrong
         _check(system, bonds, row, t, s)
         progress.update(t)
@@ -339,7 +339,9 @@ def _reject(system: CoSystem, snap, stats: RunStats) -> None:
     stats.rejections += 1
 
 
-def _row(system: CoSystem, bonds: BondMonitor) -> np.ndarray:
+def _row(system: CoSystem, bonds: BondMonitor, adaptive: bool) -> np.ndarray:
+    if not adaptive and system.flag_names:
+        system.flags()   # the adaptive loop read them already
     values = system.outputs()
     return np.concatenate((values, bonds.row)) if bonds.bonds else values
 

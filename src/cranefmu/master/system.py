@@ -72,6 +72,8 @@ class CoSystem:
             self.flag_vrs.append([v for v in comp.md.modelVariables
                                   if v.causality == "output" and v.type in ("Integer", "Boolean", "Enumeration")])
         self.flag_names = [f"{c.name}.{v.name}" for c, vs in zip(self.comps, self.flag_vrs) for v in vs]
+        self.columns += self.flag_names   # recorded after the Real outputs, as floats
+        self.flag_value = np.zeros(len(self.flag_names))
         self.stats = RunStats(fmu_time={c.name: 0.0 for c in self.comps}, fmu_calls={c.name: 0 for c in self.comps})
         self.can_rollback = all(c.can_get_state for c in self.comps)
 
@@ -156,8 +158,9 @@ class CoSystem:
         return out
 
     def outputs(self) -> np.ndarray:
+        """Every Real output, then the discrete outputs of the last :meth:`flags` call."""
         try:
-            return np.concatenate([c.get_real(v) for c, v in zip(self.comps, self.out_vrs)])
+            return np.concatenate([*(c.get_real(v) for c, v in zip(self.comps, self.out_vrs)), self.flag_value])
         except Exception:
             bad = next((c for c in self.comps if c.messages), self.comps[0])
             raise self.refused(bad, "reading its outputs") from None
@@ -177,6 +180,7 @@ class CoSystem:
                     out += [int(bool(x)) for x in comp.fmu.getBoolean(bools)]
             except Exception:
                 raise self.refused(comp, "reading its discrete outputs") from None
+        self.flag_value[:] = out
         return out
 
     # --- stepping -----------------------------------------------------------------------------
