@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 import multiprocessing
 import tempfile
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
@@ -19,9 +20,10 @@ FMU_DIR = Path(__file__).resolve().parents[1] / "fmus"
 
 
 def in_child(func: Callable[..., Any], *args: Any) -> Any:
-    """``func(*args)`` in a fresh spawned process (func must be importable); returns its result."""
-    with multiprocessing.get_context("spawn").Pool(1) as pool:
-        return pool.apply(func, args)
+    """``func(*args)`` in a fresh spawned process (func must be importable); returns its result.
+    A crash of the child raises BrokenProcessPool (a multiprocessing.Pool would wait forever)."""
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        return pool.submit(func, *args).result()
 
 
 class Fmu:

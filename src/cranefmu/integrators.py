@@ -4,6 +4,15 @@ One contract for every method: ``integrate(f, t0, x0, h, method, ...)`` advances
 from ``t0`` to ``t0 + h`` and returns the new state.  Fixed-step methods take
 ``ceil(h / max_step)`` equal sub-steps; the adaptive ones delegate to scipy's ``solve_ivp``
 with ``rtol``/``atol`` and ``max_step``.  Bundled into every FMU: numpy and scipy only.
+
+Explicit fixed-step: ``euler`` (order 1), ``rk2`` (Heun, 2), ``rk4`` (4): cheap, but stable only
+for ``max_step`` below about 2.8/|lambda_max| (rk4) on a stiff internal.
+Implicit fixed-step: ``trbdf2`` (Bank et al. 1985, gamma = 2 - sqrt(2)): a trapezoidal stage to
+t + gamma h, then BDF2 through (t, t + gamma h, t + h); order 2, L-stable, one step (no history to
+carry across communication points).  Both stages solve ``y = a + c h f(y)`` with the same
+c = gamma/2 = (1 - gamma)/(2 - gamma), so one finite-difference Jacobian and one LU per sub-step
+serve both (simplified Newton; the LU is kept over the sub-steps of a call while Newton converges).
+Adaptive: ``rk45`` (explicit), ``radau`` and ``bdf`` (implicit), from scipy.
 """
 from __future__ import annotations
 
@@ -14,7 +23,7 @@ import numpy as np
 
 RHS = Callable[[float, np.ndarray], np.ndarray]
 
-FIXED_STEP = ("euler", "rk2", "rk4")
+FIXED_STEP = ("euler", "rk2", "rk4", "trbdf2")
 ADAPTIVE = ("rk45", "radau", "bdf")
 METHODS = FIXED_STEP + ADAPTIVE
 
@@ -38,6 +47,74 @@ def _rk4(f: RHS, t: float, x: np.ndarray, h: float) -> np.ndarray:
     return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
 
 
+_GAMMA = 2.0 - math.sqrt(2.0)
+_C = 0.5 * _GAMMA                                    # = (1 - gamma) / (2 - gamma)
+_W_G = 1.0 / (_GAMMA * (2.0 - _GAMMA))               # BDF2 weights of x(t + gamma h) and x(t)
+_W_0 = (1.0 - _GAMMA) ** 2 / (_GAMMA * (2.0 - _GAMMA))
+_NEWTON_ITERATIONS = 12
+
+
+def _jacobian(f: RHS, t: float, x: np.ndarray, fx: np.ndarray) -> np.ndarray:
+    """Forward-difference Jacobian df/dx (n extra evaluations of f)."""
+    n = x.size
+    jac = np.empty((n, n))
+    for j in range(n):
+        dx = 1.49e-8 * max(1.0, abs(x[j]))
+        xp = x.copy()
+        xp[j] += dx
+        jac[:, j] = (f(t, xp) - fx) / dx
+    return jac
+
+
+def _solve_stage(f: RHS, t: float, a: np.ndarray, y: np.ndarray, ch: float, lu, tol: float) -> np.ndarray:
+    """Simplified Newton for y = a + ch f(t, y) with the factorised I - ch J."""
+    from scipy.linalg import lu_solve
+
+    for _ in range(_NEWTON_ITERATIONS):
+        r = y - a - ch * f(t, y)
+        dy = lu_solve(lu, r)
+        y = y - dy
+        if np.all(np.abs(dy) <= tol * (1.0 + np.abs(y))):
+            return y
+    raise FloatingPointError(f"solver trbdf2: Newton iteration did not converge at t = {t:.6g} s "
+                             f"(sub-step {ch / _C:.3g} s)")
+
+
+def _trbdf2_step(f: RHS, t: float, x: np.ndarray, dt: float, lu, tol: float) -> np.ndarray:
+    """One TR-BDF2 step with the factorised I - c dt J; FloatingPointError if Newton fails."""
+    ch = _C * dt
+    fx = f(t, x)
+    tg = t + _GAMMA * dt
+    xg = _solve_stage(f, tg, x + ch * fx, x + _GAMMA * dt * fx, ch, lu, tol)
+    return _solve_stage(f, t + dt, _W_G * xg - _W_0 * x, xg + (1.0 - _GAMMA) * dt * f(tg, xg), ch, lu, tol)
+
+
+def _trbdf2(f: RHS, t0: float, x0: np.ndarray, dt: float, n: int, tol: float = 1e-10, depth: int = 0) -> np.ndarray:
+    """``n`` TR-BDF2 sub-steps of ``dt``.  The LU is kept while the simplified Newton iteration
+    converges and renewed when it does not; if Newton fails even with a fresh Jacobian (a kink of
+    f inside the step: contact, slack), the sub-step is halved, at most 8 times."""
+    from scipy.linalg import lu_factor
+
+    def fresh_lu(t: float, x: np.ndarray):
+        return lu_factor(np.eye(x.size) - _C * dt * _jacobian(f, t, x, f(t, x)))
+
+    x, lu = x0, None
+    for i in range(n):
+        t = t0 + i * dt
+        try:
+            lu = lu if lu is not None else fresh_lu(t, x)
+            try:
+                x = _trbdf2_step(f, t, x, dt, lu, tol)
+            except FloatingPointError:
+                lu = fresh_lu(t, x)
+                x = _trbdf2_step(f, t, x, dt, lu, tol)
+        except FloatingPointError:
+            if depth >= 8:
+                raise
+            x, lu = _trbdf2(f, t, x, 0.5 * dt, 2, tol, depth + 1), None
+    return x
+
+
 _STEPPERS = {"euler": _euler, "rk2": _rk2, "rk4": _rk4}
 
 
@@ -51,10 +128,12 @@ def integrate(f: RHS, t0: float, x0: np.ndarray, h: float, method: str = "rk4",
     """Advance ``x' = f(t, x)`` from ``t0`` over ``h`` seconds with the named method."""
     if x0.size == 0 or h == 0.0:
         return x0.copy()
-    if method in _STEPPERS:
-        step = _STEPPERS[method]
+    if method in FIXED_STEP:
         n = substeps(h, max_step)
         dt = h / n
+        if method == "trbdf2":
+            return _trbdf2(f, t0, x0, dt, n)
+        step = _STEPPERS[method]
         x = x0
         for i in range(n):
             x = step(f, t0 + i * dt, x, dt)

@@ -151,7 +151,7 @@ class PendulumModel(Model):
         *(Signal(n, "m", f"{n} coordinate of the hook") for n in ("x", "y", "z")),
         *(Signal(n, "m/s", f"{n[1]} velocity of the hook") for n in ("vx", "vy", "vz")),
         Signal("theta", "rad", "sway angle in the working plane x-y, from the vertical through the suspension point",
-               depends_on=_TOP),
+               depends_on=_TOP[:2]),  # the projection on the x-y plane: z_top does not enter
         Signal("phi", "rad", "lateral sway angle out of the working plane", depends_on=_TOP),
         Signal("N_ground", "N", "ground reaction on the load (0 without ground contact)"),
         *(Signal(f"{c}_payload", "m", f"{c} coordinate of the payload (the hook's without payload)") for c in "xyz"),

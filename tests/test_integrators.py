@@ -1,0 +1,72 @@
+"""Internal solvers (cranefmu.integrators): for every model a cheap explicit fixed-step method and
+an implicit adaptive one give the same trajectory; TR-BDF2 has order 2; on the stiff drivetrain
+the implicit methods are stable at a step where the explicit one blows up."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cranefmu.integrators import METHODS, integrate
+from model_cases import CASES, trajectory
+
+# ground contact is a kink in the right-hand side: every method drops to order 1 there
+_TOL = {"pendulum-elastic-ground": 3e-3,
+        "girder-elastic": 1e-4}  # undamped bearing mode at 800 rad/s: rk4 phase error (omega h)^4 per radian
+
+
+def rel_error(xs: np.ndarray, ref: np.ndarray) -> float:
+    """Largest error of each state over the trajectory, relative to that state's largest value."""
+    scale = np.max(np.abs(ref), axis=0)
+    scale[scale == 0.0] = 1.0
+    return float(np.max(np.abs(xs - ref) / scale))
+
+
+@pytest.mark.parametrize("case", [c for c in CASES if c.make().initial_state(c.model.default_inputs()).size],
+                         ids=lambda c: c.id)
+def test_explicit_rk4_and_implicit_radau_agree(case):
+    _, explicit = trajectory(case, "rk4", max_step=1e-4)
+    _, implicit = trajectory(case, "radau", max_step=1e-2, rtol=1e-8)
+    assert np.all(np.isfinite(explicit))
+    moved = np.max(np.abs(implicit - implicit[0]))
+    assert moved > 0.0 or case.id in ("drive-kinematic", "boom-prescribed")  # those states stay frozen
+    assert rel_error(explicit, implicit) < _TOL.get(case.id, 1e-5)
+
+
+def test_trbdf2_is_second_order():
+    case = next(c for c in CASES if c.id == "girder-rigid-decrement")
+    _, ref = trajectory(case, "radau", max_step=1e-2, rtol=1e-11)
+    e1 = rel_error(trajectory(case, "trbdf2", max_step=2e-3)[1], ref)
+    e2 = rel_error(trajectory(case, "trbdf2", max_step=1e-3)[1], ref)
+    assert 1.8 < math.log2(e1 / e2) < 2.2
+
+
+def test_stiff_drivetrain_implicit_stable_where_explicit_is_not():
+    """Fastest drivetrain eigenvalue about -1.5e4 1/s: rk4 needs a step below 2.8/1.5e4 = 1.9e-4 s."""
+    case = next(c for c in CASES if c.id == "drive-motor")
+    _, ref = trajectory(case, "rk4", max_step=5e-5)
+    with np.errstate(all="ignore"):
+        _, rk4 = trajectory(case, "rk4", max_step=1e-3)
+    assert not np.all(np.isfinite(rk4)) or rel_error(rk4, ref) > 1e3
+    assert rel_error(trajectory(case, "trbdf2", max_step=1e-3)[1], ref) < 1e-3
+    assert rel_error(trajectory(case, "radau", max_step=1e-2, rtol=1e-6)[1], ref) < 1e-4
+
+
+def test_trbdf2_on_a_linear_stiff_equation_is_l_stable():
+    """x' = -1e5 (x - cos t): with h = 0.1 s (h lambda = -1e4) TR-BDF2 follows cos t, rk4 explodes."""
+    f = lambda t, x: -1e5 * (x - math.cos(t))  # noqa: E731
+    x = integrate(f, 0.0, np.array([0.0]), 1.0, "trbdf2", max_step=0.1)
+    assert x[0] == pytest.approx(math.cos(1.0), abs=1e-4)
+    with np.errstate(all="ignore"):
+        assert not abs(integrate(f, 0.0, np.array([0.0]), 1.0, "rk4", max_step=0.1)[0]) < 1e10
+
+
+def test_every_method_integrates_the_harmonic_oscillator():
+    f = lambda t, x: np.array([x[1], -x[0]])  # noqa: E731
+    tol = {"euler": 2e-2, "rk2": 1e-4, "rk4": 1e-9, "trbdf2": 1e-4, "rk45": 1e-5, "radau": 1e-5, "bdf": 1e-4}
+    for m in METHODS:
+        x = integrate(f, 0.0, np.array([1.0, 0.0]), 1.0, m, rtol=1e-7, atol=1e-10, max_step=1e-3)
+        assert x == pytest.approx([math.cos(1.0), -math.sin(1.0)], abs=tol[m]), m
+    with pytest.raises(ValueError, match="solver = 'leapfrog'"):
+        integrate(f, 0.0, np.array([1.0, 0.0]), 1.0, "leapfrog")
