@@ -41,8 +41,9 @@ SSD = """<?xml version="1.0" encoding="UTF-8"?>
 """
 
 
-def build_oscillator(dest: Path, ssd: str = SSD, name: str = "oscillator") -> Path:
-    """Build OscMass.fmu and OscSpring.fmu into ``dest`` (once) and zip them with ``ssd``; returns the .ssp."""
+def build_oscillator(dest: Path, ssd: str = SSD, name: str = "oscillator", resources: dict | None = None) -> Path:
+    """Build OscMass.fmu and OscSpring.fmu into ``dest`` (once) and zip them with ``ssd`` and
+    ``resources`` ({file name: text}, e.g. parameter sets); returns the .ssp."""
     from cranefmu.build import build_fmu
 
     dest = Path(dest)
@@ -58,4 +59,6 @@ def build_oscillator(dest: Path, ssd: str = SSD, name: str = "oscillator") -> Pa
         zf.writestr("SystemStructure.ssd", ssd)
         for fmu in fmus:
             zf.write(fmu, f"resources/{fmu.name}")
+        for fname, text in (resources or {}).items():
+            zf.writestr(f"resources/{fname}", text)
     return ssp

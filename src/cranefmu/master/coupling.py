@@ -7,7 +7,7 @@ an algebraic loop.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from graphlib import CycleError, TopologicalSorter
 
 import numpy as np
@@ -46,8 +46,10 @@ def feedthrough(comp: FmuComponent) -> dict[str, set[str]]:
     return result
 
 
-def check_connection(c: ConnectionSpec, comps: dict[str, FmuComponent]) -> None:
-    """Refuse a connection whose ends do not exist or do not fit (causality, type, unit)."""
+def check_connection(c: ConnectionSpec, comps: dict[str, FmuComponent]) -> ConnectionSpec:
+    """Refuse a connection whose ends do not exist or do not fit (causality, type, unit); return it
+    with the conversion it needs: its LinearTransformation if it has one, else the conversion
+    between the two ends' units from the FMUs' UnitDefinitions (e.g. mm -> m)."""
     src, dst = comps[c.src], comps[c.dst]
     a = src.variables.get(c.src_var)
     b = dst.variables.get(c.dst_var)
@@ -62,9 +64,28 @@ def check_connection(c: ConnectionSpec, comps: dict[str, FmuComponent]) -> None:
     if a.type != "Real" or b.type != "Real":
         raise SceneError(f"connection {c}: types {a.type} -> {b.type}; only Real -> Real connections are supported")
     ua, ub = a.unit or "", b.unit or ""
-    if ua != ub and c.factor == 1.0 and c.offset == 0.0:
+    if ua == ub or c.factor != 1.0 or c.offset != 0.0:
+        return c
+    sa, sb = _si(src, ua), _si(dst, ub)
+    if sa is None or sb is None or sa[0] != sb[0]:
         raise SceneError(f"connection {c}: unit {ua or 'none'!r} -> {ub or 'none'!r} differ and the connection "
                          "has no LinearTransformation to convert")
+    (_, fa, oa), (_, fb, ob) = sa, sb
+    return replace(c, factor=fa / fb, offset=(oa - ob) / fb)
+
+
+_BASE = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
+
+
+def _si(comp: FmuComponent, unit: str) -> tuple[tuple, float, float] | None:
+    """(base-unit exponents, factor, offset) of ``unit`` in ``comp``'s UnitDefinitions: SI = factor * v + offset."""
+    if not unit:
+        return (0,) * len(_BASE), 1.0, 0.0
+    for u in comp.md.unitDefinitions:
+        if u.name == unit and u.baseUnit is not None:
+            b = u.baseUnit
+            return tuple(getattr(b, k) for k in _BASE), float(b.factor), float(b.offset)
+    return None
 
 
 def visit_order(comps: list[FmuComponent], connections: list[ConnectionSpec]) -> list[int]:

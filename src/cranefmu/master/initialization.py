@@ -2,7 +2,7 @@
 
 Blocks of the dependency graph (:mod:`.graph`) are settled in order: a block that is not a loop
 needs one exchange of its incoming connections, a loop (strongly connected block) is iterated
-u = G(u) with Aitken relaxation until the connections agree to ``tolerance`` (relative to each
+u = G(u) with IQN-ILS acceleration until the connections agree to ``tolerance`` (relative to each
 value's size).  A last sweep over every connection checks the result, because an FMU may
 declare fewer initial dependencies than it has; if values still move, all connections are
 iterated together.  Non-convergence raises an error naming the connection that disagrees most.
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .acceleration import Aitken
+from .acceleration import IQNILS
 from .errors import SimulationError
 from .graph import component_graph, is_loop, strongly_connected
 from .system import CoSystem
@@ -94,7 +94,7 @@ def _residual(system: CoSystem, members: list[int], u: np.ndarray, gu: np.ndarra
 
 def _iterate(system: CoSystem, members: list[int], t: float, tolerance: float, max_iterations: int,
              block: list[int] | None, start: np.ndarray | None = None) -> int:
-    acc = Aitken(omega0=0.5)
+    acc = IQNILS(omega0=0.5, reuse=0)
     u = _values(system, members) if start is None else start
     res, worst = np.inf, 0
     for k in range(1, max_iterations + 1):

@@ -57,6 +57,25 @@ def _parameter_dict(parameter_set) -> dict[str, str]:
     return {p.name: p.value for p in parameter_set.parameters}
 
 
+def linear_transformations(ssd: Path) -> dict[tuple[str, str, str, str], tuple[float, float]]:
+    """(start element, start connector, end element, end connector) -> (factor, offset) of each
+    connection's ``LinearTransformation``.  Read here because fmpy 0.3 looks for it in the ssd
+    namespace, while the SSP schema (which fmpy validates against) puts it in ssc."""
+    from lxml import etree
+
+    root = etree.parse(str(ssd), etree.XMLParser(resolve_entities=False, no_network=True)).getroot()
+    out = {}
+    for conn in root.iter("{*}Connection"):
+        for lt in conn.iter("{*}LinearTransformation"):
+            key = (conn.get("startElement"), conn.get("startConnector"), conn.get("endElement"), conn.get("endConnector"))
+            try:
+                out[key] = (float(lt.get("factor", 1.0)), float(lt.get("offset", 0.0)))
+            except ValueError:
+                raise SceneError(f"{ssd.name}: connection {key[0]}.{key[1]} -> {key[2]}.{key[3]}: LinearTransformation "
+                                 f"factor={lt.get('factor')!r} offset={lt.get('offset')!r} are not numbers") from None
+    return out
+
+
 def load_scene(ssp: Path, workdir: Path) -> Scene:
     """Extract ``ssp`` into ``workdir`` and read its structure with fmpy's SSD reader."""
     from fmpy.ssp.ssd import Component, read_ssd, read_ssv
@@ -86,15 +105,16 @@ def load_scene(ssp: Path, workdir: Path) -> Scene:
         components.append(ComponentSpec(el.name, fmu))
     names = {c.name for c in components}
     connections = []
+    transforms = linear_transformations(workdir / "SystemStructure.ssd")
     for c in system.connections:
         for role, comp in (("start", c.startElement), ("end", c.endElement)):
             if comp not in names:
                 raise SceneError(f"{ssp.name}: connection {c.startElement}.{c.startConnector} -> "
                                  f"{c.endElement}.{c.endConnector}: {role} element {comp!r} is not a component "
                                  f"(components: {', '.join(sorted(names))})")
-        lt = getattr(c, "linearTransformation", None)
+        factor, offset = transforms.get((c.startElement, c.startConnector, c.endElement, c.endConnector), (1.0, 0.0))
         connections.append(ConnectionSpec(c.startElement, c.startConnector, c.endElement, c.endConnector,
-                                          float(lt.factor) if lt else 1.0, float(lt.offset) if lt else 0.0))
+                                          factor, offset))
     bound: dict[str, str] = {}
     for binding in system.parameterBindings:
         for pset in binding.parameterValues:

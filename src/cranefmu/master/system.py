@@ -48,10 +48,9 @@ class CoSystem:
         self.order_of_extrapolation = extrapolation
         self.comps = [FmuComponent(c.name, c.fmu, workdir / f"fmu_{c.name}") for c in scene.components]
         self.by_name = {c.name: c for c in self.comps}
-        for c in scene.connections:
-            check_connection(c, self.by_name)
-        self.order = visit_order(self.comps, scene.connections)
-        self.groups = input_groups(self.comps, scene.connections)
+        self.connections = [check_connection(c, self.by_name) for c in scene.connections]
+        self.order = visit_order(self.comps, self.connections)
+        self.groups = input_groups(self.comps, self.connections)
         # every group in exchange order, and its slice in the vector of all coupling values
         self.links: list[InputGroup] = [g for d in self.order for g in self.groups[d]]
         self.slices: list[slice] = []
