@@ -15,7 +15,10 @@ internal state, and turns every failure into a logged error status instead of an
 """
 from __future__ import annotations
 
+import ctypes
 import math
+import os
+import threading
 from typing import Any, ClassVar
 from xml.etree.ElementTree import Element, SubElement
 
@@ -207,6 +210,7 @@ class CraneSlave(Fmi2Slave):
         return super().get_integer(vrs)
 
     def do_step(self, current_time: float, step_size: float) -> bool:
+        _keep_thread_state()
         try:
             model = self._model
             u0 = self._inputs()
@@ -285,6 +289,27 @@ class CraneSlave(Fmi2Slave):
             SubElement(initial, "Unknown", index=str(index[s.name]),
                        dependencies=" ".join(str(d) for d in init_deps))
         return root
+
+
+_THREADS_KEPT: set[int] = set()
+
+
+def _keep_thread_state() -> None:
+    """Keep this OS thread's Python thread state alive across FMI calls (once per thread).
+
+    pythonfmu wraps every FMI call in PyGILState_Ensure/Release.  A C host thread has no Python
+    thread state, so each call creates one and destroys it on return (measured 20-40 us a call,
+    benchmarks/native_host_cost.py).  One extra Ensure that is never released keeps the state, and
+    later calls reuse it.  Harmless in Python hosts (their thread already has a state).  Called from
+    do_step, not at instantiation: fmi2Instantiate runs Python under a state that is not this
+    thread's GIL state, and an Ensure there deadlocks.  CRANEFMU_KEEP_THREAD_STATE=0 turns it off
+    (for measuring the difference).
+    """
+    ident = threading.get_ident()
+    if ident in _THREADS_KEPT or os.environ.get("CRANEFMU_KEEP_THREAD_STATE") == "0":
+        return
+    ctypes.pythonapi.PyGILState_Ensure()
+    _THREADS_KEPT.add(ident)
 
 
 def _per_second(unit: str) -> str:
