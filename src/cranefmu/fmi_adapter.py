@@ -176,7 +176,11 @@ class CraneSlave(Fmi2Slave):
             self._fail("initialization refused", err)
             raise
         self._initialized = True
+        self._fixed_values = self._fixed_parameters()
         self._outputs_stale = True
+
+    def _fixed_parameters(self) -> dict[str, Any]:
+        return {n: getattr(self, n) for n in self._param_names if not self._param_meta[n].get("tunable")}
 
     def set_real(self, vrs: list[int], values: list[float]) -> None:
         super().set_real(vrs, values)
@@ -194,6 +198,11 @@ class CraneSlave(Fmi2Slave):
         self._outputs_stale = True
         if self._initialized and not self._param_vrs.isdisjoint(vrs):
             try:
+                for name, old in self._fixed_values.items():
+                    new = getattr(self, name)
+                    if not (new == old or (new != new and old != old)):
+                        raise ParameterError(f"{self.physics.Params.component}.{name} = {new!r} is refused: a fixed "
+                                             f"parameter cannot change after initialization (it is {old!r})")
                 self._model = self._build_model()  # a tunable parameter changed
             except ParameterError as err:
                 self._fail("parameter refused", err)
@@ -250,6 +259,7 @@ class CraneSlave(Fmi2Slave):
             setattr(self, name, value)
         if self._initialized:
             self._model = self._build_model()
+            self._fixed_values = self._fixed_parameters()
         self._outputs_stale = True
 
     # --- model description ------------------------------------------------------------------------

@@ -104,7 +104,7 @@ class BoomParams(Params):
                                       "bulk modulus 1e9 Pa x bore area 0.031 m2 / oil length 1 m)",
                                       min=0, min_open=True)
     cylinder_damping: float = param(1.0e5, "N.s/m", "damping of the luffing cylinder (estimate: about 4 % of "
-                                    "critical for the 3.8 Hz luffing mode of the retracted boom)", min=0)
+                                    "critical for the 3.8 Hz luffing mode of the retracted boom)", min=0, tunable=True)
     # --- frame
     x_foot: float = param(0.0, "m", "x of the boom foot O2 in the scene frame")
     y_foot: float = param(0.0, "m", "y of the boom foot O2 in the scene frame at zero settlement")

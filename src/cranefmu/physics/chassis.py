@@ -66,7 +66,8 @@ class ChassisParams(Params):
                             min=0, min_open=True)
     pads_per_outrigger: int = param(2, "1", "pads acting in parallel at each outrigger position (left and right)",
                                     min=1, max=8)
-    damping: float = param(405000.0, "N.s/m", "soil damping per outrigger position (b1 = b2, seed 000)", min=0)
+    damping: float = param(405000.0, "N.s/m", "soil damping per outrigger position (b1 = b2, seed 000)",
+                           min=0, tunable=True)
     g: float = param(9.81, "m/s2", "gravitational acceleration", min=0)
 
     def check(self) -> None:

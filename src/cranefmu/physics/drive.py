@@ -104,7 +104,7 @@ class DriveParams(Params):
     c_3n: float = param(4.92e6, "N.m/rad", "torsional stiffness gear output - drum (Table 5)", min=0, min_open=True)
     b_1n: float = param(1.02e3, "N.m.s/rad", "torsional damping motor - clutch (Table 5)", min=0)
     b_2n: float = param(2.79e2, "N.m.s/rad", "torsional damping clutch - gear (Table 5)", min=0)
-    b_3n: float = param(2.46e4, "N.m.s/rad", "torsional damping gear output - drum (Table 5)", min=0)
+    b_3n: float = param(2.46e4, "N.m.s/rad", "torsional damping gear output - drum (Table 5)", min=0, tunable=True)
     R_3: float = param(0.25, "m", "rope drum radius (diameter 0.5 m, Tables 2, 6)", min=0, min_open=True)
     n_drum_lines: int = param(2, "1", "rope ends wound on the drum (seed 001 twin drum: 2)", min=1, max=16)
     # --- kinematic payout law, seed 000 trapezoid

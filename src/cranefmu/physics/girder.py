@@ -49,7 +49,7 @@ class GirderParams(Params):
                                "of eq. 10 (girder_height / span)", choices=("table", "decrement"))
     m1: float = param(5000.0, "kg", "reduced mass of the girder at mid-span (Table 6)", min=0, min_open=True)
     c1: float = param(4.6e6, "N/m", "stiffness of the girder at mid-span (Table 6)", min=0, min_open=True)
-    b1: float = param(2.3e4, "N.s/m", "girder damping when damping_model = 'table' (Table 6)", min=0)
+    b1: float = param(2.3e4, "N.s/m", "girder damping when damping_model = 'table' (Table 6)", min=0, tunable=True)
     span: float = param(20.0, "m", "girder span L (seed 001: 20 m)", min=0, min_open=True)
     girder_height: float = param(1.0, "m", "girder height h for eq. 10 (estimate for a 5 t, 20 m box girder)",
                                  min=0, min_open=True)

@@ -102,7 +102,8 @@ class PendulumParams(Params):
     c_ground: float = param(2.0e8, "N/m", "ground stiffness (seed 001 Table 6: c_p)", min=0, min_open=True)
     b_ground: float = param(1.0e6, "N.s/m", "ground damping (seed 001 Table 6: b_p)", min=0)
     # --- air drag ---
-    drag_coefficient: float = param(0.0, "1", "drag coefficient C_d (0: no air drag; seed 002 neglects it)", min=0)
+    drag_coefficient: float = param(0.0, "1", "drag coefficient C_d (0: no air drag; seed 002 neglects it)",
+                                    min=0, tunable=True)
     drag_area: float = param(1.0, "m2", "frontal area of the load (payload, or the hook when payload = 'none')",
                              min=0)
     drag_area_hook: float = param(0.02, "m2", "frontal area of the hook (only with a payload)", min=0)

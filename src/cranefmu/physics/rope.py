@@ -66,7 +66,8 @@ class RopeParams(Params):
                      min=0, min_open=True)
     n_lines: int = param(1, "1", "number of load-bearing lines in the reeving (also the reeving ratio i_w)",
                          min=1, max=64)
-    zeta: float = param(0.07, "1", "dimensionless damping ratio of steel wire rope (seed 001 eq. 9)", min=0, max=10)
+    zeta: float = param(0.07, "1", "dimensionless damping ratio of steel wire rope (seed 001 eq. 9)",
+                        min=0, max=10, tunable=True)
     m_load: float = param(1000.0, "kg", "suspended mass used in the damping law of eq. 9", min=0)
     rho: float = param(7850.0, "kg/m3", "density of the rope metal", min=0)
 
