@@ -31,6 +31,8 @@ class InputGroup:
     dt2_vrs: list[int] | None = None
     history: list[tuple[float, np.ndarray]] = field(default_factory=list)  # newest last
     fed: tuple | None = None  # (value, d1, d2) last fed to the destination
+    src_names: list[str] = field(default_factory=list)
+    dst_names: list[str] = field(default_factory=list)
 
 
 def feedthrough(comp: FmuComponent) -> dict[str, set[str]]:
@@ -106,18 +108,55 @@ def visit_order(comps: list[FmuComponent], connections: list[ConnectionSpec]) ->
     return order
 
 
-def input_groups(comps: list[FmuComponent], connections: list[ConnectionSpec]) -> list[list[InputGroup]]:
-    """Per destination component, its incoming connections grouped by source component."""
+def exchange_order(comps: list[FmuComponent], groups: list[InputGroup]) -> list[InputGroup]:
+    """The groups in an order where each is read only after every input its outputs depend on
+    directly was set (variable-level feedthrough).  Raises CycleError for a loop among the groups."""
+    ft = [feedthrough(c) for c in comps]
+    feeder = {(g.dst, n): i for i, g in enumerate(groups) for n in g.dst_names}
+    graph: dict[int, set[int]] = {i: set() for i in range(len(groups))}
+    for i, g in enumerate(groups):
+        for out in g.src_names:
+            for inp in ft[g.src].get(out, ()):
+                if (g.src, inp) in feeder:
+                    graph[i].add(feeder[(g.src, inp)])
+    return [groups[i] for i in TopologicalSorter(graph).static_order()]
+
+
+def ordered_links(comps: list[FmuComponent], connections: list[ConnectionSpec]
+                  ) -> tuple[list[list[InputGroup]], list[InputGroup]]:
+    """(groups per destination, all groups in exchange order).  Groups of one source and one
+    destination are kept whole (one get, one set) unless that makes a false loop; then each
+    connection is its own group.  A loop of single connections is an algebraic loop: refused."""
+    for split in (False, True):
+        groups = input_groups(comps, connections, split)
+        flat = [g for gs in groups for g in gs]
+        try:
+            return groups, exchange_order(comps, flat)
+        except CycleError as err:
+            cycle = err.args[1]
+    names = " -> ".join(comps[flat[i].src].name for i in cycle)
+    via = ", ".join(f"{comps[flat[i].src].name}.{flat[i].src_names[0]} -> {comps[flat[i].dst].name}."
+                    f"{flat[i].dst_names[0]}" for i in cycle[:-1])
+    raise SceneError(f"algebraic loop through direct feedthrough: {names} (via {via}); break it with a component "
+                     "that has internal state, or remove a connection")
+
+
+def input_groups(comps: list[FmuComponent], connections: list[ConnectionSpec],
+                 split: bool = False) -> list[list[InputGroup]]:
+    """Per destination component, its incoming connections grouped by source component (with
+    ``split``, one group per connection)."""
     index = {c.name: i for i, c in enumerate(comps)}
     seen: dict[tuple[str, str], ConnectionSpec] = {}
-    per_dst: list[dict[int, InputGroup]] = [dict() for _ in comps]
+    per_dst: list[dict] = [dict() for _ in comps]
     for c in connections:
         key = (c.dst, c.dst_var)
         if key in seen:
             raise SceneError(f"connection {c}: input {c.dst}.{c.dst_var} is already fed by {seen[key]}")
         seen[key] = c
         s, d = index[c.src], index[c.dst]
-        g = per_dst[d].setdefault(s, InputGroup(s, d, [], [], np.zeros(0), np.zeros(0)))
+        g = per_dst[d].setdefault((s, c.dst_var) if split else s, InputGroup(s, d, [], [], np.zeros(0), np.zeros(0)))
+        g.src_names.append(c.src_var)
+        g.dst_names.append(c.dst_var)
         g.src_vrs.append(comps[s].variables[c.src_var].valueReference)
         g.dst_vrs.append(comps[d].variables[c.dst_var].valueReference)
         g.factor = np.append(g.factor, c.factor)

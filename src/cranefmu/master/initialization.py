@@ -16,7 +16,7 @@ from .errors import SimulationError
 from .graph import component_graph, is_loop, strongly_connected
 from .system import CoSystem
 
-TOLERANCE = 1e-12
+TOLERANCE = 1e-10
 MAX_ITERATIONS = 200
 
 
@@ -96,14 +96,25 @@ def _iterate(system: CoSystem, members: list[int], t: float, tolerance: float, m
              block: list[int] | None, start: np.ndarray | None = None) -> int:
     acc = IQNILS(omega0=0.5, reuse=0)
     u = _values(system, members) if start is None else start
+    # the accelerator works on values scaled to order 1 (newtons and metres side by side)
+    scale = np.maximum(np.abs(u), 1e-9 * max(1.0, float(np.max(np.abs(u), initial=0.0))))
     res, worst = np.inf, 0
+    best, stalled, plain = np.inf, 0, False
     for k in range(1, max_iterations + 1):
-        gu = _evaluate(system, members, u)
+        # accelerated: feed u, read G(u).  If that stalls (a non-smooth or inconsistent FMU), fall
+        # back to plain Gauss-Seidel sweeps: each connection fed what its source gives now.
+        gu = _evaluate(system, members, None if plain else u)
         res, worst = _residual(system, members, u, gu)
         if res <= tolerance:
-            _evaluate(system, members, gu)
+            if not plain:
+                _evaluate(system, members, gu)
             return k
-        u = acc.next(u, gu)
+        if res < 0.5 * best:
+            best, stalled = res, 0
+        else:
+            stalled += 1
+            plain = plain or stalled >= 5
+        u = gu if plain else scale * acc.next(u / scale, gu / scale)
     names = [n for i in members for n in system.variable_names[system.slices[i]]]
     where = (" in the loop " + " -> ".join(system.comps[i].name for i in block)) if block else ""
     raise SimulationError(f"initialization did not converge{where} at t = {t:.6g} s: after {max_iterations} "

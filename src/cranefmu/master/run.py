@@ -60,7 +60,7 @@ class Settings:
     accelerator: str = "iqn-ils"
     order: list[str] | None = None
     energy_alarm: float | None = None
-    init_tolerance: float = 1e-12
+    init_tolerance: float = 1e-10
     progress: bool | None = None
 
     def check(self) -> None:
@@ -152,7 +152,7 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
         isolate: bool = True, *, adaptive: bool = False, tolerance: float = 1e-3, min_step: float | None = None,
         max_step: float | None = None, step_control: str = "extrapolation", coupling_tolerance: float = 1e-8,
         max_iterations: int = 50, accelerator: str = "iqn-ils", order: list[str] | None = None,
-        energy_alarm: float | None = None, init_tolerance: float = 1e-12,
+        energy_alarm: float | None = None, init_tolerance: float = 1e-10,
         progress: bool | None = None) -> RunResult:
     """Run a scene and return its results and statistics (arguments as :func:`simulate`, plus):
 

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .coupling import InputGroup, check_connection, input_groups, rates, visit_order
-from .errors import CraneFmuError, ParameterSetError, SimulationError
+from .coupling import InputGroup, check_connection, ordered_links, rates, visit_order
+from .errors import CraneFmuError, ParameterSetError, SceneError, SimulationError
 from .fmu import FmuComponent
 from .scene import Scene
 
@@ -49,10 +49,13 @@ class CoSystem:
         self.comps = [FmuComponent(c.name, c.fmu, workdir / f"fmu_{c.name}") for c in scene.components]
         self.by_name = {c.name: c for c in self.comps}
         self.connections = [check_connection(c, self.by_name) for c in scene.connections]
-        self.order = visit_order(self.comps, self.connections)
-        self.groups = input_groups(self.comps, self.connections)
         # every group in exchange order, and its slice in the vector of all coupling values
-        self.links: list[InputGroup] = [g for d in self.order for g in self.groups[d]]
+        self.groups, self.links = ordered_links(self.comps, self.connections)
+        try:
+            self.order = visit_order(self.comps, self.connections)
+        except SceneError:  # components feed each other, but no variable does: any order steps
+            first = list(dict.fromkeys(g.dst for g in self.links))
+            self.order = first + [i for i in range(len(self.comps)) if i not in first]
         self.slices: list[slice] = []
         n = 0
         for g in self.links:
