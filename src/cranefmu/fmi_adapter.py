@@ -18,6 +18,7 @@ from __future__ import annotations
 import ctypes
 import math
 import os
+import sys
 import threading
 from typing import Any, ClassVar
 from xml.etree.ElementTree import Element, SubElement
@@ -43,6 +44,17 @@ class CraneSlave(Fmi2Slave):
     default_max_step: ClassVar[float] = 1e-3
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=10.0, step_size=1e-3)
     author = "cranefmu"
+
+    def __init_subclass__(cls, **kwargs: Any):
+        """Work around pythonfmu 0.7.0's fmi2Instantiate, which re-runs the FMU script in its module's
+        namespace and then releases one reference to that namespace it never owned: with a script
+        that defines no functions (ours), the second instance in a process used a freed dict and
+        crashed.  The script's class statement runs at import and at every such re-run, so one
+        reference here per class creation balances it (tests/test_fmu_instances.py)."""
+        super().__init_subclass__(**kwargs)
+        module = sys.modules.get(cls.__module__)
+        if module is not None:
+            ctypes.pythonapi.Py_IncRef(ctypes.py_object(module.__dict__))
 
     def __init__(self, **kwargs: Any):
         super().__init__(**kwargs)
