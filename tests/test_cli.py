@@ -26,3 +26,32 @@ def test_bad_inputs_exit_2_naming_the_item(built):
         p = cranefmu("run", "elastic_pendulum", "--stop-time", "0.1", *args)
         assert p.returncode == 2, (args, p.stderr)
         assert needle in p.stderr and "Traceback" not in p.stderr
+
+
+def test_run_iterative_adaptive_with_plots(oscillator_ssp, tmp_path):
+    out = tmp_path / "osc.csv"
+    p = cranefmu("run", str(oscillator_ssp), "--stop-time", "0.5", "--step", "1e-2", "--algorithm", "iterative",
+                 "--extrapolation", "2", "--adaptive", "--tolerance", "1e-4", "--set", "mass.x0=0.1",
+                 "--output", str(out), "--plot", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert "coupling iterations" in p.stdout and "power bond coupling" in p.stdout and "rejected" in p.stdout
+    header = out.read_text().splitlines()[0].split(",")
+    assert header[:2] == ["time", "mass.x"] and "bond.coupling.E" in header and "mass.flag" in header
+    pngs = sorted(x.name for x in tmp_path.glob("osc_*.png"))
+    assert pngs and all((tmp_path / n).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for n in pngs)
+    p = cranefmu("run", str(oscillator_ssp), "--stop-time", "0.1", "--step", "1e-2", "--plot", "mass.x,spring.F",
+                 cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "oscillator_mass_x_spring_f.png").is_file()
+
+
+def test_bad_run_settings_exit_2_naming_the_item(oscillator_ssp, tmp_path):
+    for args, needle in [(["--algorithm", "newton"], "algorithm = 'newton' is not allowed: one of jacobi, "
+                          "gauss-seidel, iterative"),
+                         (["--extrapolation", "3"], "extrapolation = 3 is not allowed"),
+                         (["--accelerator", "broyden"], "accelerator = 'broyden' is not allowed"),
+                         (["--plot", "mass.nothing"], "--plot mass.nothing is not allowed: no such column"),
+                         (["--adaptive", "--step-control", "pid"], "step_control = 'pid' is not allowed")]:
+        p = cranefmu("run", str(oscillator_ssp), "--stop-time", "0.05", "--step", "1e-2", *args, cwd=tmp_path)
+        assert p.returncode == 2, (args, p.stderr)
+        assert needle in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)

@@ -30,19 +30,39 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .master.run import run
     from .scenes import summary
 
+    options = dict(adaptive=args.adaptive, tolerance=args.tolerance, min_step=args.min_step, max_step=args.max_step,
+                   step_control=args.step_control, coupling_tolerance=args.coupling_tolerance,
+                   max_iterations=args.max_iterations, accelerator=args.accelerator, energy_alarm=args.energy_alarm,
+                   order=args.order.split(",") if args.order else None,
+                   progress=False if args.no_progress else None)
     res = run(args.scene, stop_time=args.stop_time, step_size=args.step, algorithm=args.algorithm,
               extrapolation=args.extrapolation, parameter_set=args.parameter_set,
-              parameters=_parse_set(args.set), output=args.output)
+              parameters=_parse_set(args.set), output=args.output, **options)
     st = res.stats
     t = res.result["time"]
     simulated = float(t[-1] - t[0]) if len(t) else 0.0
-    print(f"scene {res.scene}: {st.steps} steps of {args.step:g} s to t = {simulated:g} s ({args.algorithm}, "
-          f"extrapolation {args.extrapolation})")
-    print(f"wall time {st.wall_time:.3f} s, real-time factor {st.real_time_factor(simulated):.1f}")
+    steps = f"{st.steps} steps of {st.min_step:.3g} to {st.max_step:.3g} s, {st.rejections} rejected" \
+        if args.adaptive else f"{st.steps} steps of {args.step:g} s"
+    print(f"scene {res.scene}: {steps} to t = {simulated:g} s ({args.algorithm}, extrapolation {args.extrapolation})")
+    print(f"wall time {st.wall_time:.3f} s (master {st.master_time:.3f} s), real-time factor "
+          f"{st.real_time_factor(simulated):.1f}")
+    print("  per FMU: " + ", ".join(f"{k} {st.fmu_calls[k]} steps {st.fmu_time[k]:.3f} s" for k in st.fmu_time))
+    if args.algorithm == "iterative":
+        print(f"  coupling iterations: {st.iterations} ({st.iterations / max(st.steps, 1):.2f} per step, "
+              f"at most {st.max_iterations})")
+    for name, energy in st.bond_energy.items():
+        print(f"  power bond {name}: energy residual {energy:.6g} J")
     for label, text in summary(res.scene, res.result):
         print(f"  {label:<24} {text}")
     if res.output:
         print(f"results: {res.output} ({len(t)} rows, {len(res.result.dtype.names)} columns)")
+    if args.plot is not None:
+        from .master.plot import write_plots
+
+        prefix = Path(res.output).with_suffix("") if res.output else Path(res.scene)
+        variables = [v.strip() for v in args.plot.split(",") if v.strip()] if args.plot else None
+        for path in write_plots(res.result, res.scene, prefix, variables):
+            print(f"figure: {path}")
     return 0
 
 
@@ -93,12 +113,35 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("scene", help="scene name under ssp/ or path to an .ssp file")
     r.add_argument("--stop-time", type=float, default=None, help="end of the run [s] (default: the scene's)")
     r.add_argument("--step", type=float, default=1e-3, help="macro (communication) step [s] (default 1e-3)")
-    r.add_argument("--algorithm", default="jacobi", help="coupling: jacobi or gauss-seidel (default jacobi)")
-    r.add_argument("--extrapolation", type=int, default=0, help="order of the input extrapolation: 0, 1, 2")
+    r.add_argument("--algorithm", default="jacobi",
+                   help="coupling: jacobi, gauss-seidel or iterative (strong coupling; default jacobi)")
+    r.add_argument("--extrapolation", type=int, default=0, help="order of the input extrapolation: 0, 1, 2 "
+                   "(iterative: degree of the interpolation, at least 1)")
+    r.add_argument("--adaptive", action="store_true", help="control the macro step (--step is the first step)")
+    r.add_argument("--tolerance", type=float, default=1e-3, help="relative local error of the coupling values "
+                   "per step with --adaptive (default 1e-3)")
+    r.add_argument("--min-step", type=float, default=None, help="smallest adaptive step [s] (default step/1000); "
+                   "also how finely a switching discrete output is located")
+    r.add_argument("--max-step", type=float, default=None, help="largest adaptive step [s] (default 100 step)")
+    r.add_argument("--step-control", default="extrapolation", help="extrapolation (error of the extrapolated "
+                   "coupling values, rejecting) or ecco (power-bond energy residuals, never rejecting)")
+    r.add_argument("--coupling-tolerance", type=float, default=1e-8, help="iterative: relative residual of the "
+                   "coupling values at which a step has converged (default 1e-8)")
+    r.add_argument("--max-iterations", type=int, default=50, help="iterative: iterations per step (default 50)")
+    r.add_argument("--accelerator", default="iqn-ils", help="iterative: iqn-ils, aitken or none (default iqn-ils)")
+    r.add_argument("--order", default=None, metavar="COMP,COMP,...", help="gauss-seidel: the order the "
+                   "components step in (default: from the dependency graph)")
+    r.add_argument("--energy-alarm", type=float, default=None, metavar="JOULES", help="stop when a power bond's "
+                   "total energy residual exceeds this")
     r.add_argument("--parameter-set", default=None, help="a parameter set of the scene (see cranefmu info)")
     r.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
                    help="override a parameter or start value (repeatable)")
     r.add_argument("--output", default=None, help="CSV file written during the run (columns time, comp.var)")
+    r.add_argument("--plot", nargs="?", const="", default=None, metavar="VARS",
+                   help="write PNG figures (next to --output, else in the current directory): the scene's "
+                   "figure groups, or one figure of the comma-separated columns VARS")
+    r.add_argument("--no-progress", action="store_true", help="no progress bar (it shows on a terminal only, "
+                   "for runs longer than 3 s)")
     r.set_defaults(func=_cmd_run)
 
     i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
