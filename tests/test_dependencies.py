@@ -61,3 +61,28 @@ def test_model_description_lists_the_declared_dependencies(built, model):
     listed = {names[md.modelVariables.index(u.variable)]: {d.name for d in u.dependencies} for u in md.outputs}
     for s in model.outputs:
         assert listed[s.name] == set(s.depends_on), s.name
+
+
+@pytest.mark.parametrize("model", MODELS, ids=lambda m: m.__name__)
+def test_initial_state_inputs_are_declared(model):
+    """At initialization every output may depend on the inputs the initial state is computed from
+    (Model.initial_state_inputs -> ModelStructure/InitialUnknowns): the declaration is exact."""
+    used = set()
+    for case in (c for c in CASES if c.model is model):
+        m, u = case.make(), case.u()
+        x = m.initial_state(u)
+        for i, s in enumerate(m.inputs):
+            u2 = u.copy()
+            u2[i] += 1e-4 * (1.0 + abs(u[i]))
+            if not np.array_equal(m.initial_state(u2), x):
+                used.add(s.name)
+    assert used == set(model.initial_state_inputs)
+
+
+@pytest.mark.parametrize("model", MODELS, ids=lambda m: m.__name__)
+def test_initial_unknowns_list_feedthrough_initial_state_inputs_and_parameters(built, model):
+    md = read_model_description(str(built / f"{model.__name__.removesuffix('Model')}.fmu"))
+    params = {v.name for v in md.modelVariables if v.causality == "parameter"}
+    listed = {u.variable.name: {d.name for d in u.dependencies} for u in md.initialUnknowns}
+    for s in model.outputs:
+        assert listed[s.name] == set(s.depends_on) | set(model.initial_state_inputs) | params, s.name

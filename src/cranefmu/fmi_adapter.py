@@ -305,9 +305,11 @@ class CraneSlave(Fmi2Slave):
         for s in self.physics.outputs:
             deps = " ".join(str(index[d]) for d in s.depends_on)
             SubElement(outputs, "Unknown", index=str(index[s.name]), dependencies=deps)
-            # at initialization an output depends on its feedthrough inputs and on the parameters
-            # (through the initial state); listing no dependencies attribute would claim "all"
-            init_deps = sorted({index[d] for d in s.depends_on} | {index[p] for p in self._param_names})
+            # at initialization an output depends on its feedthrough inputs, and through the initial
+            # state on the parameters and the inputs the state is computed from; listing no
+            # dependencies attribute would claim "all"
+            init_deps = sorted({index[d] for d in s.depends_on + self.physics.initial_state_inputs}
+                               | {index[p] for p in self._param_names})
             SubElement(initial, "Unknown", index=str(index[s.name]),
                        dependencies=" ".join(str(d) for d in init_deps))
         return root

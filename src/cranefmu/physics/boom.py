@@ -253,6 +253,7 @@ class BoomModel(Model):
         Signal("Fz_tip", "N", "z component of the rope force on the boom tip (taken by the slewing gear, "
                "not used by the planar model)", coupling=True),
     )
+    initial_state_inputs = ("gamma", "gamma_rate", "Fx_tip", "Fy_tip")  # angle on the tilted chassis, preload
     outputs = (
         Signal("x_tip", "m", "x of the boom tip B", depends_on=("gamma",)),
         Signal("y_tip", "m", "y of the boom tip B", depends_on=("y_base", "gamma")),

@@ -89,6 +89,7 @@ class ChassisModel(Model):
         Signal("M_base", "N.m", "moment about z at O2 of the boom on the chassis (negative tips toward the boom)",
                coupling=True),
     )
+    initial_state_inputs = ("Fx_base", "Fy_base", "M_base")  # static settlements under the boom loads
     outputs = (
         Signal("y_base", "m", "vertical displacement of the boom foot O2 (up positive)"),
         Signal("gamma", "rad", "tilt of the chassis, positive when the boom side goes down (seed 000 eq. 4)"),

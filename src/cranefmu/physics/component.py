@@ -43,6 +43,8 @@ class Model:
     inputs: ClassVar[tuple[Signal, ...]] = ()
     outputs: ClassVar[tuple[Signal, ...]] = ()
     description: ClassVar[str] = ""
+    #: inputs that ``initial_state`` reads: at initialization every output may depend on them
+    initial_state_inputs: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, params: Params):
         if not isinstance(params, self.Params):

@@ -255,6 +255,7 @@ class DriveModel(Model):
     inputs = (
         Signal("drum_force", "N", "force of one rope line at the drum (lowering sense positive)", coupling=True),
     )
+    initial_state_inputs = ("drum_force",)  # pretwist of the drivetrain under the load
     outputs = (
         Signal("payout", "m", "rope paid out by the drum since the start, all rope ends (positive lowers)"),
         Signal("payout_rate", "m/s", "payout speed (negative while hoisting)"),

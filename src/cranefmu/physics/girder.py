@@ -132,6 +132,7 @@ class GirderModel(Model):
     inputs = tuple(Signal(f"F{c}_rope", "N", f"{c} component of the rope force on the trolley (up positive)"
                           + ("" if c == "y" else "; ignored, girder rigid horizontally"), coupling=True)
                    for c in "xyz")
+    initial_state_inputs = ("Fy_rope",)  # static deflections under the load
     outputs = (
         *(Signal(n, "m", f"{n[0]} of the rope suspension point (drum)") for n in _TOP[:3]),
         *(Signal(n, "m/s", f"{n[1]} velocity of the rope suspension point") for n in _TOP[3:]),

@@ -148,6 +148,7 @@ class PendulumModel(Model):
         *(Signal(n, "N", f"{n[1]} component of the rope force on the hook", coupling=True) for n in _FORCE),
         *(Signal(n, "m", f"{n[0]} of the suspension point (for the sway angles)", coupling=True) for n in _TOP),
     )
+    initial_state_inputs = _FORCE  # resting on the ground / the sling's share of the rope force
     outputs = (
         *(Signal(n, "m", f"{n} coordinate of the hook") for n in ("x", "y", "z")),
         *(Signal(n, "m/s", f"{n[1]} velocity of the hook") for n in ("vx", "vy", "vz")),

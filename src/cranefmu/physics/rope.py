@@ -148,6 +148,7 @@ class RopeModel(Model):
     # velocity inputs are named vx_top etc.; fix the names produced by _vec_signals
     inputs = tuple(Signal(n, s.unit, s.description, s.start, s.depends_on, s.coupling)
                    for n, s in zip(_KINEMATIC_INPUTS, inputs))
+    initial_state_inputs = _KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9] + ("payout",)  # Bouc-Wen z0
     outputs = (
         Signal("tension", "N", "total rope force on the hook (all lines)", depends_on=_KINEMATIC_INPUTS),
         Signal("drum_force", "N", "force of one line at the drum (tension / n_lines)", depends_on=_KINEMATIC_INPUTS),
