@@ -75,12 +75,14 @@ def test_time_integrated_loop_matches_path_integration_and_dissipates():
     assert np.max(np.abs(tension - f_path)) < 1e-3 * np.max(tension)
     assert np.all(np.abs(z) <= boucwen.z_bound(bw) * (1 + 1e-6))
     assert np.all(tension >= 0.0) and np.max(tension) < 1.5 * NL * 1e11 * 5.655e-5 / L * 2 * amp
-    # work done on the rope over the second cycle (trapezoid in delta): positive, a few % of the loading work
+    # work done on the rope over the second cycle (trapezoid in delta): positive, a part of the loading work
+    # (measured: 24 J of 64 J; the hysteretic force z swings through its whole band +-z_u each cycle)
     second = ts >= 1.0 - 1e-12
-    work = np.trapezoid(tension[second], delta[second])
-    loading = np.trapezoid(tension[second][: np.argmax(delta[second]) + 1], delta[second][: np.argmax(delta[second]) + 1])
-    assert 0.0 < work < 0.5 * loading
-    assert work > 0.01 * loading
+    f2, d2 = tension[second], delta[second]
+    work = np.trapezoid(f2, d2)
+    top = np.argmax(d2) + 1
+    loading = np.trapezoid(f2[:top], d2[:top])
+    assert 0.01 * loading < work < 0.5 * loading
 
 
 def test_slack_and_retightening_follow_the_virgin_curve():

@@ -58,7 +58,8 @@ def _bouc_wen_param(name: str):
 @dataclass(frozen=True)
 class RopeParams(Params):
     component = "rope"
-    model: str = param("kelvin_voigt", "", "rope model", choices=("kelvin_voigt", "bouc_wen"))
+    model: str = param("kelvin_voigt", "", "rope model: kelvin_voigt (seed 001 eq. 8-9) or bouc_wen "
+                       "(seed 001 eq. 1-3)", choices=("kelvin_voigt", "bouc_wen"))
     length: float = param(10.0, "m", "unstretched length of one line at zero payout", min=0, min_open=True)
     E: float = param(1.0e11, "Pa", "Young's modulus of the rope (seed 001: 50% of steel for fibre-core ropes)",
                      min=0, min_open=True)
