@@ -76,7 +76,7 @@ def test_time_integrated_loop_matches_path_integration_and_dissipates():
     assert np.all(np.abs(z) <= boucwen.z_bound(bw) * (1 + 1e-6))
     assert np.all(tension >= 0.0) and np.max(tension) < 1.5 * NL * 1e11 * 5.655e-5 / L * 2 * amp
     # work done on the rope over the second cycle (trapezoid in delta): positive, a part of the loading work
-    # (measured: 24 J of 64 J; the hysteretic force z swings through its whole band +-z_u each cycle)
+    # (measured: 24 J of 64 J; z rises to z_u while loading and drops to the zero-force line unloading)
     second = ts >= 1.0 - 1e-12
     f2, d2 = tension[second], delta[second]
     work = np.trapezoid(f2, d2)
