@@ -100,6 +100,22 @@ def _cmd_fit_boucwen(args: argparse.Namespace) -> int:
     return run(args)
 
 
+def _cmd_docs(args: argparse.Namespace) -> int:
+    from .build import build
+    from .fmu_docs import DOCS_DIR, stale_pages, write_docs
+
+    build(verbose=False, only=args.only or None)  # pages describe the FMUs as built from the sources
+    output = Path(args.output) if args.output else DOCS_DIR
+    if args.check:
+        stale = stale_pages(output, args.only or None)
+        for name in stale:
+            print(f"{output / (name + '.md')} differs from fmus/{name}.fmu: run cranefmu docs")
+        return 1 if stale else 0
+    for page in write_docs(output, args.only or None):
+        print(f"wrote {page}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="cranefmu", description="Crane dynamics as FMI co-simulation components.")
     sub = p.add_subparsers(dest="command", required=True)
@@ -173,6 +189,13 @@ def build_parser() -> argparse.ArgumentParser:
                                            "to a measured load-unload loop CSV (elongation, force)")
     fit_boucwen_arguments(f)
     f.set_defaults(func=_cmd_fit_boucwen)
+
+    d = sub.add_parser("docs", help="write docs/fmus/<Name>.md for every FMU from its built modelDescription.xml "
+                                    "and bundled sources (builds stale FMUs first)")
+    d.add_argument("--output", default=None, help="directory of the pages (default docs/fmus)")
+    d.add_argument("--check", action="store_true", help="write nothing; exit 1 if a page differs from its FMU")
+    d.add_argument("only", nargs="*", help="FMU names (default: all)")
+    d.set_defaults(func=_cmd_docs)
     return p
 
 
