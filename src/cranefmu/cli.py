@@ -116,6 +116,21 @@ def _cmd_docs(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_build_fmi3(args: argparse.Namespace) -> int:
+    from .build import build, fmu_scripts
+    from .fmi3_adapter import build_fmi3
+
+    names = args.only or [s.stem for s in fmu_scripts()]
+    known = {s.stem for s in fmu_scripts()}
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        raise CraneFmuError(f"FMU {unknown[0]!r} is unknown: one of {', '.join(sorted(known))}")
+    build(verbose=False, only=names)
+    for name in names:
+        print(f"built {build_fmi3(name)}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="cranefmu", description="Crane dynamics as FMI co-simulation components.")
     sub = p.add_subparsers(dest="command", required=True)
@@ -196,6 +211,11 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--check", action="store_true", help="write nothing; exit 1 if a page differs from its FMU")
     d.add_argument("only", nargs="*", help="FMU names (default: all)")
     d.set_defaults(func=_cmd_docs)
+
+    f3 = sub.add_parser("build-fmi3", help="build FMI 3.0 variants fmus/<Name>3.fmu (pythonfmu3, same physics and "
+                                           "adapter as the FMI 2.0 FMUs)")
+    f3.add_argument("only", nargs="*", help="FMU names (default: all)")
+    f3.set_defaults(func=_cmd_build_fmi3)
     return p
 
 

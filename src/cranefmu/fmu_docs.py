@@ -155,7 +155,10 @@ def render(fmu: Path) -> str:
             "independent, and an instance can be freed and the FMU instantiated again (tests/test_fmu_instances.py). "
             "Terminate and free every instance before the process exits.",
             "- **Parameters** are checked at initialization: a refused value fails fmi2ExitInitializationMode with "
-            "a logged message naming the parameter, its value and the allowed range.", ""]
+            "a logged message naming the parameter, its value and the allowed range.",
+            f"- **FMI 3.0**: `cranefmu build-fmi3 {name}` builds `fmus/{name}3.fmu` with pythonfmu3, the same "
+            "variables plus the independent variable `time` (value references shifted by one), the same physics "
+            "and adapter (tests/test_fmi3.py).", ""]
     return "\n".join(out)
 
 
