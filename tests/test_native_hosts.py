@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fmpy.validation import validate_fmu
 
 sys.path.insert(0, str(Path(__file__).parent / "c_host"))
 import native  # noqa: E402  (tests/c_host/native.py)
@@ -98,7 +99,7 @@ def make_fmpy_container(scene, filename: Path, step: float) -> list[str]:
     from fmpy.container_fmu import Configuration
     from fmpy.container_fmu.cli import create_container_fmu
     from fmpy.container_fmu.config import Component, Connection
-    from fmpy.model_description import CoSimulation, ModelDescription, ModelVariable
+    from fmpy.model_description import CoSimulation, ModelDescription, ModelVariable, Unknown
 
     comps = {c.name: Component(name=c.name, filename=Path(c.fmu), modelDescription=read_model_description(str(c.fmu)))
              for c in scene.components}
@@ -127,6 +128,9 @@ def make_fmpy_container(scene, filename: Path, step: float) -> list[str]:
         md.modelVariables.append(cv)
         mappings[cv] = [(comps[comp], var[comp][name])]
         outputs.append(cv.name)
+        # without these fmpy writes no ModelStructure and the container fails `fmpy validate`
+        md.outputs.append(Unknown(variable=cv))
+        md.initialUnknowns.append(Unknown(variable=cv))
     connections = [Connection(startElement=comps[c.src], startConnectors=[var[c.src][c.src_var]],
                               endElement=comps[c.dst], endConnectors=[var[c.dst][c.dst_var]])
                    for c in scene.connections]
@@ -181,6 +185,7 @@ def test_fmpy_container_agrees_with_master(scene, master, tmp_path):
     with zipfile.ZipFile(fmu) as zf:
         types = {c["variableType"] for c in json.loads(zf.read("resources/container.json"))["connections"]}
     assert types == {"Float64"}
+    assert validate_fmu(str(fmu)) == []
     result, _ = in_child(simulate_container, str(fmu), outputs, STOP, H)
     assert_agrees(result, master, {o: o for o in outputs})
     # the scene moved: the comparison is not one of two resting states
@@ -279,6 +284,7 @@ def lagged_jacobi(fmus: list[tuple[str, str]], starts: dict[str, str], links: li
 
 def test_toolbox_container_is_jacobi_with_lagged_feedthrough(scene, master, tmp_path):
     outputs = make_toolbox_container(scene, tmp_path, H)
+    assert validate_fmu(str(tmp_path / f"{scene.name}.fmu")) == []
     result, _ = in_child(simulate_container, str(tmp_path / f"{scene.name}.fmu"), list(outputs), STOP, H)
     # not the master's scheme: the rope force reaches the pendulum one step later
     errors = {col: float(np.max(np.abs(result[out] - master[col])) / max(np.max(np.abs(master[col])), 1e-12))
