@@ -8,7 +8,8 @@ extrapolation=0``.  Hosts:
   connections in the listed order.  Agrees with the master to 1e-9 relative.
   fmpy 0.3.32 writes FMI 2 connections as type ``"Real"`` into ``container.json``, which the
   container rejects ("Connections of type Real are not supported"): it only knows FMI 3 type
-  names, so we rewrite them to ``"Float64"``.
+  names, so we rewrite them to ``"Float64"``.  It writes no ModelStructure unless the description
+  lists the outputs, so we do (the container then passes ``fmpy validate``).
 - fmu-manipulation-toolbox's ``fmucontainer``: Jacobi too, but it reads every output right after
   the doSteps and only then sets the inputs, so a direct-feedthrough output (the rope force, which
   depends on the hook position) reaches the pendulum one step late.  It does NOT agree with the
