@@ -12,7 +12,7 @@ from cranefmu.integrators import METHODS, integrate
 from model_cases import CASES, trajectory
 
 # ground contact is a kink in the right-hand side: every method drops to order 1 there
-_TOL = {"pendulum-elastic-ground": 3e-3,
+_TOL = {"pendulum-elastic-ground": 5e-3,
         "girder-elastic": 1e-4}  # undamped bearing mode at 800 rad/s: rk4 phase error (omega h)^4 per radian
 
 
