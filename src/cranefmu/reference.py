@@ -11,6 +11,7 @@ every state at ``initial_state(u)`` until they agree.
 """
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -152,7 +153,8 @@ class Monolith:
             for i in self.order:
                 old = self.u[i].copy()
                 if self._gather(i):
-                    change = max(change, float(np.max(np.abs(self.u[i] - old))))
+                    diff = float(np.max(np.abs(self.u[i] - old)))
+                    change = max(change, diff) if math.isfinite(diff) else math.inf
                     if initial:
                         # under-relaxed: a stiff rope on soft supports makes the plain exchange
                         # oscillate with a gain above 1 (truck crane at 30 deg: about -1.25)
@@ -177,9 +179,17 @@ class Monolith:
         return np.concatenate(xs)
 
     def rhs(self, t: float, x: np.ndarray) -> np.ndarray:
+        """x' at (t, x).  A state outside a model's domain (a Newton trial of the implicit solver, e.g.
+        more rope wound in than exists) gives NaN, which Radau/BDF treat as a failed iteration and
+        answer with a smaller step."""
         xs = self.split(x)
-        self.evaluate(t, xs)
-        return np.concatenate([m.derivatives(t, xi, ui) for m, xi, ui in zip(self.models, xs, self.u)])
+        try:
+            with np.errstate(all="ignore"):
+                self.evaluate(t, xs)
+                dx = np.concatenate([m.derivatives(t, xi, ui) for m, xi, ui in zip(self.models, xs, self.u)])
+        except (FloatingPointError, OverflowError, SimulationError):
+            return np.full(len(x), np.nan)
+        return dx
 
     def output_row(self, t: float, x: np.ndarray) -> np.ndarray:
         return np.concatenate(self.evaluate(t, self.split(x)))

@@ -128,17 +128,25 @@ def _motion_end(t: np.ndarray, length: np.ndarray) -> float:
 
 def truck_telescope_metrics(r) -> dict[str, float]:
     """Sway [deg] (largest, and the amplitude of the free swing after telescoping), rope elongation,
-    settlements and outrigger reactions (min/max), tipping (an outrigger without load)."""
-    t, theta = _col(r, "time"), np.degrees(_col(r, "pendulum.theta"))
-    t_end = _motion_end(t, _col(r, "boom.boom_length"))
+    settlements and outrigger reactions (min/max), tipping (an outrigger without load: 1.0 or 0.0)
+    with its time and boom length.  After tipping the model has no meaning (the body keeps turning
+    about one pad), so a tipping run is measured up to the first lift-off."""
+    t, length = _col(r, "time"), _col(r, "boom.boom_length")
+    unloaded = np.flatnonzero(np.minimum(_col(r, "chassis.N_front"), _col(r, "chassis.N_rear")) <= 0.0)
+    upto = unloaded[0] + 1 if len(unloaded) else len(t)
+    t, length = t[:upto], length[:upto]
+    theta = np.degrees(_col(r, "pendulum.theta")[:upto])
+    t_end = _motion_end(t, length)
     after = t > t_end
     out = {"max_sway_deg": float(np.max(np.abs(theta))), "telescoping_end": t_end,
            "sway_after_deg": float(np.max(np.abs(theta[after]))) if after.any() else math.nan}
     for name, key in (("elongation", "rope.elongation"), ("q1", "chassis.q1"), ("q2", "chassis.q2"),
                       ("N_front", "chassis.N_front"), ("N_rear", "chassis.N_rear")):
-        v = _col(r, key)
+        v = _col(r, key)[:upto]
         out[f"{name}_min"], out[f"{name}_max"] = float(v.min()), float(v.max())
-    out["tipping"] = float(min(out["N_front_min"], out["N_rear_min"]) <= 0.0)
+    out["tipping"] = float(len(unloaded) > 0)
+    out["tipping_time"] = float(t[-1]) if len(unloaded) else math.nan
+    out["tipping_boom_length"] = float(length[-1]) if len(unloaded) else math.nan
     return out
 
 
@@ -151,11 +159,18 @@ def payload_sway(r) -> np.ndarray:
 
 
 def hook_sway_metrics(r, window: float = 2.0) -> dict[str, float]:
-    """Payload sway amplitude [deg] in the first and the last ``window`` seconds, and their ratio."""
+    """Payload sway amplitude [deg] in the first and the last ``window`` seconds and their ratio; the
+    smallest swing peak relative to the first (how deep the hook draws the payload's energy off in
+    the beat of the two pendulum modes) and the first time a peak falls below half the first [s]."""
     t, sway = _col(r, "time"), np.degrees(payload_sway(r))
     first, last = sway[t <= t[0] + window], sway[t >= t[-1] - window]
     a0, a1 = float(first.max()), float(last.max())
-    return {"sway_first_deg": a0, "sway_last_deg": a1, "sway_ratio": a1 / a0 if a0 > 0 else math.nan}
+    inner = np.flatnonzero((sway[1:-1] >= sway[:-2]) & (sway[1:-1] > sway[2:])) + 1   # swing peaks
+    peaks = sway[inner] / a0 if a0 > 0 else np.zeros(0)
+    below = np.flatnonzero(peaks < 0.5)
+    return {"sway_first_deg": a0, "sway_last_deg": a1, "sway_ratio": a1 / a0 if a0 > 0 else math.nan,
+            "min_peak_ratio": float(peaks.min()) if len(peaks) else math.nan,
+            "half_time": float(t[inner[below[0]]]) if len(below) else math.nan}
 
 
 def elastic_pendulum_metrics(r) -> dict[str, float]:
@@ -191,10 +206,14 @@ def summary(name: str, result) -> list[tuple[str, str]]:
                                          f"{m['q2_min'] * 1e3:.3f} .. {m['q2_max'] * 1e3:.3f} mm"),
                   ("outrigger N_front", f"{m['N_front_min'] / 1e3:.2f} .. {m['N_front_max'] / 1e3:.2f} kN"),
                   ("outrigger N_rear", f"{m['N_rear_min'] / 1e3:.2f} .. {m['N_rear_max'] / 1e3:.2f} kN"),
-                  ("tipping", "yes (an outrigger lifted off)" if m["tipping"] else "no")]
+                  ("tipping", f"yes: an outrigger lifted off at t = {m['tipping_time']:.3f} s, boom "
+                              f"{m['tipping_boom_length']:.3f} m (the run means nothing after it)"
+                   if m["tipping"] else "no")]
     elif name == "hook_sway" and m:
         lines += [("payload sway", f"first 2 s {m['sway_first_deg']:.3f} deg, last 2 s {m['sway_last_deg']:.3f} deg "
-                                   f"(ratio {m['sway_ratio']:.3f})")]
+                                   f"(ratio {m['sway_ratio']:.3f}); smallest swing {m['min_peak_ratio']:.3f} of "
+                                   f"the first" + (f", below half at {m['half_time']:.2f} s"
+                                                   if math.isfinite(m["half_time"]) else ""))]
     info = SCENES.get(name)
     names = _names(result)
     keys = info.key_outputs if info else tuple(n for n in names if n != "time")[:6]
@@ -315,3 +334,17 @@ def describe(scene) -> list[str]:
     lines.append("  connections:")
     lines += [f"    {c}" for c in scene.connections]
     return lines
+
+
+def static_outrigger_loads(boom_length: float, angle_deg: float, load: float) -> tuple[float, float]:
+    """(N_front, N_rear) [N] of the truck crane at rest with the boom at ``boom_length`` [m] and
+    ``angle_deg``, hook load ``load`` [kg] hanging from the tip, statically determinate (negative:
+    the crane tips).  Uses the truck_telescope scene's Boom and Chassis models with their defaults."""
+    from .physics.boom import BoomModel, BoomParams
+    from .physics.chassis import ChassisModel, ChassisParams
+
+    boom = BoomModel(BoomParams(boom_length_start=boom_length, boom_length_end=boom_length,
+                                luff_angle=math.radians(angle_deg)))
+    y = boom.output_values(0.0, np.zeros(3), np.array([0.0, 0.0, 0.0, 0.0, 0.0, -load * G, 0.0]))
+    n = ChassisModel(ChassisParams()).static_reactions(np.array(y[6:9]))
+    return float(n[0]), float(n[1])

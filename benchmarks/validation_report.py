@@ -1,0 +1,236 @@
+"""Validation report: run the scenes of the three papers and compare them with the papers.
+
+    .venv/bin/python benchmarks/validation_report.py [--quick]
+
+Writes docs/validation.md and docs/figures/*.png.  Every number comes from the monolithic solve of the
+scene's own physics models (``cranefmu.reference.solve``, Radau, rtol 1e-6): the same equations the
+co-simulation runs, without the coupling error (tests/test_reference.py shows the co-simulation
+converging to it).  ``--quick`` shortens the runs (for a smoke test, not for the committed report).
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from cranefmu.master.errors import CraneFmuError  # noqa: E402
+from cranefmu.reference import solve  # noqa: E402
+from cranefmu.scenes import (hook_sway_metrics, hook_sway_parameters, overhead_lift_metrics,  # noqa: E402
+                             payload_sway, truck_telescope_metrics, truck_telescope_parameters)
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+FIG = DOCS / "figures"
+RTOL = 1e-6
+G = 9.81
+HOOK_SPEED = 0.208          # seed 001 Table 6: V_p [m/s], HD1 (no creep speed): v_h = v_h,max
+EN_CLASSES = {"HC1": (0.17, 1.05), "HC2": (0.34, 1.10), "HC3": (0.51, 1.15), "HC4": (0.68, 1.20)}
+COSIM_STEP = 5e-5         # Bouc-Wen loose: the co-simulation converges only below 1e-4 s (docs)
+MEASURED = {"tight": (1.31, 1.29, 1.32), "loose": (1.55, 1.45, 1.55)}   # seed 001 Table 7
+
+
+def run(scene: str, stop: float, n: int, parameter_set: str = "default", parameters: dict | None = None) -> dict:
+    t0 = time.perf_counter()
+    r = solve(scene, stop, np.linspace(0.0, stop, n), parameter_set=parameter_set, parameters=parameters, rtol=RTOL)
+    print(f"  {scene} {parameter_set} {parameters or ''}: {time.perf_counter() - t0:.1f} s", flush=True)
+    return r
+
+
+def cosim(scene: str, stop: float, step: float, parameter_set: str, parameters: dict) -> np.ndarray:
+    from cranefmu.master.run import run as cosimulate
+
+    t0 = time.perf_counter()
+    r = cosimulate(scene, stop_time=stop, step_size=step, parameter_set=parameter_set, parameters=parameters).result
+    print(f"  co-simulation {scene} {parameter_set} {parameters}: {time.perf_counter() - t0:.1f} s", flush=True)
+    return r
+
+
+def figure(name: str, title: str, curves: list[tuple[np.ndarray, np.ndarray, str]], ylabel: str,
+           xlabel: str = "time [s]") -> str:
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    for x, y, label in curves:
+        ax.plot(x, y, label=label, lw=1)
+    ax.set_title(title)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(alpha=0.3)
+    if len(curves) > 1:
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(FIG / f"{name}.png", dpi=110)
+    plt.close(fig)
+    return f"![{title}](figures/{name}.png)"
+
+
+# --- seed 001 --------------------------------------------------------------------------------------
+def overhead_lift(quick: bool) -> list[str]:
+    stop = 2.5 if quick else 4.0
+    rows, curves = [], []
+    results = {}
+    for rope in ("kelvin_voigt", "bouc_wen"):
+        for case, pset in (("tight", "default"), ("loose", "loose")):
+            engine = "monolithic"
+            try:
+                r = run("overhead_lift", stop, 1601, pset, {"rope.model": rope})
+            except (ArithmeticError, CraneFmuError) as err:
+                # the monolith has no after_step projection of the Bouc-Wen state; the FMU has
+                print(f"  monolithic solve failed ({err}); co-simulation at H = {COSIM_STEP} s instead", flush=True)
+                engine = f"co-simulation, Jacobi, H = {COSIM_STEP:g} s"
+                try:
+                    r = cosim("overhead_lift", min(stop, 2.0), COSIM_STEP, pset, {"rope.model": rope})
+                except CraneFmuError as err2:   # reported in the table, the rest still runs
+                    results[(rope, case)] = {"error": f"{type(err2).__name__}: {err2}"}
+                    continue
+            m = {**overhead_lift_metrics(r), "engine": engine}
+            results[(rope, case)] = m
+            curves.append((r["time"], r["rope.tension"] / 1e3, f"{rope}, {case}"))
+    md = ["## overhead_lift: dynamic factor of lifting a grounded load (seed 001)", "",
+          "1800 kg load and 30 kg hook on the ground, 4-line reeving on a twin drum, motor SZUDe 56b started "
+          "at t = 0.2 s with a 0.5 s frequency ramp; the dynamic factor is the largest rope tension over the "
+          "suspended weight W = T(0) + N(0) = 1830 kg x g.  EN 13001-2: phi2 = phi2,min + beta2 v_h with "
+          f"v_h = {HOOK_SPEED} m/s (HD1: no creep speed, so v_h = v_h,max; seed 001 Table 6 V_p).", "",
+          "| rope model | start | dynamic factor | lift-off [s] | measured (Table 7) | model - measured |",
+          "| --- | --- | --- | --- | --- | --- |"]
+    for (rope, case), m in results.items():
+        meas = float(np.mean(MEASURED[case]))
+        if "error" in m:
+            md.append(f"| {rope} | {case} | failed: {m['error'][:160]} | | {meas:.3f} | |")
+            continue
+        md.append(f"| {rope} | {case} ({m['engine']}) | {m['dynamic_factor']:.3f} | {m['lift_off_time']:.3f} | "
+                  f"{meas:.3f} ({', '.join(map(str, MEASURED[case]))}) | "
+                  f"{100 * (m['dynamic_factor'] / meas - 1):+.1f} % |")
+    md += ["", "| EN 13001-2 class | beta2 | phi2,min | phi2 |", "| --- | --- | --- | --- |"]
+    for k, (beta, pmin) in EN_CLASSES.items():
+        md.append(f"| {k} | {beta} | {pmin} | {pmin + beta * HOOK_SPEED:.3f} |")
+    md += ["", figure("overhead_lift_tension", "overhead_lift: rope tension", curves, "tension [kN]"), ""]
+    return md, results
+
+
+# --- seed 000 --------------------------------------------------------------------------------------
+def truck(quick: bool) -> list[str]:
+    extra = 6.0 if quick else 10.0
+    md = ["## truck_telescope: telescoping 10.5 -> 22.4 m with the load height held (seed 000)", ""]
+    base = truck_telescope_parameters()
+    r = run("truck_telescope", 20.0 + extra, 2001, "default")
+    m = truck_telescope_metrics(r)
+    t = r["time"]
+    n1, n2 = r["chassis.N_front"], r["chassis.N_rear"]
+    md += ["Static state at t = 0 (2.5 t hook load, see ssp/truck_telescope/default.ssv for the 2.5 t / 3.5 t "
+           "reading):", "",
+           "| quantity | model | seed 000 | difference |", "| --- | --- | --- | --- |",
+           f"| rear outrigger N2 (boom side) | {n2[0] / 1e3:.2f} kN | 104.13 kN | {100 * (n2[0] / 104130 - 1):+.2f} % |",
+           f"| front outrigger N1 | {n1[0] / 1e3:.2f} kN | 77.8 kN | {100 * (n1[0] / 77800 - 1):+.2f} % |",
+           f"| settlement rear q2 | {r['chassis.q2'][0] * 1e3:.3f} mm | 2.57 mm | |",
+           f"| settlement front q1 | {r['chassis.q1'][0] * 1e3:.3f} mm | 1.92 mm | |",
+           f"| rope static elongation | {r['rope.elongation'][0] * 1e3:.3f} mm | 9.03 mm (3.5 t) | "
+           f"{100 * (r['rope.elongation'][0] / 0.00903 - 1):+.1f} % (2.5 t vs 3.5 t: -28.6 % expected) |", ""]
+    phases = (("0-3 s (accelerating)", 0.0, 3.0, (68.3, 93.6)), ("3-17 s (steady)", 3.0, 17.0, None),
+              ("17-20 s (decelerating)", 17.0, 20.0, (141.5, 152.4)), ("after 20 s (at rest)", 20.0, t[-1], (130.6, 147.2)))
+    md += ["Outrigger reactions by phase (kN):", "",
+           "| phase | N2 rear min..max | seed 000 N2 | N1 front min..max |", "| --- | --- | --- | --- |"]
+    for label, a, b, paper in phases:
+        sel = (t >= a) & (t <= b)
+        md.append(f"| {label} | {n2[sel].min() / 1e3:.1f} .. {n2[sel].max() / 1e3:.1f} | "
+                  f"{f'{paper[0]} .. {paper[1]}' if paper else '-'} | {n1[sel].min() / 1e3:.1f} .. {n1[sel].max() / 1e3:.1f} |")
+    md += ["", f"Sway: largest {m['max_sway_deg']:.3f} deg, free swing after telescoping {m['sway_after_deg']:.3f} deg "
+           "(seed 000 Fig. 3b: about 1.5 deg).  Rope elongation "
+           f"{m['elongation_min'] * 1e3:.2f} .. {m['elongation_max'] * 1e3:.2f} mm.", "",
+           figure("truck_reactions", "truck_telescope: outrigger reactions", [(t, n1 / 1e3, "N1 front"), (t, n2 / 1e3, "N2 rear")], "reaction [kN]"),
+           figure("truck_settlements", "truck_telescope: settlements", [(t, r["chassis.q1"] * 1e3, "q1 front"), (t, r["chassis.q2"] * 1e3, "q2 rear")], "settlement [mm]"),
+           figure("truck_rope", "truck_telescope: rope elongation", [(t, r["rope.elongation"] * 1e3, "x_s")], "elongation [mm]"),
+           figure("truck_sway", "truck_telescope: load sway", [(t, np.degrees(r["pendulum.theta"]), "theta")], "sway [deg]"), ""]
+    # speed study
+    md += ["### Sway against telescoping speed", "", "| V10 = V20 [m/s] | end of telescoping [s] | largest sway [deg] | "
+           "free swing after [deg] | seed 000 [deg] |", "| --- | --- | --- | --- | --- |"]
+    speed_rows, curves = [], []
+    for v, paper in ((0.2, 0.6), (0.35, 1.5), (0.55, 3.0)):
+        p = truck_telescope_parameters(speed=v)
+        stop = p["drive.duration"] + extra
+        rr = r if v == 0.35 else run("truck_telescope", stop, 2001, "default", p)
+        mm = truck_telescope_metrics(rr)
+        speed_rows.append((v, mm))
+        curves.append((rr["time"], np.degrees(rr["pendulum.theta"]), f"{v} m/s"))
+        md.append(f"| {v} | {mm['telescoping_end']:.2f} | {mm['max_sway_deg']:.3f} | {mm['sway_after_deg']:.3f} | ~{paper} |")
+    md += ["", figure("truck_sway_speed", "truck_telescope: sway against telescoping speed", curves, "sway [deg]"), ""]
+    # angle study
+    md += ["### Boom angle 30, 45, 60 deg (0.35 m/s)", "", "Runs that tip are measured up to the lift-off of the "
+           "front outrigger (after it the model, which has no overturning kinematics, means nothing).", "",
+           "| phi1 [deg] | largest sway [deg] | free swing [deg] | "
+           "N1 front min [kN] | N2 rear max [kN] | tipping | rope elongation [mm] |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    curves = []
+    for ang in (30.0, 45.0, 60.0):
+        rr = r if ang == 60.0 else run("truck_telescope", 20.0 + extra, 2001, "default", truck_telescope_parameters(angle_deg=ang))
+        mm = truck_telescope_metrics(rr)
+        curves.append((rr["time"], rr["chassis.N_front"] / 1e3, f"{ang:g} deg"))
+        md.append(f"| {ang:g} | {mm['max_sway_deg']:.3f} | {mm['sway_after_deg']:.3f} | {mm['N_front_min'] / 1e3:.1f} | "
+                  f"{mm['N_rear_max'] / 1e3:.1f} | {tipping_text(mm)} | "
+                  f"{mm['elongation_min'] * 1e3:.2f} .. {mm['elongation_max'] * 1e3:.2f} |")
+    md += ["", figure("truck_front_angle", "truck_telescope: front outrigger against boom angle", curves, "N1 [kN]"), ""]
+    rr = run("truck_telescope", 20.0 + extra, 2001, "default", truck_telescope_parameters(load=3500.0))
+    mm = truck_telescope_metrics(rr)
+    md += [f"With the 3.5 t load of the text at 60 deg: tipping {tipping_text(mm)}.", ""]
+    return md, speed_rows
+
+
+def tipping_text(m: dict) -> str:
+    if not m["tipping"]:
+        return "no"
+    return f"yes, at t = {m['tipping_time']:.2f} s, boom {m['tipping_boom_length']:.2f} m"
+
+
+# --- seed 002 --------------------------------------------------------------------------------------
+def hook(quick: bool) -> list[str]:
+    stop = 6.0 if quick else 20.0
+    md = ["## hook_sway: payload sway against hook mass and length (seed 002)", "",
+          "Payload 10 kg on L_p = 0.5 m below the hook, released at rest from 10 deg (and 5 deg sideways); no "
+          "air drag (as seed 002), so the only dissipation is the rope's axial damping.  'first'/'last' = "
+          f"largest payload sway (line tip -> payload) in the first / last 2 s of {stop:g} s.", "",
+          "'smallest swing' = smallest payload swing peak over the run relative to the first (the beat of "
+          "the two pendulum modes: the hook draws energy off the payload and gives it back); 'half at' = first "
+          "time a swing peak is below half the first.", "",
+          "| hook mass m_h [kg] | hook length L_h [m] | first [deg] | last [deg] | last / first | smallest swing | "
+          "half at [s] |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    curves_m, rows = [], []
+    for mh, lh in ((3.0, 0.4), (4.0, 0.4), (5.0, 0.4), (3.0, 0.45), (3.0, 0.5)):
+        rr = run("hook_sway", stop, 2001, "default", hook_sway_parameters(m_hook=mh, hook_length=lh))
+        mm = hook_sway_metrics(rr)
+        rows.append((mh, lh, mm))
+        curves_m.append((rr["time"], np.degrees(payload_sway(rr)), f"m_h {mh:g} kg, L_h {lh:g} m"))
+        md.append(f"| {mh:g} | {lh:g} | {mm['sway_first_deg']:.3f} | {mm['sway_last_deg']:.3f} | {mm['sway_ratio']:.3f} | "
+                  f"{mm['min_peak_ratio']:.3f} | {mm['half_time']:.2f} |")
+    md += ["", figure("hook_sway", "hook_sway: payload sway", curves_m, "sway [deg]"), ""]
+    return md, rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="short runs (smoke test)")
+    args = ap.parse_args(argv)
+    FIG.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    ol, ol_res = overhead_lift(args.quick)
+    tr, _ = truck(args.quick)
+    hk, _ = hook(args.quick)
+    text = ["# Validation against the papers", "",
+            "Generated by `benchmarks/validation_report.py` from the monolithic solve of each scene "
+            "(`cranefmu.reference.solve`, Radau, rtol 1e-6), i.e. the scene's own physics models without "
+            f"coupling error.  Run time {time.perf_counter() - t0:.0f} s.", "",
+            *ol, *tr, *hk]
+    notes = DOCS / "validation_discussion.md"   # hand-written: why the model and the papers differ
+    if notes.is_file():
+        text += ["", notes.read_text()]
+    (DOCS / "validation.md").write_text("\n".join(text))
+    print(f"wrote {DOCS / 'validation.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
