@@ -92,7 +92,7 @@ int main(int argc, char **argv) {
         return 2;
     }
     while (fgets(line, sizeof line, cfg)) {
-        char key[16], a[1024], b[1024], c[1024], d[256];
+        char key[16], a[1024], b[1024], d[256];
         if (line[0] == '#' || sscanf(line, "%15s", key) != 1) continue;
         if (!strcmp(key, "fmu") && n_fmus < MAX_FMUS &&
             sscanf(line, "%*s %63s %1023s %1023s %255s", fmus[n_fmus].name, a, b, d) == 4) {
@@ -138,7 +138,6 @@ int main(int argc, char **argv) {
         } else if (!strcmp(key, "hold_gil")) {
             sscanf(line, "%*s %d", &hold_gil);
         } else {
-            (void)a; (void)b; (void)c;
             fprintf(stderr, "host: cannot read config line: %s", line);
             return 2;
         }
