@@ -121,8 +121,8 @@ def test_same_fmu_unzipped_twice_is_independent(unzipped):
 
 
 def test_two_different_fmus_in_one_process_each_keep_their_own_code(built):
-    """Rope and Pendulum share pythonfmu's wrapper library (same SONAME) in one process; each must
-    still run its own model: the rope's static tension c*delta, the pendulum's free fall."""
+    """Rope and Pendulum (the same pythonfmu wrapper binary, one shared interpreter) in one process:
+    each runs its own model, the rope's static tension c*delta and the pendulum's free fall."""
     res = in_child(rope_and_pendulum, str(built / "Rope.fmu"), str(built / "Pendulum.fmu"))
     tension, expected_tension, vy = res
     assert tension == pytest.approx(expected_tension, rel=1e-12)
