@@ -350,10 +350,14 @@ def _check(system: CoSystem, bonds: BondMonitor, row: np.ndarray, t: float, s: S
     """Stop on a non-finite value or a power bond over its energy alarm, naming what and where."""
     if not np.all(np.isfinite(row)):
         i = int(np.flatnonzero(~np.isfinite(row))[0])
-        name = (system.columns + bonds.columns)[i]
-        comp, _, var = name.partition(".")
-        raise SimulationError(f"component {comp}, variable {var} became non-finite at t = {t:.9g} s: the coupling is "
-                              "unstable at this step size. Try a smaller --step, --adaptive, or --algorithm iterative.")
+        names = system.columns + bonds.columns
+        what = (f"component {names[i].partition('.')[0]}, variable {names[i].partition('.')[2]}"
+                if i < len(system.columns) else f"the energy residual of power bond {bonds.names[(i - len(system.columns)) // 2]}")
+        big = np.abs(row[:len(system.columns)])
+        j = int(np.argmax(np.where(np.isfinite(big), big, -1.0)))
+        grown = f" ({names[j]} = {row[j]:.3g})" if i >= len(system.columns) else ""
+        raise SimulationError(f"{what} became non-finite at t = {t:.9g} s{grown}: the coupling is unstable at this "
+                              "step size. Try a smaller --step, --adaptive, or --algorithm iterative.")
     if s.energy_alarm is not None and bonds.bonds:
         k = int(np.argmax(bonds.total))
         if bonds.total[k] > s.energy_alarm:
