@@ -228,3 +228,21 @@ def test_long_run_streams_every_row_without_keeping_them(built, tmp_path):
     rows = read_csv(out)
     assert len(rows) == 3001 and rows["time"][-1] == pytest.approx(60.0, abs=1e-9)
     assert np.all(np.isfinite(rows["pendulum.theta"])) and np.abs(rows["pendulum.theta"]).max() < THETA0 * 1.01
+
+
+# --- Bouc-Wen with a large exponent ------------------------------------------------------------------------
+# initialization alone takes ~18 s at n = 5, ~55 s at n = 8 (the virgin curve's z-integration is stiff)
+@pytest.mark.parametrize("n", [5.0, pytest.param(8.0, marks=pytest.mark.slow), pytest.param(20.0, marks=pytest.mark.slow)])
+def test_bouc_wen_with_a_large_exponent_saturates_at_its_bound(built, n):
+    """rope.model = bouc_wen, exponent n = 5 (8 and 20 in the slow set): the hysteretic force z of eq. 1 is
+    stiff near saturation (dz'/dz ~ n alpha / z_u |x'|).  It must reach its ultimate value
+    z_u = (alpha / (beta + gamma))^(1/n) of the 10 m line and never pass it; tension finite and >= 0."""
+    from cranefmu.physics.boucwen import BoucWenParams, for_length, z_bound
+
+    z_u = z_bound(for_length(BoucWenParams(n=n), LENGTH, 1))
+    res = run("elastic_pendulum", stop_time=0.1, step_size=1e-3,
+              parameters={"rope.model": "bouc_wen", "rope.n": n}).result
+    z = np.abs(res["rope.z_hysteresis"])
+    assert z.max() <= z_u * (1.0 + 2e-6) and z.max() >= 0.99 * z_u
+    assert np.all(np.isfinite(res["rope.tension"])) and res["rope.tension"].min() >= 0.0
+    assert np.all(np.isfinite(res["pendulum.theta"]))
