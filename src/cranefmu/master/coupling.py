@@ -31,6 +31,7 @@ class InputGroup:
     dt2_vrs: list[int] | None = None
     history: list[tuple[float, np.ndarray]] = field(default_factory=list)  # newest last
     fed: tuple | None = None  # (value, d1, d2) last fed to the destination
+    rates_set: bool = True    # the destination may hold non-zero rates (unknown at the start)
     src_names: list[str] = field(default_factory=list)
     dst_names: list[str] = field(default_factory=list)
 

@@ -102,7 +102,10 @@ class CoSystem:
         try:
             fmu.setReal(g.dst_vrs, value.tolist())
             if g.dt_vrs is not None:
-                fmu.setReal(g.dt_vrs + g.dt2_vrs, d1.tolist() + d2.tolist())
+                moving = bool(d1.any() or d2.any())
+                if moving or g.rates_set:  # zero rates stay zero: no call for a zero-order hold
+                    fmu.setReal(g.dt_vrs + g.dt2_vrs, d1.tolist() + d2.tolist())
+                    g.rates_set = moving
         except Exception:
             raise self.refused(self.comps[g.dst], "setting its inputs") from None
         g.fed = (value, d1, d2)
@@ -219,6 +222,7 @@ class CoSystem:
         for g, hist, f in zip(self.links, histories, fed):
             g.history[:] = hist
             g.fed = f
+            g.rates_set = True  # the restored FMU holds the rates of the snapshot
 
     def release(self, snap: list | None) -> None:
         if snap is None:
