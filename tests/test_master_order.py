@@ -25,3 +25,19 @@ def test_observed_order_is_extrapolation_order_plus_one(oscillator_ssp, algorith
     order = np.polyfit(np.log(STEPS), np.log(errors), 1)[0]
     assert order == pytest.approx(p + 1, abs=0.3), errors
     assert errors[0] < 0.02 * X0
+
+
+def test_gauss_seidel_order_override(oscillator_ssp):
+    from cranefmu.master.errors import SettingsError
+
+    pars = {**OSC.parameters(), "mass.x0": X0}
+    mass_first = run(oscillator_ssp, stop_time=0.5, step_size=1e-2, algorithm="gauss-seidel", order=["mass", "spring"],
+                     parameters=pars).result
+    spring_first = run(oscillator_ssp, stop_time=0.5, step_size=1e-2, algorithm="gauss-seidel",
+                       order=["spring", "mass"], parameters=pars).result
+    exact = OSC.solution(mass_first["time"], np.array([X0, 0.0, 0.0, 0.0]))
+    for r in (mass_first, spring_first):
+        assert np.max(np.abs(r["mass.x"] - exact[:, 0])) < 0.1 * X0
+    assert np.max(np.abs(mass_first["mass.x"] - spring_first["mass.x"])) > 1e-5   # really another scheme
+    with pytest.raises(SettingsError, match="gauss-seidel order \\['mass'\\] is not allowed"):
+        run(oscillator_ssp, stop_time=0.1, step_size=1e-2, algorithm="gauss-seidel", order=["mass"])
