@@ -189,34 +189,56 @@ def test_snatch_from_a_slack_rope_and_slack_again():
 
 
 # --- tipping ---------------------------------------------------------------------------------------------
+TIPPING = [s.name for s in ChassisModel.outputs].index("tipping")
+
+
+def base_loads(load_kg: float, boom_length: float, luff_deg: float = 60.0) -> np.ndarray:
+    """Static reactions (Fx, Fy, M) of the seed 000 boom at ``boom_length`` on the chassis with the
+    load hanging at the tip (long after the telescoping stopped)."""
+    boom = BoomModel(BoomParams(luff_angle=math.radians(luff_deg), boom_length_end=boom_length, t_acc=0.0))
+    out = {s.name: i for i, s in enumerate(BoomModel.outputs)}
+    u = boom.default_inputs()
+    u[BoomModel.input_index()["Fy_tip"]] = -load_kg * G
+    y = boom.output_values(1.0e3, boom.initial_state(u), u)
+    return y[[out["Fx_base"], out["Fy_base"], out["M_base"]]]
+
+
 def test_chassis_reports_tipping_at_the_load_of_the_moment_balance():
     """Boom at 60 deg extended to 21 m (seed 000 truck crane): sweep the hook load in 20 kg steps.  The
     chassis reports tipping from the first load past the one where the front outrigger's static
     reaction (moments about the rear pad) reaches zero, and not before."""
     chassis = ChassisModel(ChassisParams())
-    boom = BoomModel(BoomParams(luff_angle=math.radians(60.0), boom_length_end=21.0, t_acc=0.0))
-    i_fy = BoomModel.input_index()["Fy_tip"]
-    out = {s.name: i for i, s in enumerate(BoomModel.outputs)}
-    tipping = [s.name for s in ChassisModel.outputs].index("tipping")
-
-    def base_loads(load_kg: float) -> np.ndarray:
-        u = boom.default_inputs()
-        u[i_fy] = -load_kg * G
-        y = boom.output_values(1.0e3, boom.initial_state(u), u)
-        return y[[out["Fx_base"], out["Fy_base"], out["M_base"]]]
-
     # the front reaction is affine in the load: zero crossing from two loads (independent of the sweep)
-    n_front = [chassis.static_reactions(base_loads(kg))[0] for kg in (0.0, 1000.0)]
+    n_front = [chassis.static_reactions(base_loads(kg, 21.0))[0] for kg in (0.0, 1000.0)]
     critical = 1000.0 * n_front[0] / (n_front[0] - n_front[1])
     assert 1000.0 < critical < 10000.0
     loads = np.arange(0.0, 2.0 * critical, 20.0)
     flags = []
     for kg in loads:
-        u = base_loads(kg)
-        flags.append(chassis.output_values(0.0, chassis.initial_state(u), u)[tipping])
-    first = loads[np.argmax(np.array(flags) == 1.0)]
-    assert critical <= first < critical + 20.0
-    assert all(f == 0.0 for f in flags[:int(np.argmax(np.array(flags) == 1.0))])
+        u = base_loads(kg, 21.0)
+        flags.append(chassis.output_values(0.0, chassis.initial_state(u), u)[TIPPING])
+    first = int(np.argmax(np.array(flags) == 1.0))
+    assert critical <= loads[first] < critical + 20.0
+    assert all(f == 0.0 for f in flags[:first])
+
+
+def test_truck_crane_tips_where_the_statics_say_while_telescoping(built):
+    """FMU level: scene truck_telescope, parameter set load3500 (3.5 t, boom 60 deg telescoped from 10.5 to
+    22.4 m).  The chassis FMU first reports tipping within 0.3 m of boom length of the static lift-off
+    length (front reaction zero, bisection on the boom length; 21.0 m), the dynamic loads of the moving
+    boom and the swinging load making up the difference (measured 21.13 m)."""
+    chassis = ChassisModel(ChassisParams())
+    lo, hi = 15.0, 22.4
+    assert chassis.static_reactions(base_loads(3500.0, lo))[0] > 0 > chassis.static_reactions(base_loads(3500.0, hi))[0]
+    while hi - lo > 1e-3:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if chassis.static_reactions(base_loads(3500.0, mid))[0] > 0 else (lo, mid)
+    res = run("truck_telescope", stop_time=18.0, step_size=1e-2, extrapolation=1, parameter_set="load3500").result
+    tipped = res["chassis.tipping"] > 0
+    assert tipped.any()
+    first = int(np.argmax(tipped))
+    assert abs(res["boom.boom_length"][first] - lo) < 0.3, (res["boom.boom_length"][first], lo)
+    assert np.all(res["chassis.N_front"][:first] > 0.0) and res["chassis.N_front"][first] == 0.0
 
 
 # --- long run ----------------------------------------------------------------------------------------------
