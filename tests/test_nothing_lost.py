@@ -8,6 +8,7 @@ its own, so the test sees what the master left behind.
 from __future__ import annotations
 
 import multiprocessing
+import re
 from pathlib import Path
 
 import numpy as np
@@ -128,7 +129,7 @@ def test_component_failure_keeps_the_rows_streamed_so_far(faulty_ssp, tmp_path):
 
 def test_unstable_coupling_keeps_the_rows_before_the_blow_up(built, tmp_path):
     """Jacobi with zero-order hold at H = 1 ms on a rope 10^4 times stiffer (E = 1e15 Pa, zeta = 0):
-    the axial mode (omega H ~ 2.4) grows until a value is non-finite; every finite row is kept."""
+    the axial mode (omega H ~ 2.4) grows until a value is non-finite; every row up to it is kept."""
     csv = tmp_path / "unstable.csv"
     out = counted_run(tmp_path, "elastic_pendulum", stop_time=3.0, step_size=1e-3, output=str(csv),
                       parameters={"rope.E": 1e15, "rope.zeta": 0.0})
@@ -137,6 +138,10 @@ def test_unstable_coupling_keeps_the_rows_before_the_blow_up(built, tmp_path):
     assert "non-finite" in msg and "rope" in msg and "t = " in msg and "smaller --step" in msg
     rows = read_csv(csv)
     assert 10 < len(rows) == out["rows"] < 3001
+    # the master records the failing row last (it shows what went wrong); every row before it is finite
     for name in rows.dtype.names:
-        assert np.all(np.isfinite(rows[name])), name
+        assert np.all(np.isfinite(rows[name][:-1])), name
+    assert not all(np.isfinite(rows[name][-1]) for name in rows.dtype.names)
+    t_fail = float(re.search(r"at t = ([0-9.e+-]+) s", msg).group(1))
+    assert rows["time"][-1] == pytest.approx(t_fail, abs=1e-9)
     assert_clean(out)

@@ -138,8 +138,8 @@ def test_scene_runs_finish_finite_or_fail_clearly(built, p, h, algorithm, order)
                   parameters=p, keep=True).result
     except SimulationError as err:
         assert "t = " in str(err) and err.result is not None
-        for name in err.result.dtype.names:
-            assert np.all(np.isfinite(err.result[name])), name
+        for name in err.result.dtype.names:  # the failing row, recorded last, may hold the non-finite value
+            assert np.all(np.isfinite(err.result[name][:-1])), name
         return
     except CraneFmuError as err:  # a clear refusal naming the item
         assert any(k in str(err) for k in p), str(err)
