@@ -291,7 +291,7 @@ def test_toolbox_container_is_jacobi_with_lagged_feedthrough(scene, master, tmp_
     # not the master's scheme: the rope force reaches the pendulum one step later
     errors = {col: float(np.max(np.abs(result[out] - master[col])) / max(np.max(np.abs(master[col])), 1e-12))
               for out, col in outputs.items()}
-    assert 1e-6 < errors["pendulum.x"] < 5e-3, errors["pendulum.x"]
+    assert 5e-5 < errors["pendulum.x"] < 5e-4, errors["pendulum.x"]  # measured 1.44e-4
     # ... and exactly that scheme, reproduced call by call through fmpy
     order = {c.name: i for i, c in enumerate(scene.components)}
     links = sorted(((c.src, c.src_var, c.dst, c.dst_var) for c in scene.connections), key=lambda k: order[k[2]])
