@@ -95,3 +95,19 @@ def test_bad_arguments_give_a_clear_error(args, named, capsys):
 def test_unknown_scene_is_named(capsys):
     assert main(["converge", "no_such_scene", "--steps", "1e-3"]) == 2
     assert "no_such_scene" in capsys.readouterr().err
+
+
+def test_adaptive_runs_are_measured_against_their_tolerance(built, tmp_path, capsys):
+    """--tolerances: one adaptive run per tolerance; the reported error falls with the tolerance and the
+    order column is taken against the tolerance (error proportional to it: about 1)."""
+    assert main(["converge", "elastic_pendulum", "--stop-time", "1", "--steps", "2e-3", "--extrapolation", "1",
+                 "--tolerances", "1e-3,1e-4", "--output", str(tmp_path)]) == 0
+    text = capsys.readouterr().out
+    table = run_table(text)
+    assert set(table) == {"H=0.002", "tol=0.001", "tol=0.0001"}
+    assert table["tol=0.0001"]["worst"] < table["tol=0.001"]["worst"] / 3
+    rows = {r["run"]: r for r in csv.DictReader(open(tmp_path / "converge.csv"))}
+    assert float(rows["tol=0.0001"]["tolerance"]) == 1e-4
+    assert int(rows["tol=0.0001"]["steps"]) > int(rows["tol=0.001"]["steps"])
+    order = float(rows["tol=0.0001"]["pendulum.theta.order"])
+    assert order == pytest.approx(1.0, abs=0.3)
