@@ -282,6 +282,10 @@ class BoomModel(Model):
     def elastic(self) -> bool:
         return self.p.tip == "dynamic" and self.p.cylinder == "spring_damper"
 
+    @property
+    def frozen(self) -> bool:
+        return not self.elastic
+
     def _base(self, u: np.ndarray) -> tuple[float, float, float, float]:
         if self.p.tip == "kinematic":
             return 0.0, 0.0, 0.0, 0.0

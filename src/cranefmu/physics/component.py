@@ -63,6 +63,12 @@ class Model:
     def state_names(self) -> tuple[str, ...]:
         return ()
 
+    @property
+    def frozen(self) -> bool:
+        """True when ``derivatives`` is identically zero in this configuration (a kinematic mode that
+        keeps the state vector's size): the FMU then skips its integrator instead of sub-stepping zeros."""
+        return False
+
     def initial_state(self, u: np.ndarray) -> np.ndarray:
         """State at the start time, given the inputs at the start time."""
         return np.zeros(0)

@@ -270,6 +270,10 @@ class DriveModel(Model):
     def state_names(self) -> tuple[str, ...]:
         return _STATES
 
+    @property
+    def frozen(self) -> bool:
+        return self.p.mode == "kinematic"
+
     def load_torque(self, u: np.ndarray) -> float:
         """Drum load torque M_L = n_drum_lines * drum_force * R_3 [N m], lowering sense."""
         return self.p.n_drum_lines * float(u[0]) * self.p.R_3
