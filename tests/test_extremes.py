@@ -4,8 +4,9 @@ Scene elastic_pendulum (1000 kg on a 10 m rope, axial period 0.264 s) pushed to 
 1000 times stiffer, a near-massless hook, a slack rope that snatches and goes slack again, a macro
 step ten times the rope period, a load beyond the tipping limit of the truck chassis, a long run.
 Detection of explicit coupling beyond its limit uses the power bond of the hook (README, "Power
-bonds") on a copy of the scene and an energy alarm of 5 % of the swing energy: the same alarm
-must stop every unstable run and leave every stable one alone.
+bonds") that the scene declares, with an energy alarm of 5 % of the swing energy and the default
+instability alarm (geometric growth of the residual): together they must stop every unstable run
+and leave every stable one alone (tests/test_instability_alarm.py: the default alone).
 """
 from __future__ import annotations
 
@@ -24,30 +25,16 @@ from cranefmu.physics.rope import RopeParams, damping, stiffness
 from cranefmu.reference import elastic_pendulum as monolithic
 from cranefmu.stability import spectral_radius, stability_limit, zoh_limit
 
-from scene_edit import edit_ssp
+from scene_edit import scene_ssp
 
 G = 9.81
 LENGTH, AREA = 10.0, 5.655e-5  # the scene's rope
 THETA0 = math.radians(5.0)
 
-BONDS = """<ssd:Annotations>
-  <ssc:Annotation type="org.cranefmu.powerbonds">
-    <cf:PowerBonds xmlns:cf="urn:org.cranefmu.powerbonds">
-      <cf:Bond name="hook">
-        <cf:Side component="rope" force="Fx_hook Fy_hook Fz_hook" velocity="vx_hook vy_hook vz_hook"/>
-        <cf:Side component="pendulum" force="Fx_rope Fy_rope Fz_rope" velocity="vx vy vz"/>
-      </cf:Bond>
-    </cf:PowerBonds>
-  </ssc:Annotation>
-</ssd:Annotations>
-"""
-
-
 @pytest.fixture(scope="module")
-def bonded(built, tmp_path_factory) -> Path:
-    """elastic_pendulum with the hook's power bond declared."""
-    return edit_ssp(tmp_path_factory.mktemp("bonded") / "bonded.ssp",
-                    ssd=lambda t: t.replace("</ssd:Connections>", "</ssd:Connections>\n" + BONDS))
+def bonded(built) -> Path:
+    """elastic_pendulum, which declares the power bond of the hook (rope force, hook velocity)."""
+    return scene_ssp()
 
 
 def at_rest_on_rope(E: float, mass: float, theta: float = THETA0) -> dict:

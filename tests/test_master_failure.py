@@ -16,7 +16,7 @@ def test_blow_up_to_non_finite_names_component_time_and_advice(oscillator_ssp, t
     out = tmp_path / "blowup.csv"
     with pytest.raises(SimulationError) as info:
         run(oscillator_ssp, stop_time=400.0, step_size=0.5, output=out,
-            parameters={**SINGLE.parameters(), "mass.x0": 0.1})
+            parameters={**SINGLE.parameters(), "mass.x0": 0.1}, instability_alarm=False)  # the non-finite path
     msg = str(info.value)
     # the state overflows first in the power of the bond (force * velocity): named with the value
     # that grew most; or in an FMU's own output

@@ -33,6 +33,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     options = dict(adaptive=args.adaptive, tolerance=args.tolerance, min_step=args.min_step, max_step=args.max_step,
                    step_control=args.step_control, coupling_tolerance=args.coupling_tolerance,
                    max_iterations=args.max_iterations, accelerator=args.accelerator, energy_alarm=args.energy_alarm,
+                   instability_alarm=not args.no_instability_alarm,
                    order=args.order.split(",") if args.order else None,
                    progress=False if args.no_progress else None)
     res = run(args.scene, stop_time=args.stop_time, step_size=args.step, algorithm=args.algorithm,
@@ -164,6 +165,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "components step in (default: from the dependency graph)")
     r.add_argument("--energy-alarm", type=float, default=None, metavar="JOULES", help="stop when a power bond's "
                    "total energy residual exceeds this")
+    r.add_argument("--no-instability-alarm", action="store_true", help="do not stop a fixed-step run whose power "
+                   "bond residual grows geometrically (an unstable explicit coupling; on by default)")
     r.add_argument("--parameter-set", default=None, help="a parameter set of the scene (see cranefmu info)")
     r.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
                    help="override a parameter or start value (repeatable)")

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .divergence import Growth, GrowthAlarm
 from .errors import SceneError
 from .system import CoSystem
 
@@ -140,6 +141,8 @@ class BondMonitor:
         self.residual = np.zeros(len(bonds))   # of the last step [J]
         self.carried = np.zeros(len(bonds))    # energy through each bond in the last step [J]
         self.row = np.zeros(2 * len(bonds))
+        self.growth_alarm: GrowthAlarm | None = None   # set by the run: fixed step, alarm on
+        self.grown: Growth | None = None
 
     def measure(self, h: float) -> None:
         """Residual of the step just taken (call after the step, before recording)."""
@@ -150,6 +153,13 @@ class BondMonitor:
         self.total += self.residual
         self.row[0::2] = self.residual
         self.row[1::2] = self.total
+        if self.growth_alarm is not None and self.grown is None:
+            self.grown = self.growth_alarm.update(self.residual, self.carried)
+
+    def between(self, k: int) -> str:
+        """The components bond k joins, as 'a and b'."""
+        b = self.bonds[k]
+        return f"{self.system.comps[b.a.comp].name} and {self.system.comps[b.b.comp].name}"
 
     def totals(self) -> dict[str, float]:
         return {n: float(e) for n, e in zip(self.names, self.total)}

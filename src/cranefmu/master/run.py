@@ -18,6 +18,7 @@ import numpy as np
 
 from .acceleration import ACCELERATORS
 from .algorithms import GaussSeidel, Iterative, Jacobi
+from .divergence import GrowthAlarm
 from .errors import CraneFmuError, ParameterSetError, SceneError, SettingsError, SimulationError
 from .initialization import initialize
 from .power_bonds import BondMonitor, read_bonds, resolve
@@ -62,8 +63,11 @@ class Settings:
     energy_alarm: float | None = None
     init_tolerance: float = 1e-10
     progress: bool | None = None
+    instability_alarm: bool = True
 
     def check(self) -> None:
+        if not isinstance(self.instability_alarm, bool):
+            raise SettingsError(f"instability_alarm = {self.instability_alarm!r} is not allowed: True or False")
         for name in ("start_time", "stop_time", "step_size", "tolerance", "coupling_tolerance", "init_tolerance"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
@@ -153,7 +157,7 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
         max_step: float | None = None, step_control: str = "extrapolation", coupling_tolerance: float = 1e-8,
         max_iterations: int = 50, accelerator: str = "iqn-ils", order: list[str] | None = None,
         energy_alarm: float | None = None, init_tolerance: float = 1e-10,
-        progress: bool | None = None) -> RunResult:
+        progress: bool | None = None, instability_alarm: bool = True) -> RunResult:
     """Run a scene and return its results and statistics (arguments as :func:`simulate`, plus):
 
     keep: hold the rows in memory (the result array); isolate: run in a child process.
@@ -161,7 +165,9 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
     step_control: "extrapolation" (error of the extrapolated coupling values, rejecting) or "ecco"
     (power-bond energy residuals, never rejecting); coupling_tolerance, max_iterations, accelerator
     ("iqn-ils", "aitken", "none"): the iterative algorithm; order: Gauss-Seidel order of component
-    names; energy_alarm [J]: stop when a power bond's total residual exceeds it; init_tolerance:
+    names; energy_alarm [J]: stop when a power bond's total residual exceeds it; instability_alarm:
+    stop a fixed-step run when a power bond's residual grows geometrically (see
+    :mod:`.divergence`; on by default); init_tolerance:
     relative agreement of the connections after initialization; progress: bar on/off (default: on a
     terminal, after 3 s).
 
@@ -173,6 +179,7 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
     settings = Settings(stop_time, step_size, algorithm, extrapolation, start_time, adaptive, tolerance, min_step,
                         max_step, step_control, coupling_tolerance, max_iterations, accelerator, order, energy_alarm,
                         init_tolerance, progress)
+    settings.instability_alarm = instability_alarm
     ssp = resolve_scene(scene)  # build in the parent, once
     args = (ssp, settings, parameter_set, parameters, output, keep)
     if not isolate:
@@ -198,6 +205,8 @@ def _run_here(ssp: Path, settings: Settings, parameter_set: str | None, paramete
         system = CoSystem(loaded, workdir, settings.extrapolation)
         bonds = BondMonitor(system, resolve(system, read_bonds(workdir / "SystemStructure.ssd")))
         _check_capabilities(system, settings, bonds)
+        if settings.instability_alarm and not settings.adaptive and bonds.bonds:
+            bonds.growth_alarm = GrowthAlarm(len(bonds.bonds))
         recorder = Recorder(system.columns + bonds.columns, Path(output) if output else None, keep=keep)
         system.stats.init_iterations = initialize(system, settings.start_time, overrides, settings.init_tolerance)
         progress = Progress(settings.start_time, settings.stop_time, settings.progress)
@@ -347,7 +356,8 @@ def _row(system: CoSystem, bonds: BondMonitor, adaptive: bool) -> np.ndarray:
 
 
 def _check(system: CoSystem, bonds: BondMonitor, row: np.ndarray, t: float, s: Settings) -> None:
-    """Stop on a non-finite value or a power bond over its energy alarm, naming what and where."""
+    """Stop on a non-finite value, a power bond over its energy alarm or one whose residual grows
+    geometrically, naming what and where."""
     if not np.all(np.isfinite(row)):
         i = int(np.flatnonzero(~np.isfinite(row))[0])
         names = system.columns + bonds.columns
@@ -365,6 +375,13 @@ def _check(system: CoSystem, bonds: BondMonitor, row: np.ndarray, t: float, s: S
                                   f"the scene by t = {t:.9g} s (energy alarm {s.energy_alarm:g} J): the coupling is "
                                   "unstable or too coarse. Try a smaller --step, --adaptive, or --algorithm "
                                   "iterative.")
+    if bonds.grown is not None:
+        g = bonds.grown
+        raise SimulationError(f"power bond {bonds.names[g.bond]} (between {bonds.between(g.bond)}): its energy "
+                              f"residual grew {g.factor:.3g} times in the last {g.steps} steps, by t = {t:.9g} s "
+                              f"({g.per_step():.4g} per step, geometric): the explicit coupling is unstable at this "
+                              "step size. Try a smaller --step, --adaptive, or --algorithm iterative "
+                              "(instability_alarm=False / --no-instability-alarm runs on).")
 
 
 def simulate(scene: str | Path, stop_time: float | None = None, step_size: float = 1e-3, algorithm: str = "jacobi",
