@@ -33,6 +33,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     options = dict(adaptive=args.adaptive, tolerance=args.tolerance, min_step=args.min_step, max_step=args.max_step,
                    step_control=args.step_control, coupling_tolerance=args.coupling_tolerance,
                    max_iterations=args.max_iterations, accelerator=args.accelerator, energy_alarm=args.energy_alarm,
+                   substeps=args.substeps,
                    instability_alarm=not args.no_instability_alarm,
                    order=args.order.split(",") if args.order else None,
                    progress=False if args.no_progress else None)
@@ -161,6 +162,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "coupling values at which a step has converged (default 1e-8)")
     r.add_argument("--max-iterations", type=int, default=50, help="iterative: iterations per step (default 50)")
     r.add_argument("--accelerator", default="iqn-ils", help="iterative: iqn-ils, aitken or none (default iqn-ils)")
+    r.add_argument("--substeps", type=int, default=1, metavar="M", help="iterative: waveform iteration on M "
+                   "sub-intervals of each macro step (default 1: one input polynomial per step)")
     r.add_argument("--order", default=None, metavar="COMP,COMP,...", help="gauss-seidel: the order the "
                    "components step in (default: from the dependency graph)")
     r.add_argument("--energy-alarm", type=float, default=None, metavar="JOULES", help="stop when a power bond's "

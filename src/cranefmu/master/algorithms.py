@@ -125,10 +125,30 @@ class Iterative:
             s.push(g, value, zero, zero)
         return out
 
+    def _scale(self) -> np.ndarray:
+        s = self.system
+        return np.maximum(s.scale, 1e-12 * max(1.0, float(np.max(s.scale, initial=0.0))))
+
+    @staticmethod
+    def _residual(u: np.ndarray, gu: np.ndarray, scale: np.ndarray) -> tuple[float, int]:
+        """(largest change relative to each variable's size so far or now, its index); a value
+        starting from exactly 0 too."""
+        r = np.abs(gu - u) / np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu))
+        r[gu == u] = 0.0
+        worst = int(np.argmax(r)) if len(r) else 0
+        return (float(r[worst]) if len(r) else 0.0), worst
+
+    def _not_converged(self, t: float, h: float, k: int, res: float, worst: int) -> SimulationError:
+        s = self.system
+        name = s.variable_names[worst] if s.variable_names else "?"
+        return SimulationError(f"iterative coupling did not converge in the step from t = {t:.9g} s (H = {h:.3g} s): "
+                               f"after {k} iterations connection {name} still changes by {res:.3g} relative to its "
+                               f"size (tolerance {self.tolerance:g}). Try a smaller --step, or --adaptive.")
+
     def step(self, t: float, h: float, snapshot=None) -> int:
         s = self.system
         u = s.predicted(t, h, order=min(self.degree, 2))
-        scale = np.maximum(s.scale, 1e-12 * max(1.0, float(np.max(s.scale, initial=0.0))))
+        scale = self._scale()
         self.acc.start_step()
         res, worst = np.inf, 0
         for k in range(1, self.max_iterations + 1):
@@ -139,11 +159,7 @@ class Iterative:
                 s.do_step(i, t, h)
             s.capture_input_ends(h)
             gu = self._image(t + h)
-            # relative to each variable's size so far or now (a value starting from exactly 0 too)
-            r = np.abs(gu - u) / np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu))
-            r[gu == u] = 0.0
-            worst = int(np.argmax(r)) if len(r) else 0
-            res = float(r[worst]) if len(r) else 0.0
+            res, worst = self._residual(u, gu, scale)
             if not np.isfinite(res):
                 break
             if res <= self.tolerance:
@@ -151,7 +167,4 @@ class Iterative:
                 s.exchange(t + h)
                 return k
             u = scale * self.acc.next(u / scale, gu / scale)
-        name = s.variable_names[worst] if s.variable_names else "?"
-        raise SimulationError(f"iterative coupling did not converge in the step from t = {t:.9g} s (H = {h:.3g} s): "
-                              f"after {k} iterations connection {name} still changes by {res:.3g} relative to its "
-                              f"size (tolerance {self.tolerance:g}). Try a smaller --step, or --adaptive.")
+        raise self._not_converged(t, h, k, res, worst)

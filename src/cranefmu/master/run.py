@@ -27,6 +27,7 @@ from .results import Recorder
 from .scene import Scene, load_scene
 from .step_control import PIController, coupling_error, ecco_error
 from .system import CoSystem, RunStats
+from .waveform import WaveformIterative
 
 ALGORITHMS = ("jacobi", "gauss-seidel", "iterative")
 STEP_CONTROLS = ("extrapolation", "ecco")
@@ -63,6 +64,7 @@ class Settings:
     energy_alarm: float | None = None
     init_tolerance: float = 1e-10
     progress: bool | None = None
+    substeps: int = 1
     instability_alarm: bool = True
 
     def check(self) -> None:
@@ -95,6 +97,11 @@ class Settings:
             raise SettingsError(f"accelerator = {self.accelerator!r} is not allowed: one of {', '.join(ACCELERATORS)}")
         if isinstance(self.max_iterations, bool) or not isinstance(self.max_iterations, int) or self.max_iterations < 1:
             raise SettingsError(f"max_iterations = {self.max_iterations!r} is not allowed: an integer >= 1")
+        if isinstance(self.substeps, bool) or not isinstance(self.substeps, int) or self.substeps < 1:
+            raise SettingsError(f"substeps = {self.substeps!r} is not allowed: an integer >= 1")
+        if self.substeps > 1 and self.algorithm != "iterative":
+            raise SettingsError(f"substeps = {self.substeps!r} is not allowed with algorithm = {self.algorithm!r}: "
+                                "only with 'iterative' (waveform iteration); use 1")
         for name in ("min_step", "max_step", "energy_alarm"):
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
@@ -157,7 +164,7 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
         max_step: float | None = None, step_control: str = "extrapolation", coupling_tolerance: float = 1e-8,
         max_iterations: int = 50, accelerator: str = "iqn-ils", order: list[str] | None = None,
         energy_alarm: float | None = None, init_tolerance: float = 1e-10,
-        progress: bool | None = None, instability_alarm: bool = True) -> RunResult:
+        progress: bool | None = None, substeps: int = 1, instability_alarm: bool = True) -> RunResult:
     """Run a scene and return its results and statistics (arguments as :func:`simulate`, plus):
 
     keep: hold the rows in memory (the result array); isolate: run in a child process.
@@ -169,7 +176,8 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
     stop a fixed-step run when a power bond's residual grows geometrically (see
     :mod:`.divergence`; on by default); init_tolerance:
     relative agreement of the connections after initialization; progress: bar on/off (default: on a
-    terminal, after 3 s).
+    terminal, after 3 s); substeps: iterative only, waveform iteration on this many sub-intervals
+    of each macro step (1: inputs are one polynomial over the step; see :mod:`.waveform`).
 
     With ``isolate`` (the default) the FMUs run in a fresh child process.  pythonfmu FMUs share the
     host's interpreter and do not survive being instantiated again after a previous run in the same
@@ -178,7 +186,7 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
     """
     settings = Settings(stop_time, step_size, algorithm, extrapolation, start_time, adaptive, tolerance, min_step,
                         max_step, step_control, coupling_tolerance, max_iterations, accelerator, order, energy_alarm,
-                        init_tolerance, progress)
+                        init_tolerance, progress, substeps)
     settings.instability_alarm = instability_alarm
     ssp = resolve_scene(scene)  # build in the parent, once
     args = (ssp, settings, parameter_set, parameters, output, keep)
@@ -260,6 +268,9 @@ def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor,
     """Step from start to stop: fixed steps, or adaptive with rejection, rollback and event location.
 
     Start-up: an explicit scheme of extrapolation order p takes its first p steps with iterative
+    if s.substeps > 1:
+        return WaveformIterative(system, s.substeps, tolerance=s.coupling_tolerance,
+                                 max_iterations=s.max_iterations, accelerator=s.accelerator)
     coupling (degree p), so the extrapolation starts from exact past values and the order is kept;
     FMUs that cannot roll back start from a past at rest instead.
     """
