@@ -145,3 +145,16 @@ def test_unstable_coupling_keeps_the_rows_before_the_blow_up(built, tmp_path):
     t_fail = float(re.search(r"at t = ([0-9.e+-]+) s", msg).group(1))
     assert rows["time"][-1] == pytest.approx(t_fail, abs=1e-9)
     assert_clean(out)
+
+
+def test_a_child_that_dies_raises_instead_of_hanging(faulty_ssp, tmp_path):
+    """The process hosting the FMUs dies at 1.5 s (os._exit inside a step, as a segfault would): run()
+    raises a SimulationError naming the CSV, which holds the rows flushed before (every 1000 rows)."""
+    from cranefmu.master.run import run
+
+    csv = tmp_path / "crash.csv"
+    with pytest.raises(SimulationError, match="died") as info:
+        run(faulty_ssp, stop_time=3.0, step_size=1e-3, output=str(csv), parameters={"faulty.t_crash": 1.5005})
+    assert str(csv) in str(info.value)
+    rows = read_csv(csv)
+    assert len(rows) >= 1000 and np.all(np.diff(rows["time"]) > 0) and rows["time"][-1] <= 1.5005

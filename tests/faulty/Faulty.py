@@ -20,6 +20,7 @@ class FaultyParams(Params):
     k: float = param(10.0, "N/m", "spring to the ground", min=0)
     x0: float = param(0.1, "m", "initial position")
     t_fail: float = param(1e30, "s", "time from which every step fails")
+    t_crash: float = param(1e30, "s", "time at which the process hosting the FMU dies (os._exit, like a segfault)")
 
 
 class FaultyModel(Model):
@@ -35,6 +36,10 @@ class FaultyModel(Model):
         return np.array([self.p.x0, 0.0])
 
     def derivatives(self, t, x, u):
+        if t >= self.p.t_crash:
+            import os
+
+            os._exit(70)
         if t >= self.p.t_fail:
             raise FloatingPointError(f"faulty: injected failure at t = {t:.6g} s (t_fail = {self.p.t_fail:g} s)")
         return np.array([x[1], (u[0] - self.p.k * x[0]) / self.p.m])

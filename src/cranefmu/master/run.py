@@ -193,10 +193,18 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
     if not isolate:
         return _run_here(*args)
     import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
 
-    ctx = multiprocessing.get_context("spawn")
-    with ctx.Pool(1) as pool:
-        return pool.apply(_run_here, args)
+    # an executor, not Pool.apply: a child that dies (a segfault inside an FMU) raises here instead of
+    # leaving the caller waiting forever
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        try:
+            return pool.submit(_run_here, *args).result()
+        except BrokenProcessPool:
+            where = f" The rows flushed before the crash are in {output}." if output else ""
+            raise SimulationError(f"the process running scene {ssp.name} died (a crash inside an FMU, or it was "
+                                  f"killed) before the run finished.{where}") from None
 
 
 def _run_here(ssp: Path, settings: Settings, parameter_set: str | None, parameters: dict | None,
@@ -260,6 +268,9 @@ def _algorithm(system: CoSystem, s: Settings):
         return Jacobi(system)
     if s.algorithm == "gauss-seidel":
         return GaussSeidel(system, s.order)
+    if s.substeps > 1:
+        return WaveformIterative(system, s.substeps, tolerance=s.coupling_tolerance,
+                                 max_iterations=s.max_iterations, accelerator=s.accelerator)
     return Iterative(system, degree=max(1, s.extrapolation), tolerance=s.coupling_tolerance,
                      max_iterations=s.max_iterations, accelerator=s.accelerator)
 
@@ -268,9 +279,6 @@ def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor,
     """Step from start to stop: fixed steps, or adaptive with rejection, rollback and event location.
 
     Start-up: an explicit scheme of extrapolation order p takes its first p steps with iterative
-    if s.substeps > 1:
-        return WaveformIterative(system, s.substeps, tolerance=s.coupling_tolerance,
-                                 max_iterations=s.max_iterations, accelerator=s.accelerator)
     coupling (degree p), so the extrapolation starts from exact past values and the order is kept;
     FMUs that cannot roll back start from a past at rest instead.
     """
