@@ -60,13 +60,22 @@ admissible = st.builds(
     b=st.floats(1.5, 10.0), c=st.floats(-50.0, 100.0))
 
 
+def work_scale(p: BoucWenParams, amp: float) -> float:
+    """Largest |force| x path length of a cycle of amplitude amp [J]: the scale of its round-off."""
+    force = (z_bound(p) + p.k1 * amp + p.k2 * amp ** 2 + p.k3 * amp ** 3) * max(1.0, p.b ** (abs(p.c) * amp))
+    return force * 4.0 * amp
+
+
 @settings(max_examples=50, deadline=None)
 @given(p=admissible, amp=st.floats(0.5e-3, 5e-3))
 def test_symmetric_cycles_bounded_and_dissipative(p: BoucWenParams, amp: float) -> None:
     # eq. 1-2 as printed (tension and compression), two cycles from the virgin state
     _, zmax, work = cycle(p, [0.0, amp, -amp, amp, -amp, amp], rope=False)
     assert zmax <= z_bound(p) * (1.0 + 1e-5)  # solver overshoot near the bound: measured up to 1.5e-6
-    assert work > 0.0
+    # dissipation >= 0 up to the round-off of integrating forces of this size over this path: with
+    # beta, gamma -> 0 the loop closes (z = alpha x) and the work is 0 (hypothesis found -4.3e-13 J
+    # against a loading work of 1e-2 J)
+    assert work > -1e-9 * work_scale(p, amp)
 
 
 @settings(max_examples=50, deadline=None)
@@ -75,7 +84,7 @@ def test_rope_cycles_bounded_and_dissipative(p: BoucWenParams, amp: float) -> No
     # tension-only rope: load-unload 0 -> amp -> 0 twice; the slack rule returns z to the virgin state
     z_turns, zmax, work = cycle(p, [0.0, amp, 0.0, amp, 0.0], rope=True)
     assert zmax <= z_bound(p) * (1.0 + 1e-5)  # solver overshoot near the bound: measured up to 1.5e-6
-    assert work > 0.0
+    assert work > -1e-9 * work_scale(p, amp)  # >= 0 up to round-off, as for the symmetric cycles
     assert abs(z_turns[-1]) <= 1e-6 * z_bound(p)
 
 
