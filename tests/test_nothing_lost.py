@@ -35,6 +35,7 @@ def _counted_run(tmpdir: str, scene: str, kwargs: dict) -> dict:
 
     tempfile.tempdir = tmpdir
     calls = {"instantiate": 0, "terminate": 0, "freeInstance": 0}
+    instances = []
     seen = {}
 
     def counting(name):
@@ -42,6 +43,8 @@ def _counted_run(tmpdir: str, scene: str, kwargs: dict) -> dict:
 
         def wrapper(self, *a, **kw):
             calls[name] += 1
+            if name == "instantiate":
+                instances.append(self)
             return original(self, *a, **kw)
         setattr(FMU2Slave, name, wrapper)
 
@@ -63,6 +66,8 @@ def _counted_run(tmpdir: str, scene: str, kwargs: dict) -> dict:
         partial = getattr(err, "result", None)
         out["rows"] = None if partial is None else len(partial)
         out["partial_time"] = None if partial is None else np.asarray(partial["time"]).tolist()
+    # FMI 2.0: an instance that returned fmi2Fatal may not be called again, not even freed
+    calls["fatal"] = sum(1 for fmu in instances if getattr(fmu, "fatal", False))
     out["calls"] = calls
     out["leftovers"] = sorted(p.name for p in Path(tmpdir).iterdir())
     out.update(seen)
@@ -79,7 +84,8 @@ def counted_run(tmp_path: Path, scene, **kwargs) -> dict:
 def assert_clean(out: dict) -> None:
     calls = out["calls"]
     assert calls["instantiate"] >= 2, calls
-    assert calls["terminate"] == calls["instantiate"] and calls["freeInstance"] == calls["instantiate"], calls
+    freed = calls["instantiate"] - calls["fatal"]
+    assert calls["terminate"] == freed and calls["freeInstance"] == freed, calls
     assert out["leftovers"] == [], out["leftovers"]
 
 
@@ -100,6 +106,7 @@ def test_success_frees_every_instance_and_removes_the_extracted_fmus(built, tmp_
 def test_user_error_at_initialization_frees_every_instance(built, tmp_path):
     out = counted_run(tmp_path, "elastic_pendulum", stop_time=0.05, parameters={"pendulum.mass": -1.0})
     assert out["error"] == ParameterSetError.__name__ and "pendulum.mass = -1.0" in out["message"]
+    assert out["calls"]["fatal"] == 1  # the refusing pendulum (pythonfmu: fatal); the rope is freed
     assert_clean(out)
 
 

@@ -56,6 +56,33 @@ def _callbacks():
     return cb
 
 
+_SLAVE = None
+
+
+def _slave_class():
+    """fmpy's FMU2Slave that remembers a status fatal: FMI 2.0 allows no further call on such an
+    instance (measured with pythonfmu: fmi2Terminate/fmi2FreeInstance after a refused parameter made the
+    process crash in garbage collection, 8 runs in 12), so :meth:`FmuComponent.free` skips it."""
+    global _SLAVE
+    if _SLAVE is None:
+        from fmpy.fmi1 import FMICallException
+        from fmpy.fmi2 import FMU2Slave
+
+        class FMU2SlaveFatalAware(FMU2Slave):  # fmpy finds the FMI functions by the 'FMU2' class-name prefix
+            fatal = False
+
+            def _call(self, fname, *args):
+                try:
+                    return super()._call(fname, *args)
+                except FMICallException as err:
+                    if err.status == 4:
+                        self.fatal = True
+                    raise
+
+        _SLAVE = FMU2SlaveFatalAware
+    return _SLAVE
+
+
 class FmuComponent:
     """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages."""
 
@@ -89,9 +116,7 @@ class FmuComponent:
 
     # --- life cycle ---------------------------------------------------------------------------
     def instantiate(self) -> None:
-        from fmpy.fmi2 import FMU2Slave
-
-        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=str(self.unzipdir),
+        self.fmu = _slave_class()(guid=self.md.guid, unzipDirectory=str(self.unzipdir),
                              modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=self.name)
 
         _MESSAGES[self.name] = []
@@ -108,10 +133,13 @@ class FmuComponent:
         return (own or self.messages or ["no message from the FMU"])[-1]
 
     def free(self) -> None:
-        """Terminate and free the instance (every path must end here: pythonfmu corrupts the heap otherwise)."""
+        """Terminate and free the instance (every path must end here: pythonfmu corrupts the heap otherwise),
+        unless it returned fmi2Fatal, after which FMI 2.0 allows no call at all."""
         if self.fmu is None or not self.alive:
             return
         self.alive = False
+        if self.fmu.fatal:  # FMI 2.0: after fmi2Fatal no function may be called on the instance
+            return
         try:
             self.fmu.terminate()
         except Exception:
