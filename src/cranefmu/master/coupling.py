@@ -34,6 +34,7 @@ class InputGroup:
     rates_set: bool = True    # the destination may hold non-zero rates (unknown at the start)
     src_names: list[str] = field(default_factory=list)
     dst_names: list[str] = field(default_factory=list)
+    fmi_derivatives: bool = False  # no rate inputs, but the FMU can interpolate: fmi2SetRealInputDerivatives
 
 
 def feedthrough(comp: FmuComponent) -> dict[str, set[str]]:
@@ -170,7 +171,11 @@ def input_groups(comps: list[FmuComponent], connections: list[ConnectionSpec],
                 g.dt2_vrs = (g.dt2_vrs or []) + [dt2.valueReference]
             else:
                 g.dt_vrs = g.dt2_vrs = None
-    return [list(d.values()) for d in per_dst]
+    groups = [list(d.values()) for d in per_dst]
+    for g in (g for gs in groups for g in gs):
+        # an FMU without our rate inputs gets the slopes through the FMI call, if it declares that it can
+        g.fmi_derivatives = g.dt_vrs is None and bool(comps[g.dst].md.coSimulation.canInterpolateInputs)
+    return groups
 
 
 def lagrange_weights(ts: list[float], t: float) -> tuple[np.ndarray, np.ndarray]:

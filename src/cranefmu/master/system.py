@@ -106,6 +106,10 @@ class CoSystem:
                 if moving or g.rates_set:  # zero rates stay zero: no call for a zero-order hold
                     fmu.setReal(g.dt_vrs + g.dt2_vrs, d1.tolist() + d2.tolist())
                     g.rates_set = moving
+            elif g.fmi_derivatives:  # FMI 2.0 sec. 4.2.1: derivatives of the inputs for the coming step
+                n = len(g.dst_vrs)
+                fmu.setRealInputDerivatives(g.dst_vrs, [1] * n, d1.tolist())
+                fmu.setRealInputDerivatives(g.dst_vrs, [2] * n, d2.tolist())
         except Exception:
             raise self.refused(self.comps[g.dst], "setting its inputs") from None
         g.fed = (value, d1, d2)
