@@ -1,7 +1,7 @@
-"""FMUs without the project's <input>_dt/_dt2 rate inputs that declare canInterpolateInputs get the
-extrapolation slopes through fmi2SetRealInputDerivatives (issue 4: 'use the FMI calls where an FMU
-supports them').  No pythonfmu FMU declares the capability, so the components here are stand-ins
-with the attributes the master reads; the slopes themselves are the master's Lagrange rates."""
+"""What the master feeds an input: the extrapolation slopes through fmi2SetRealInputDerivatives for an
+FMU that declares canInterpolateInputs and has no rate inputs, and values converted between the units
+of the connection's ends.  No pythonfmu FMU declares that capability and our FMUs share units, so the
+components here are stand-ins with the attributes the master reads."""
 from types import SimpleNamespace
 
 import numpy as np
@@ -57,3 +57,36 @@ def test_rate_inputs_win_and_incapable_fmus_get_a_zero_order_hold():
         assert g.fmi_derivatives is expected
         CoSystem.push(SimpleNamespace(comps=comps), g, np.array([7.0]), np.array([6.0]), np.array([2.0]))
         assert not any(c[0] == "derivatives" for c in comps[1].fmu.calls)
+
+
+# --- connection units (issue 4: "apply connection units") ------------------------------------------
+
+def _unit(name, factor=1.0, offset=0.0, **exps):
+    base = SimpleNamespace(kg=0, m=0, s=0, A=0, K=0, mol=0, cd=0, rad=0, factor=factor, offset=offset)
+    for k, v in exps.items():
+        setattr(base, k, v)
+    return SimpleNamespace(name=name, baseUnit=base)
+
+
+def _unit_comp(name, var, causality, unit, units):
+    v = SimpleNamespace(name=var, valueReference=1, causality=causality, type="Real", unit=unit)
+    return SimpleNamespace(name=name, variables={var: v}, md=SimpleNamespace(unitDefinitions=units))
+
+
+def test_connection_units_convert_through_the_unit_definitions():
+    from cranefmu.master.coupling import check_connection
+
+    mm, m = _unit("mm", 1e-3, m=1), _unit("m", m=1)
+    degc, kelvin = _unit("degC", 1.0, 273.15, K=1), _unit("K", K=1)
+    comps = {"a": _unit_comp("a", "y", "output", "mm", [mm, degc]), "b": _unit_comp("b", "u", "input", "m", [m, kelvin])}
+    c = check_connection(ConnectionSpec("a", "y", "b", "u"), comps)
+    assert c.factor == 1e-3 and c.offset == 0.0            # 1500 mm -> 1.5 m
+    comps["a"].variables["y"].unit, comps["b"].variables["u"].unit = "degC", "K"
+    c = check_connection(ConnectionSpec("a", "y", "b", "u"), comps)
+    assert c.factor * 20.0 + c.offset == 293.15            # 20 degC -> 293.15 K
+    comps["b"].variables["u"].unit = "m"                    # temperature into a length: refused
+    import pytest
+
+    from cranefmu.master.errors import SceneError
+    with pytest.raises(SceneError, match="'degC' -> 'm' differ"):
+        check_connection(ConnectionSpec("a", "y", "b", "u"), comps)
