@@ -63,9 +63,20 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
         prefix = Path(res.output).with_suffix("") if res.output else Path(res.scene)
         variables = [v.strip() for v in args.plot.split(",") if v.strip()] if args.plot else None
-        for path in write_plots(res.result, res.scene, prefix, variables):
+        for path in write_plots(res.result, res.scene, prefix, variables, units=_units(args.scene)):
             print(f"figure: {path}")
     return 0
+
+
+def _units(scene: str) -> dict[str, str]:
+    """Units of the result columns of ``scene`` (name or .ssp path), read from its FMUs."""
+    import tempfile
+
+    from .master.run import resolve_scene
+    from .master.scene import load_scene, output_units
+
+    with tempfile.TemporaryDirectory(prefix="cranefmu_units_") as tmp:
+        return output_units(load_scene(resolve_scene(scene), Path(tmp)))
 
 
 def _cmd_info(args: argparse.Namespace) -> int:

@@ -34,8 +34,24 @@ def figure_groups(scene: str, result: np.ndarray, variables: list[str] | None) -
     return list(by_comp.items())
 
 
-def write_plots(result: np.ndarray, scene: str, prefix: Path, variables: list[str] | None = None) -> list[Path]:
-    """Write one PNG per figure group as ``<prefix>_<title>.png``; returns their paths."""
+def unit_of(column: str, units: dict[str, str]) -> str:
+    """Unit of a result column: from ``units``; the master's power-bond columns are energies."""
+    if column.startswith("bond.") and column.endswith((".dE", ".E")):
+        return "J"
+    return units.get(column, "1")
+
+
+def axis_label(columns: list[str], units: dict[str, str]) -> str:
+    """y-axis label: the unit in brackets when every column shares it, else each distinct unit."""
+    found = sorted({unit_of(c, units) for c in columns})
+    return " / ".join(f"[{u}]" for u in found)
+
+
+def write_plots(result: np.ndarray, scene: str, prefix: Path, variables: list[str] | None = None,
+                units: dict[str, str] | None = None) -> list[Path]:
+    """Write one PNG per figure group as ``<prefix>_<title>.png``; returns their paths.  ``units``
+    (column -> unit, see :func:`cranefmu.master.scene.output_units`) labels the axes and legends."""
+    units = units or {}
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -47,9 +63,12 @@ def write_plots(result: np.ndarray, scene: str, prefix: Path, variables: list[st
     t = result["time"]
     for title, cols in figure_groups(scene, result, variables):
         fig, ax = plt.subplots(figsize=(8, 4.5))
+        mixed = len({unit_of(c, units) for c in cols}) > 1
         for c in cols:
-            ax.plot(t, result[c], label=c)
+            ax.plot(t, result[c], label=f"{c} [{unit_of(c, units)}]" if mixed else c)
         ax.set_xlabel("time [s]")
+        if units:
+            ax.set_ylabel(axis_label(cols, units))
         ax.set_title(f"{scene}: {title}")
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best", fontsize="small")

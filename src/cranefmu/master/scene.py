@@ -133,3 +133,17 @@ def load_scene(ssp: Path, workdir: Path) -> Scene:
     if de is not None and getattr(de, "stopTime", None) is not None:
         stop = float(de.stopTime)
     return Scene(ssd.name or ssp.stem, ssp, components, connections, bound, sets, stop)
+
+
+def output_units(scene: Scene) -> dict[str, str]:
+    """Unit of each result column ``component.variable`` that has one, from the FMUs' modelDescription
+    (the variable's own unit, else its declared type's)."""
+    from fmpy import read_model_description
+
+    units = {}
+    for c in scene.components:
+        for v in read_model_description(str(c.fmu), validate=False).modelVariables:
+            unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
+            if unit:
+                units[f"{c.name}.{v.name}"] = unit
+    return units
