@@ -84,6 +84,41 @@ def test_hanging_payload_starts_at_rest(payload, dimension):
         -1.2 - (1800.0 * G / 2e7 if payload == "elastic" else 0.0), rel=1e-12)
 
 
+@pytest.mark.parametrize("payload, dimension", [("none", 2), ("none", 3), ("rigid", 3), ("elastic", 2)])
+def test_below_top_start_hangs_drop_below_the_suspension_point(payload, dimension):
+    """start = 'below_top': the hook starts drop straight below the top it is given, follows it, and
+    hangs at rest when the rope carries the weight (the position parameters play no part)."""
+    extra = dict(m_payload=1800.0, L_sling=1.2) if payload != "none" else {}
+    m = _model(dimension=dimension, payload=payload, mass=30.0, start="below_top", drop=7.25, **extra)
+    weight = (30.0 + extra.get("m_payload", 0.0)) * G
+    for top in ((5.2, 3.1, 0.0), (5.3, 2.9, 0.0 if dimension == 2 else 0.4)):
+        u = _u(fy=weight, top=top)
+        x0 = m.initial_state(u)
+        assert x0[:3].tolist() == [top[0], top[1] - 7.25, top[2]]
+        assert np.max(np.abs(m.derivatives(0.0, x0, u))) < 1e-9
+        out = m.output_values(0.0, x0, u)
+        assert out[OUT["theta"]] == 0.0 and out[OUT["phi"]] == 0.0
+        assert [out[OUT[f"{c}_suspension"]] for c in "xyz"] == list(top)   # handed on to the rope
+
+
+def test_position_start_ignores_the_top_and_below_top_ignores_the_position():
+    u_a, u_b = _u(fy=1000.0, top=(1.0, 2.0, 3.0)), _u(fy=1000.0, top=(-4.0, 5.0, 6.0))
+    fixed = _model(dimension=3, x0=0.5, y0=-8.0, z0=0.25)
+    assert np.array_equal(fixed.initial_state(u_a), fixed.initial_state(u_b))
+    assert fixed.initial_state(u_a)[:3].tolist() == [0.5, -8.0, 0.25]
+    hung = _model(dimension=3, start="below_top", drop=2.0)
+    assert hung.initial_state(u_b)[:3].tolist() == [-4.0, 3.0, 6.0]
+
+
+def test_below_top_start_on_the_ground_sinks_in_by_the_unsupported_weight():
+    m = _model(dimension=2, mass=1000.0, start="below_top", drop=10.5, ground="spring_damper",
+               ground_height=-10.0, c_ground=2e8)
+    u = _u(fy=400.0 * G, top=(1.0, 0.0, 0.0))
+    x0 = m.initial_state(u)
+    assert x0[1] == pytest.approx(-10.0 - 600.0 * G / 2e8, rel=1e-12)
+    assert np.max(np.abs(m.derivatives(0.0, x0, u))) < 1e-9
+
+
 def test_free_fall_leaves_the_elastic_sling_unstretched():
     m = _model(dimension=1, payload="elastic", mass=30.0, m_payload=1800.0, L_sling=1.0, zeta_sling=0.1)
     x0 = m.initial_state(_u())
@@ -306,3 +341,17 @@ def test_payload_mass_must_match_the_payload_switch():
         PendulumParams(m_payload=500.0)
     with pytest.raises(ParameterError, match=r"pendulum\.payload"):
         PendulumParams(payload="chain")
+
+
+@pytest.mark.parametrize("kw, text", [
+    (dict(start="under_tip"), "pendulum.start = 'under_tip' is not allowed: one of 'position', 'below_top'"),
+    (dict(start="below_top", drop=0.0), "pendulum.drop = 0.0 is out of range: allowed (0, inf) m"),
+    (dict(start="below_top", drop=-2.0), "pendulum.drop = -2.0 is out of range"),
+    (dict(drop=math.nan), "pendulum.drop = nan is not finite"),
+    (dict(start="below_top", x0=3.0), "pendulum.x0 = 3.0 is not used with pendulum.start = 'below_top'"),
+    (dict(start="below_top", y0=-9.0), "pendulum.y0 = -9.0 is not used with pendulum.start = 'below_top'"),
+])
+def test_bad_start_parameters_are_refused_naming_them(kw, text):
+    with pytest.raises(ParameterError) as err:
+        PendulumParams(**kw)
+    assert text in str(err.value)

@@ -243,40 +243,32 @@ def truck_telescope_parameters(speed: float = 0.35, angle_deg: float = 60.0, loa
     - both segments at ``speed``: T2 = (L_end - L_start) / (2 speed), T3 = T2 + t_acc;
     - the hook keeps its height: the hanging length grows with the tip height, (L_end - L_start)
       sin(angle), so the drum pays out n_lines times that on the same trapezoid (duration T3);
-    - the hook starts at rest under the tip with the rope stretched by the static load (static
-      equilibrium of chassis, boom and rope, solved with the scene's own models).
+    - the hook starts at rest straight below the tip, hung by the rope stretched by the static load
+      (pendulum.start = 'below_top', pendulum.drop from :func:`hanging_drop`): wherever chassis and
+      boom settle, the rope carries the weight, so every start (30, 45, 60 deg) is in equilibrium.
     """
     rise = (boom_end - boom_start) * math.sin(math.radians(angle_deg))
     t2 = (boom_end - boom_start) / (2.0 * speed)
     values = {"boom.luff_angle": math.radians(angle_deg), "boom.telescope_speed": speed,
               "boom.boom_length_start": boom_start, "boom.boom_length_end": boom_end, "boom.t_acc": t_acc,
               "drive.payout_speed": n_lines * rise / t2, "drive.duration": t2 + t_acc, "drive.t_acc": t_acc,
-              "rope.length": rope_length, "rope.n_lines": n_lines, "rope.m_load": load, "pendulum.mass": load}
-    phi = math.radians(angle_deg)   # first guess: rigid supports
-    values.update({"pendulum.x0": boom_start * math.cos(phi), "pendulum.y0": boom_start * math.sin(phi) - rope_length})
-    values.update(hanging_start("truck_telescope", values))
+              "rope.length": rope_length, "rope.n_lines": n_lines, "rope.m_load": load, "pendulum.mass": load,
+              "pendulum.start": "below_top"}
+    values["pendulum.drop"] = hanging_drop("truck_telescope", values)
     return values
 
 
-def hanging_start(scene: str, values: Mapping[str, float], iterations: int = 30) -> dict[str, float]:
-    """pendulum.x0, y0 of a hook hanging at rest under its suspension point in ``scene`` with ``values``:
-    the static equilibrium of every component (the tip moves as the supports settle), by fixed point."""
-    from .physics.rope import stiffness
-    from .reference import Monolith
+def hanging_drop(scene: str, values: Mapping[str, object]) -> float:
+    """Distance [m] from the suspension point down to a hook hanging at rest in ``scene`` with
+    ``values`` ('comp.var' over the scene's default set): the rope's unstretched length plus its
+    static stretch under the hanging weight (hook and payload), :func:`.physics.rope.static_elongation`."""
+    from .physics.pendulum import PendulumParams
+    from .physics.rope import RopeParams, static_elongation
+    from .reference import build_params, scene_parameters
 
-    start = {k: float(values[k]) for k in ("pendulum.x0", "pendulum.y0") if k in values}
-    for _ in range(iterations):
-        mono = Monolith(scene, "default", {**values, **start})
-        mono.initial_state(0.0)
-        rope = mono.models[mono.names.index("rope")]
-        u = mono.u[mono.names.index("rope")]
-        weight = mono.models[mono.names.index("pendulum")].p.mass * G
-        l_u = rope.p.length
-        new = {"pendulum.x0": float(u[0]), "pendulum.y0": float(u[1] - l_u - weight / stiffness(rope.p, l_u))}
-        if max(abs(new[k] - start[k]) for k in new) < 1e-14 * (1.0 + abs(new["pendulum.y0"])):
-            return new
-        start = new
-    return start
+    given = {**scene_parameters(scene), **{k: str(v) for k, v in values.items()}}
+    rope, hook = build_params(RopeParams, "rope", given), build_params(PendulumParams, "pendulum", given)
+    return rope.length + static_elongation(rope, (hook.mass + hook.m_payload) * hook.g)
 
 
 def hook_sway_parameters(m_hook: float = 3.0, hook_length: float = 0.4, L_sling: float = 0.5,

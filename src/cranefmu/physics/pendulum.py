@@ -44,6 +44,16 @@ theta/phi about the suspension point: theta in the x-y plane, phi out of it):
   (seed 001 has no damper on c_2, so zeta_sling defaults to 0; the damping law is the one of the
   rope, seed 001 eq. 9, with the reduced mass of the two-mass mode.)
 
+Start (``start``): the hook starts at rest at (x0, y0, z0) ("position"), or ``drop`` straight
+below the suspension point it receives as inputs ("below_top"; the payload hangs below it as
+usual).  A scene at rest under a stiff rope on soft supports uses "below_top" with drop = hanging
+rope length + static stretch: the rope force is then the weight wherever the supports settle, and
+the initialization does not iterate the tilt through the rope's stiffness (derived; a fixed start
+gives a loop gain about -(x_tip / x_outrigger)^2 c_rope / c_soil, -1.3 for the truck crane at 30 deg).
+That holds only if the rope sees the point the hook was placed from: feed the rope's top from the
+outputs x/y/z_suspension (the inputs x/y/z_top handed on), else an iteration sweep can pair a new
+tip with a hook placed from the old one, and the loop gain is back.
+
 Ground contact (seed 001 eq. 7, with the damper b_p of Fig. 4 / Table 6): the lowest body
 (payload if any, else hook) and a unilateral spring-damper at y = ground_height,
     pen = ground_height - y,  N = max(0, c_g pen - b_g v_y) if pen > 0 else 0.
@@ -56,7 +66,7 @@ with a payload, on the hook (``drag_area_hook``):  F_drag = -0.5 rho C_d A |v| v
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -80,6 +90,12 @@ class PendulumParams(Params):
     vx0: float = param(0.0, "m/s", "initial x velocity of the hook")
     vy0: float = param(0.0, "m/s", "initial y velocity of the hook")
     vz0: float = param(0.0, "m/s", "initial z velocity of the hook")
+    start: str = param("position", "", "where the hook starts: position (x0, y0, z0), or below_top (drop straight "
+                       "below the suspension point x_top, y_top, z_top the rope hangs from)",
+                       choices=("position", "below_top"))
+    drop: float = param(10.0, "m", "start = 'below_top': distance from the suspension point straight down to the "
+                        "hook (hanging rope length + static stretch, cranefmu.scenes.hanging_drop)",
+                        min=0, min_open=True)
     # --- payload on a sling below the hook (seed 002; seed 001 hook stiffness c_2) ---
     payload: str = param("none", "", "payload below the hook: none (hook carries the load), rigid sling "
                          "(spherical pendulum about the hook), elastic sling (spring-damper, seed 001 c_2)",
@@ -110,6 +126,15 @@ class PendulumParams(Params):
     rho_air: float = param(1.225, "kg/m3", "air density", min=0)
 
     def check(self) -> None:
+        if self.start == "below_top":
+            defaults = {f.name: f.default for f in fields(self)}
+            for name in ("x0", "y0", "z0"):
+                default = defaults[name]
+                if getattr(self, name) != default:
+                    raise ParameterError(
+                        f"pendulum.{name} = {getattr(self, name)!r} is not used with pendulum.start = 'below_top' "
+                        f"(the hook starts pendulum.drop below the suspension point): allowed {default!r} here, "
+                        f"or set start = 'position'")
         if self.payload == "none" and self.m_payload != 0.0:
             raise ParameterError(
                 f"pendulum.m_payload = {self.m_payload!r} needs payload = 'rigid' or 'elastic' "
@@ -148,7 +173,10 @@ class PendulumModel(Model):
         *(Signal(n, "N", f"{n[1]} component of the rope force on the hook", coupling=True) for n in _FORCE),
         *(Signal(n, "m", f"{n[0]} of the suspension point (for the sway angles)", coupling=True) for n in _TOP),
     )
-    initial_state_inputs = _FORCE  # resting on the ground / the sling's share of the rope force
+    # resting on the ground / the sling's share of the rope force; with start = 'below_top' the hook
+    # is placed from the suspension point (declared for every start: the FMU's ModelStructure cannot
+    # depend on a parameter value)
+    initial_state_inputs = _FORCE + _TOP
     outputs = (
         *(Signal(n, "m", f"{n} coordinate of the hook") for n in ("x", "y", "z")),
         *(Signal(n, "m/s", f"{n[1]} velocity of the hook") for n in ("vx", "vy", "vz")),
@@ -162,6 +190,11 @@ class PendulumModel(Model):
         Signal("phi_payload", "rad", "lateral payload angle out of the x-y plane, about the hook"),
         Signal("sling_force", "N", "sling tension between hook and payload (0 without payload)", depends_on=_FORCE),
         Signal("lifted", "1", "1 while the load is off the ground (no ground reaction), else 0", discrete=True),
+        # why: a rope fed its top from here sees, in every exchange of an iteration, the very point
+        # the hook start was placed from ('below_top'); fed from the boom directly, a Jacobi or
+        # Gauss-Seidel sweep may pair the new tip with the hook placed from the old one
+        *(Signal(f"{c}_suspension", "m", f"{c} of the suspension point the hook hangs from (input {c}_top "
+                 "passed on)", depends_on=(f"{c}_top",)) for c in "xyz"),
     )
 
     def __init__(self, params: PendulumParams):
@@ -252,6 +285,15 @@ class PendulumModel(Model):
         ap = ((fp[0] - s * e[0] / mp) * m[0], (fp[1] - s * e[1] / mp) * m[1], (fp[2] - s * e[2] / mp) * m[2])
         return ah, ap, s, n, e
 
+    def _hook_start(self, u: np.ndarray) -> list[float]:
+        """Nominal start of the hook [m]: the parameters, or ``drop`` below the suspension point.
+        Placed from the top, the rope's stretch does not depend on where the supports settle, so
+        the initialization of a soft-supported crane does not loop through the stiff rope."""
+        p = self.p
+        if p.start == "below_top":
+            return [float(u[3]), float(u[4]) - p.drop, float(u[5])]
+        return [p.x0, p.y0, p.z0]
+
     # --- interface -------------------------------------------------------------------------
     def state_names(self) -> tuple[str, ...]:
         hook = ("x", "y", "z", "vx", "vy", "vz")
@@ -262,7 +304,8 @@ class PendulumModel(Model):
         return hook
 
     def initial_state(self, u: np.ndarray) -> np.ndarray:
-        """At rest (apart from the given hook velocity), consistent with the rope force in ``u``.
+        """At rest (apart from the given hook velocity), consistent with the rope force in ``u``;
+        the hook at its start (:meth:`_hook_start`, from the suspension point in ``u`` if so chosen).
 
         Hanging: the sling carries the share of the rope force that accelerates the payload with
         the hook, S = -(m_p / M) F.e (S = m_p g at equilibrium, 0 in free fall).  On the ground
@@ -273,18 +316,17 @@ class PendulumModel(Model):
         p, m = self.p, self._m
         v = (p.vx0 * m[0], p.vy0 * m[1], p.vz0 * m[2])
         F = (u[0] * m[0], u[1] * m[1], u[2] * m[2])
+        hook = self._hook_start(u)
         if p.payload == "none":
-            y = p.y0
-            if self._has_ground and p.y0 <= p.ground_height:
-                y = p.ground_height - max(0.0, p.mass * p.g - F[1]) / p.c_ground
-            return np.array([p.x0, y, p.z0, *v])
+            if self._has_ground and hook[1] <= p.ground_height:
+                hook[1] = p.ground_height - max(0.0, p.mass * p.g - F[1]) / p.c_ground
+            return np.array([*hook, *v])
         th = p.theta_payload0 if p.dimension >= 2 else 0.0
         ph = p.phi_payload0 if p.dimension == 3 else 0.0
         e = _unit(th, ph)
         f_e = F[0] * e[0] + F[1] * e[1] + F[2] * e[2]
-        hook = [p.x0, p.y0, p.z0]
         n = 0.0
-        on_ground = self._has_ground and p.y0 + p.L_sling * e[1] <= p.ground_height
+        on_ground = self._has_ground and hook[1] + p.L_sling * e[1] <= p.ground_height
         if on_ground:
             n = max(0.0, self._total * p.g - F[1])
         s = -f_e + p.mass * p.g * e[1] if n > 0.0 else -p.m_payload / self._total * f_e
@@ -332,4 +374,4 @@ class PendulumModel(Model):
             pp, vp = x[6:9], x[9:12]
             th_p, ph_p = _angles(e[0], -e[1], e[2])
         lifted = 1.0 if n == 0.0 else 0.0
-        return np.array([*x[:6], theta, phi, n, *pp, *vp, th_p, ph_p, s, lifted])
+        return np.array([*x[:6], theta, phi, n, *pp, *vp, th_p, ph_p, s, lifted, *u[3:6]])
