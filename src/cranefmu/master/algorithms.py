@@ -18,6 +18,7 @@ import numpy as np
 from .acceleration import ACCELERATORS
 from .coupling import InputGroup, feedthrough, rates
 from .errors import SimulationError
+from .residual import relative_residual
 from .system import CoSystem
 
 
@@ -132,11 +133,8 @@ class Iterative:
     @staticmethod
     def _residual(u: np.ndarray, gu: np.ndarray, scale: np.ndarray) -> tuple[float, int]:
         """(largest change relative to each variable's size so far or now, its index); a value
-        starting from exactly 0 too."""
-        r = np.abs(gu - u) / np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu))
-        r[gu == u] = 0.0
-        worst = int(np.argmax(r)) if len(r) else 0
-        return (float(r[worst]) if len(r) else 0.0), worst
+        starting from exactly 0 too (``scale`` carries the floor, see :meth:`_scale`)."""
+        return relative_residual(u, gu, np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu)), 0.0)
 
     def _not_converged(self, t: float, h: float, k: int, res: float, worst: int) -> SimulationError:
         s = self.system

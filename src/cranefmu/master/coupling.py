@@ -35,6 +35,17 @@ class InputGroup:
     src_names: list[str] = field(default_factory=list)
     dst_names: list[str] = field(default_factory=list)
     fmi_derivatives: bool = False  # no rate inputs, but the FMU can interpolate: fmi2SetRealInputDerivatives
+    # hot path, set by CoSystem: positions of src_vrs in the source's read vector; ctypes arrays of the
+    # destination's value (and rate) references and values for one fmi2SetReal; a shared zero rate
+    src_pos: np.ndarray | None = None
+    set_vrs: object = None
+    set_values: object = None
+    set_view: np.ndarray | None = None
+    zero: np.ndarray | None = None
+    keeps_outputs: bool = False  # no output of the destination depends on these inputs (Outputs dependencies)
+    keeps_fresh: bool = False    # the same, and in step mode: setting them leaves the destination's read valid
+    sl: slice | None = None      # this group's part of the vector of all coupling values
+    plain: bool = False          # factor 1 and offset 0: values pass unchanged
 
 
 def feedthrough(comp: FmuComponent) -> dict[str, set[str]]:
@@ -180,12 +191,29 @@ def input_groups(comps: list[FmuComponent], connections: list[ConnectionSpec],
 
 def lagrange_weights(ts: list[float], t: float) -> tuple[np.ndarray, np.ndarray]:
     """Weights w1, w2 such that sum(w1 * u_i), sum(w2 * u_i) are the first and second derivative
-    at ``t`` of the polynomial through the points (ts[i], u_i); at most three points, any spacing."""
+    at ``t`` of the polynomial through the points (ts[i], u_i); at most three points, any spacing.
+    Remembered per (ts, t): every connection group of a step asks for the same times (do not
+    modify the arrays returned)."""
+    key = (t, *ts)
+    w = _WEIGHTS.get(key)
+    if w is None:
+        if len(_WEIGHTS) > 64:
+            _WEIGHTS.clear()
+        w = _WEIGHTS[key] = _lagrange_weights(ts, t)
+    return w
+
+
+_WEIGHTS: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _lagrange_weights(ts: list[float], t: float) -> tuple[np.ndarray, np.ndarray]:
     k = len(ts)
     w1, w2 = np.zeros(k), np.zeros(k)
     for i in range(k):
         others = [ts[j] for j in range(k) if j != i]
-        den = float(np.prod([ts[i] - tj for tj in others]))
+        den = 1.0
+        for tj in others:
+            den *= ts[i] - tj
         if k == 2:
             w1[i] = 1.0 / den
         elif k == 3:

@@ -1,6 +1,7 @@
 """One FMU instance in the master: value references resolved once, typed start values, batched calls."""
 from __future__ import annotations
 
+import ctypes
 from pathlib import Path
 
 import numpy as np
@@ -113,6 +114,10 @@ class FmuComponent:
         self.fmu = None
         self.alive = False
         self.can_get_state = bool(self.md.coSimulation.canGetAndSetFMUstate)
+        # the values the master reads every step, in one fmi2GetReal (see :meth:`read`)
+        self.read_vrs: list[int] = []
+        self.fresh = False      # the read buffer holds what the FMU would return now
+        self._read = None       # (vr array, count, value array, numpy view of it), built on first read
 
     # --- life cycle ---------------------------------------------------------------------------
     def instantiate(self) -> None:
@@ -122,6 +127,17 @@ class FmuComponent:
         _MESSAGES[self.name] = []
         self.fmu.instantiate(loggingOn=True, callbacks=_callbacks())
         self.alive = True
+        # the hot path calls the C functions themselves (fmpy's wrappers convert lists to new ctypes
+        # arrays on every call); argument types as fmpy declared them
+        functions = self.fmu._functions
+        self._c = self.fmu.component
+        self._get_real = functions["fmi2GetReal"]
+        self._set_real = functions["fmi2SetReal"]
+        self._do_step = functions["fmi2DoStep"]
+        self._get_integer = functions["fmi2GetInteger"]
+        self._get_boolean = functions["fmi2GetBoolean"]
+        self._read = None
+        self.fresh = False
 
     @property
     def messages(self) -> list[str]:
@@ -186,6 +202,60 @@ class FmuComponent:
             raise ParameterSetError(f"{where} = {text!r} is not a valid {v.type} value") from None
         except Exception as err:
             raise ParameterSetError(f"{where} = {text!r} was refused by the FMU: {self.last_error() or err}") from None
+        finally:
+            self.fresh = False
 
     def get_real(self, vrs: list[int]) -> np.ndarray:
         return np.array(self.fmu.getReal(vrs))
+
+    # --- the hot path: preallocated arrays, raw C calls ----------------------------------------------
+    def position(self, vrs: list[int]) -> np.ndarray:
+        """Where each of ``vrs`` sits in the vector :meth:`read` returns (added to it if new)."""
+        out = []
+        for vr in vrs:
+            if vr not in self.read_vrs:
+                self.read_vrs.append(vr)
+                self._read = None
+            out.append(self.read_vrs.index(vr))
+        return np.array(out, dtype=np.intp)
+
+    def read(self) -> np.ndarray:
+        """Every value of :attr:`read_vrs` in one fmi2GetReal, or the last read if nothing changed the
+        FMU since (:attr:`fresh`).  The array is reused: copy what you keep."""
+        if not self.fresh:
+            if self._read is None:
+                n = len(self.read_vrs)
+                values = (ctypes.c_double * n)()
+                self._read = ((ctypes.c_uint * n)(*self.read_vrs), n, values, np.ctypeslib.as_array(values))
+            vrs, n, values, view = self._read
+            status = self._get_real(self._c, vrs, n, values)
+            if status > 1:
+                self._failed("fmi2GetReal", status)
+            self.fresh = True
+        return self._read[3]
+
+    def write(self, vrs, n: int, values) -> None:
+        """fmi2SetReal of the first ``n`` of the ctypes arrays ``vrs``, ``values``."""
+        self.fresh = False
+        status = self._set_real(self._c, vrs, n, values)
+        if status > 1:
+            self._failed("fmi2SetReal", status)
+
+    def step(self, t: float, h: float) -> None:
+        self.fresh = False
+        status = self._do_step(self._c, t, h, 1)
+        if status > 1:
+            self._failed("fmi2DoStep", status)
+
+    def read_discrete(self, vrs, n: int, values, boolean: bool) -> None:
+        status = (self._get_boolean if boolean else self._get_integer)(self._c, vrs, n, values)
+        if status > 1:
+            self._failed("fmi2GetBoolean" if boolean else "fmi2GetInteger", status)
+
+    def _failed(self, function: str, status: int):
+        """Raise what fmpy raises for a status above warning, and remember a fatal one."""
+        from fmpy.fmi1 import FMICallException
+
+        if status == 4:
+            self.fmu.fatal = True
+        raise FMICallException(function=function, status=status)

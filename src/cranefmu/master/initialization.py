@@ -14,6 +14,7 @@ import numpy as np
 from .acceleration import IQNILS
 from .errors import SimulationError
 from .graph import component_graph, is_loop, strongly_connected
+from .residual import relative_residual
 from .system import CoSystem
 
 TOLERANCE = 1e-10
@@ -28,11 +29,13 @@ def initialize(system: CoSystem, start_time: float, overrides: dict, tolerance: 
         comp.fmu.setupExperiment(startTime=start_time)
     for (name, var), value in overrides.items():
         system.by_name[name].set_start(var, value)
+    system.stepping(False)
     for comp in system.comps:
         _call(system, comp, "enterInitializationMode", start_time)
     used = settle(system, start_time, tolerance, max_iterations)
     for comp in system.comps:
         _call(system, comp, "exitInitializationMode", start_time)
+    system.stepping(True)
     for g in system.links:
         g.history.clear()
     system.exchange(start_time, order=0)  # values after the FMUs computed their initial states
@@ -86,10 +89,7 @@ def _evaluate(system: CoSystem, members: list[int], u: np.ndarray | None) -> np.
 
 def _residual(system: CoSystem, members: list[int], u: np.ndarray, gu: np.ndarray) -> tuple[float, int]:
     scale = np.maximum(np.maximum(np.abs(u), np.abs(gu)), 1e-300)
-    rel = np.abs(gu - u) / np.maximum(scale, 1e-12 * max(1.0, float(np.max(scale, initial=0.0))))
-    rel[np.abs(gu - u) == 0.0] = 0.0
-    worst = int(np.argmax(rel)) if len(rel) else 0
-    return (float(rel[worst]) if len(rel) else 0.0), worst
+    return relative_residual(u, gu, scale, 1e-12 * max(1.0, float(np.max(scale, initial=0.0))))
 
 
 def _iterate(system: CoSystem, members: list[int], t: float, tolerance: float, max_iterations: int,

@@ -30,22 +30,33 @@ class _Side:
     free_vrs: list[int]          # unconnected inputs: read back from the FMU
     free_pos: list[int]
     n: int                       # number of force/velocity pairs
+    read_pos: np.ndarray | None = None   # outputs and unconnected inputs: positions in the component's read vector
+    value_pos: np.ndarray | None = None  # ... and in the side's value vector
+    in_index_a: np.ndarray | None = None
+    in_pos_a: np.ndarray | None = None
+
+    def prepare(self, system: CoSystem) -> None:
+        """Index arrays for :meth:`values`: the side's outputs and unconnected inputs join the
+        component's one read per step (shared with the recorder and the exchange)."""
+        self.read_pos = system.comps[self.comp].position(self.out_vrs + self.free_vrs)
+        self.value_pos = np.array(self.out_pos + self.free_pos, dtype=np.intp)
+        self.in_index_a = np.array(self.in_index, dtype=np.intp)
+        self.in_pos_a = np.array(self.in_pos, dtype=np.intp)
 
     def values(self, system: CoSystem) -> np.ndarray:
         v = np.empty(2 * self.n)
-        comp = system.comps[self.comp]
-        if self.out_vrs:
-            v[self.out_pos] = comp.get_real(self.out_vrs)
+        if len(self.read_pos):
+            v[self.value_pos] = system.read(self.comp)[self.read_pos]
         if self.in_index:
-            v[self.in_pos] = system.input_end[self.in_index]
-        if self.free_vrs:
-            v[self.free_pos] = comp.get_real(self.free_vrs)
+            v[self.in_pos_a] = system.input_end[self.in_index_a]
         return v
 
     def power(self, system: CoSystem) -> float:
         v = self.values(system)
         with np.errstate(over="ignore", invalid="ignore"):  # a blow-up is reported by the run's check
-            return self.sign * float(v[:self.n] @ v[self.n:])
+            f, u = v[:self.n], v[self.n:]
+            self.capacity = float(np.sqrt((f @ f) * (u @ u)))   # |force| |velocity| [W] (master/divergence.py)
+            return self.sign * float(f @ u)
 
 
 @dataclass
@@ -124,6 +135,7 @@ def resolve(system: CoSystem, bonds: list[tuple[str, list[dict]]]) -> list[Bond]
                 else:
                     side.free_vrs.append(v.valueReference)
                     side.free_pos.append(pos)
+            side.prepare(system)
             resolved.append(side)
         out.append(Bond(name, *resolved))
     return out
@@ -143,13 +155,52 @@ class BondMonitor:
         self.row = np.zeros(2 * len(bonds))
         self.growth_alarm: GrowthAlarm | None = None   # set by the run: fixed step, alarm on
         self.grown: Growth | None = None
+        self.imbalance = [0.0] * len(bonds)   # signed P_a - P_b times h of the last step [J]
+        self.capacity = [0.0] * len(bonds)    # largest |force| |velocity| of the two sides times h [J]
+        self._plan()
+
+    def _plan(self) -> None:
+        """Index arrays for :meth:`measure`: every side's force and velocity values in one vector
+        (sides a, b of bond 0, then of bond 1, ...), filled with one gather per component and one
+        from the inputs' end values; the powers of all sides in a few array operations."""
+        sides = [s for b in self.bonds for s in (b.a, b.b)]
+        offsets = np.cumsum([0] + [2 * s.n for s in sides])
+        reads: dict[int, tuple[list, list]] = {}
+        in_v, in_index, f_idx, u_idx = [], [], [], []
+        for s, off in zip(sides, offsets):
+            vpos, rpos = reads.setdefault(s.comp, ([], []))
+            vpos += [off + int(i) for i in s.value_pos]
+            rpos += [int(i) for i in s.read_pos]
+            in_v += [off + i for i in s.in_pos]
+            in_index += s.in_index
+            f_idx += range(off, off + s.n)
+            u_idx += range(off + s.n, off + 2 * s.n)
+        self._v = np.zeros(int(offsets[-1]))
+        self._reads = [(c, np.array(v, dtype=np.intp), np.array(r, dtype=np.intp)) for c, (v, r) in reads.items()]
+        self._in_v, self._in_index = np.array(in_v, dtype=np.intp), np.array(in_index, dtype=np.intp)
+        self._f, self._u = np.array(f_idx, dtype=np.intp), np.array(u_idx, dtype=np.intp)
+        self._starts = np.cumsum([0] + [s.n for s in sides[:-1]]).astype(np.intp)
+        self._sign = np.array([s.sign for s in sides])
 
     def measure(self, h: float) -> None:
-        """Residual of the step just taken (call after the step, before recording)."""
-        for k, b in enumerate(self.bonds):
-            pa, pb = b.a.power(self.system), b.b.power(self.system)
-            self.residual[k] = abs(pa - pb) * h
-            self.carried[k] = max(abs(pa), abs(pb)) * h
+        """Residual of the step just taken (call after the step, before recording).  The same sums
+        as :meth:`_Side.power` for every side at once."""
+        if not self.bonds:
+            return
+        v, system = self._v, self.system
+        for comp, vpos, rpos in self._reads:
+            v[vpos] = system.read(comp)[rpos]
+        if len(self._in_v):
+            v[self._in_v] = system.input_end[self._in_index]
+        f, u = v[self._f], v[self._u]
+        with np.errstate(over="ignore", invalid="ignore"):  # a blow-up is reported by the run's check
+            power = np.add.reduceat(f * u, self._starts) * self._sign
+            capacity = np.sqrt(np.add.reduceat(f * f, self._starts) * np.add.reduceat(u * u, self._starts))
+            pa, pb = power[0::2], power[1::2]
+            np.multiply(np.abs(pa - pb), h, out=self.residual)
+            np.multiply(np.maximum(np.abs(pa), np.abs(pb)), h, out=self.carried)
+            self.imbalance[:] = ((pa - pb) * h).tolist()
+            self.capacity[:] = (np.maximum(capacity[0::2], capacity[1::2]) * h).tolist()
         self.total += self.residual
         self.row[0::2] = self.residual
         self.row[1::2] = self.total

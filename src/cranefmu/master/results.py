@@ -35,7 +35,7 @@ class Recorder:
         if self.keep:
             self.rows.append(row)
         if self._writer is not None:
-            self._writer.writerow([repr(float(v)) for v in row])
+            self._writer.writerow(row.tolist())  # csv writes a float as repr(): every digit kept
             if self.count % self._flush_every == 0:
                 self._file.flush()
         self.count += 1

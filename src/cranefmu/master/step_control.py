@@ -14,15 +14,14 @@ import math
 
 import numpy as np
 
+from .residual import relative_residual
+
 
 def coupling_error(predicted: np.ndarray, actual: np.ndarray, scale: np.ndarray, tolerance: float) -> tuple[float, int]:
     """(max relative error / tolerance, index of the worst variable)."""
     if len(actual) == 0:
         return 0.0, 0
-    floor = 1e-9 * max(1.0, float(np.max(scale)))
-    e = np.abs(actual - predicted) / (tolerance * np.maximum(scale, floor))
-    worst = int(np.argmax(e))
-    return float(e[worst]), worst
+    return relative_residual(predicted, actual, scale, 1e-9 * max(1.0, float(np.max(scale))), tolerance)
 
 
 def ecco_error(residuals: np.ndarray, carried: np.ndarray, rtol: float, atol: float) -> float:

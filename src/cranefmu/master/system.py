@@ -7,13 +7,14 @@ get the slope and curvature of the polynomial through the last values (extrapola
 """
 from __future__ import annotations
 
+import ctypes
 import time as clock
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .coupling import InputGroup, check_connection, ordered_links, rates, visit_order
+from .coupling import InputGroup, check_connection, feedthrough, lagrange_weights, ordered_links, rates, visit_order
 from .errors import CraneFmuError, ParameterSetError, SceneError, SimulationError
 from .fmu import FmuComponent
 from .scene import Scene
@@ -64,6 +65,8 @@ class CoSystem:
         self.n_coupling = n
         self.scale = np.full(n, 0.0)        # running max |value| per coupling variable
         self.input_end = np.zeros(n)        # each input's value at the end of the last step, as fed
+        self._new = np.zeros(n)             # exchange: the values now
+        self._fed_u, self._fed_d1, self._fed_d2 = np.zeros(n), np.zeros(n), np.zeros(n)  # as last pushed
         self.variable_names = self._variable_names(scene)
         # recorded: every Real output; watched for events: every Integer/Boolean output
         self.out_vrs, self.columns, self.flag_vrs = [], [], []
@@ -78,6 +81,53 @@ class CoSystem:
         self.flag_value = np.zeros(len(self.flag_names))
         self.stats = RunStats(fmu_time={c.name: 0.0 for c in self.comps}, fmu_calls={c.name: 0 for c in self.comps})
         self.can_rollback = all(c.can_get_state for c in self.comps)
+        self._prepare_hot_path()
+
+    def _prepare_hot_path(self) -> None:
+        """Arrays for the per-step calls, built once: each component's values are read with one
+        fmi2GetReal into a buffer shared by the recorder, the exchange and the power bonds; each
+        connection group is written with one fmi2SetReal of its values and their rates."""
+        self.n_real = sum(len(v) for v in self.out_vrs)
+        self._row = np.zeros(self.n_real + len(self.flag_names))
+        self._out_slices = []
+        a = 0
+        for comp, vrs in zip(self.comps, self.out_vrs):
+            comp.read_vrs = list(vrs)   # the recorded outputs first, so that read()[:n] is the row part
+            self._out_slices.append((a, a + len(vrs)))
+            a += len(vrs)
+        reads = [{v.name for v in c.md.modelVariables if v.causality == "output" and v.type == "Real"}
+                 for c in self.comps]
+        ft = [feedthrough(c) for c in self.comps]
+        for g, sl in zip(self.links, self.slices):
+            g.sl = sl
+            g.src_pos = self.comps[g.src].position(g.src_vrs)
+            # x * 1.0 + 0.0 only turns -0.0 into 0.0
+            g.plain = bool(np.all(g.factor == 1.0) and np.all(g.offset == 0.0))
+            n = len(g.dst_vrs)
+            vrs = g.dst_vrs + (g.dt_vrs + g.dt2_vrs if g.dt_vrs is not None else [])
+            g.set_vrs = (ctypes.c_uint * len(vrs))(*vrs)
+            g.set_values = (ctypes.c_double * len(vrs))()
+            g.set_view = np.ctypeslib.as_array(g.set_values)
+            g.zero = np.zeros(n)
+            # the destination's outputs stay valid after this group's inputs are set, if none depends on them
+            inputs = set(g.dst_names)
+            g.keeps_outputs = not any(ft[g.dst].get(o, set(inputs)) & inputs for o in reads[g.dst])
+        self._flag_reads = []
+        for comp, vs in zip(self.comps, self.flag_vrs):
+            for boolean in (False, True):
+                vrs = [v.valueReference for v in vs if (v.type == "Boolean") == boolean]
+                if vrs:
+                    values = (ctypes.c_int * len(vrs))()
+                    self._flag_reads.append((comp, (ctypes.c_uint * len(vrs))(*vrs), len(vrs), values, boolean))
+        self.stepping(False)
+
+    def stepping(self, on: bool) -> None:
+        """In initialization mode an FMU's outputs may depend on more inputs than its Outputs
+        dependencies list (its InitialUnknowns): there every input set makes the destination read again."""
+        for g in self.links:
+            g.keeps_fresh = on and g.keeps_outputs
+        for c in self.comps:
+            c.fresh = False
 
     def _variable_names(self, scene: Scene) -> list[str]:
         """'src.out -> dst.in' for each coupling variable, in the order of the coupling vector."""
@@ -90,29 +140,65 @@ class CoSystem:
         return names
 
     # --- values -----------------------------------------------------------------------------
-    def pull(self, g: InputGroup) -> np.ndarray:
+    def read(self, i: int) -> np.ndarray:
+        """Component i's read vector (its Real outputs first): one fmi2GetReal per change of the FMU."""
+        comp = self.comps[i]
         try:
-            return self.comps[g.src].get_real(g.src_vrs) * g.factor + g.offset
+            return comp.read()
         except Exception:
-            raise self.refused(self.comps[g.src], "reading its outputs") from None
+            raise self.refused(comp, "reading its outputs") from None
+
+    def pull(self, g: InputGroup) -> np.ndarray:
+        return self.read(g.src)[g.src_pos] * g.factor + g.offset
 
     def push(self, g: InputGroup, value: np.ndarray, d1: np.ndarray, d2: np.ndarray) -> None:
         """Feed ``value`` (at the step start) and its first and second time derivative."""
-        fmu = self.comps[g.dst].fmu
+        comp = self.comps[g.dst]
         try:
-            fmu.setReal(g.dst_vrs, value.tolist())
-            if g.dt_vrs is not None:
-                moving = bool(d1.any() or d2.any())
-                if moving or g.rates_set:  # zero rates stay zero: no call for a zero-order hold
-                    fmu.setReal(g.dt_vrs + g.dt2_vrs, d1.tolist() + d2.tolist())
-                    g.rates_set = moving
-            elif g.fmi_derivatives:  # FMI 2.0 sec. 4.2.1: derivatives of the inputs for the coming step
-                n = len(g.dst_vrs)
-                fmu.setRealInputDerivatives(g.dst_vrs, [1] * n, d1.tolist())
-                fmu.setRealInputDerivatives(g.dst_vrs, [2] * n, d2.tolist())
+            if g.set_view is None:      # a group not prepared by a CoSystem: fmpy's calls
+                CoSystem._push_lists(comp.fmu, g, value, d1, d2)
+            else:
+                view = g.set_view
+                n = len(value)
+                view[:n] = value
+                count = n
+                if g.dt_vrs is not None:
+                    moving = not (d1 is g.zero and d2 is g.zero) and bool(d1.any() or d2.any())
+                    if moving or g.rates_set:  # zero rates stay zero: values only for a zero-order hold
+                        view[n:2 * n] = d1
+                        view[2 * n:] = d2
+                        count = 3 * n
+                        g.rates_set = moving
+                comp.write(g.set_vrs, count, g.set_values)
+                sl = g.sl
+                self._fed_u[sl] = value
+                self._fed_d1[sl] = d1
+                self._fed_d2[sl] = d2
+                if g.fmi_derivatives:
+                    CoSystem._input_derivatives(comp.fmu, g, d1, d2)
         except Exception:
-            raise self.refused(self.comps[g.dst], "setting its inputs") from None
+            raise self.refused(comp, "setting its inputs") from None
+        if not g.keeps_fresh:
+            comp.fresh = False
         g.fed = (value, d1, d2)
+
+    @staticmethod
+    def _push_lists(fmu, g: InputGroup, value: np.ndarray, d1: np.ndarray, d2: np.ndarray) -> None:
+        fmu.setReal(g.dst_vrs, value.tolist())
+        if g.dt_vrs is not None:
+            moving = bool(d1.any() or d2.any())
+            if moving or g.rates_set:
+                fmu.setReal(g.dt_vrs + g.dt2_vrs, d1.tolist() + d2.tolist())
+                g.rates_set = moving
+        elif g.fmi_derivatives:
+            CoSystem._input_derivatives(fmu, g, d1, d2)
+
+    @staticmethod
+    def _input_derivatives(fmu, g: InputGroup, d1: np.ndarray, d2: np.ndarray) -> None:
+        """FMI 2.0 sec. 4.2.1: derivatives of the inputs for the coming step."""
+        n = len(g.dst_vrs)
+        fmu.setRealInputDerivatives(g.dst_vrs, [1] * n, d1.tolist())
+        fmu.setRealInputDerivatives(g.dst_vrs, [2] * n, d2.tolist())
 
     @staticmethod
     def refused(comp: FmuComponent, what: str) -> CraneFmuError:
@@ -128,30 +214,42 @@ class CoSystem:
             if len(g.history) > 3:
                 del g.history[0]
 
-    def exchange(self, t: float, order: int | None = None) -> float:
+    def exchange(self, t: float, order: int | None = None) -> None:
         """Move values along every connection at time t, in feedthrough order, feeding the rates of
-        the extrapolation polynomial (of ``order``, default the run's); returns the largest change
-        relative to each variable's scale."""
+        the extrapolation polynomial (of ``order``, default the run's)."""
         p = self.order_of_extrapolation if order is None else order
-        change = 0.0
-        for g, sl in zip(self.links, self.slices):
-            value = self.pull(g)
-            if g.history:
-                change = max(change, self._relative(value - g.history[-1][1], sl))
-            self.record_history(g, t, value)
-            np.maximum(self.scale[sl], np.abs(value), out=self.scale[sl])
-            d1, d2 = rates(g.history[-(p + 1):], t)
+        new = self._new
+        for g in self.links:
+            comp = self.comps[g.src]
+            try:
+                value = comp.read()[g.src_pos]
+            except Exception:
+                raise self.refused(comp, "reading its outputs") from None
+            if not g.plain:
+                value = value * g.factor + g.offset
+            hist = g.history
+            sl = g.sl
+            new[sl] = value
+            if hist and hist[-1][0] == t:
+                hist[-1] = (t, value)
+            else:
+                hist.append((t, value))
+                if len(hist) > 3:
+                    del hist[0]
+            if p == 0 or len(hist) < 2:
+                d1 = d2 = g.zero
+            else:
+                points = hist[-(p + 1):]
+                w1, w2 = lagrange_weights([q[0] for q in points], t)
+                values = np.array([q[1] for q in points])
+                d1 = w1 @ values
+                d2 = w2 @ values if p > 1 else g.zero  # a line has no curvature
             self.push(g, value, d1, d2)
-        return change
-
-    def _relative(self, diff: np.ndarray, sl: slice) -> float:
-        return float(np.max(np.abs(diff) / np.maximum(self.scale[sl], 1e-12), initial=0.0))
+        np.maximum(self.scale, np.abs(new), out=self.scale)
 
     def capture_input_ends(self, h: float) -> None:
         """Remember each input's fed value at the end of a step of ``h`` (before the next exchange)."""
-        for g, sl in zip(self.links, self.slices):
-            u, d1, d2 = g.fed
-            self.input_end[sl] = u + h * (d1 + 0.5 * h * d2)
+        np.add(self._fed_u, h * (self._fed_d1 + 0.5 * h * self._fed_d2), out=self.input_end)
 
     def coupling_values(self) -> np.ndarray:
         """The newest value of every coupling variable (the vector the iterative algorithm solves for)."""
@@ -167,28 +265,23 @@ class CoSystem:
         return out
 
     def outputs(self) -> np.ndarray:
-        """Every Real output, then the discrete outputs of the last :meth:`flags` call."""
-        try:
-            return np.concatenate([*(c.get_real(v) for c, v in zip(self.comps, self.out_vrs)), self.flag_value])
-        except Exception:
-            bad = next((c for c in self.comps if c.messages), self.comps[0])
-            raise self.refused(bad, "reading its outputs") from None
+        """Every Real output, then the discrete outputs of the last :meth:`flags` call (a new array)."""
+        row = self._row
+        for i, (a, b) in enumerate(self._out_slices):
+            row[a:b] = self.read(i)[:b - a]
+        row[self.n_real:] = self.flag_value
+        return row.copy()
 
     def flags(self) -> list[int]:
         """Every Integer/Boolean output (mode flags: slack, lifted, tipping, ...)."""
         out: list[int] = []
-        for comp, vs in zip(self.comps, self.flag_vrs):
-            if not vs:
-                continue
+        for comp, vrs, n, values, boolean in self._flag_reads:
             try:
-                ints = [v.valueReference for v in vs if v.type != "Boolean"]
-                bools = [v.valueReference for v in vs if v.type == "Boolean"]
-                if ints:
-                    out += [int(x) for x in comp.fmu.getInteger(ints)]
-                if bools:
-                    out += [int(bool(x)) for x in comp.fmu.getBoolean(bools)]
+                comp.read_discrete(vrs, n, values, boolean)
             except Exception:
                 raise self.refused(comp, "reading its discrete outputs") from None
+            # a Boolean is 0 or 1 whatever non-zero value the FMU returns
+            out += [1 if x else 0 for x in values] if boolean else list(values)
         self.flag_value[:] = out
         return out
 
@@ -197,7 +290,7 @@ class CoSystem:
         comp = self.comps[i]
         t0 = clock.perf_counter()
         try:
-            comp.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+            comp.step(t, h)
         except Exception:
             raise SimulationError(f"component {comp.name} failed in the step from t = {t:.9g} s (H = {h:.3g} s): "
                                   f"{comp.last_error()}. Try a smaller --step, --adaptive, or --algorithm "
@@ -219,6 +312,7 @@ class CoSystem:
     def restore(self, snap: list) -> None:
         states, histories, fed = snap
         for c, s in zip(self.comps, states):
+            c.fresh = False
             try:
                 c.fmu.setFMUstate(s)
             except Exception:
@@ -226,6 +320,8 @@ class CoSystem:
         for g, hist, f in zip(self.links, histories, fed):
             g.history[:] = hist
             g.fed = f
+            if f is not None:
+                self._fed_u[g.sl], self._fed_d1[g.sl], self._fed_d2[g.sl] = f
             g.rates_set = True  # the restored FMU holds the rates of the snapshot
 
     def release(self, snap: list | None) -> None:
