@@ -7,6 +7,7 @@ as the value it was fed at the end of the step and every output as read at the e
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -162,29 +163,27 @@ class BondMonitor:
     def _plan(self) -> None:
         """Index arrays for :meth:`measure`: every side's force and velocity values in one vector
         (sides a, b of bond 0, then of bond 1, ...), filled with one gather per component and one
-        from the inputs' end values; the powers of all sides in a few array operations."""
+        from the inputs' end values."""
         sides = [s for b in self.bonds for s in (b.a, b.b)]
         offsets = np.cumsum([0] + [2 * s.n for s in sides])
         reads: dict[int, tuple[list, list]] = {}
-        in_v, in_index, f_idx, u_idx = [], [], [], []
+        in_v, in_index = [], []
         for s, off in zip(sides, offsets):
             vpos, rpos = reads.setdefault(s.comp, ([], []))
             vpos += [off + int(i) for i in s.value_pos]
             rpos += [int(i) for i in s.read_pos]
             in_v += [off + i for i in s.in_pos]
             in_index += s.in_index
-            f_idx += range(off, off + s.n)
-            u_idx += range(off + s.n, off + 2 * s.n)
         self._v = np.zeros(int(offsets[-1]))
         self._reads = [(c, np.array(v, dtype=np.intp), np.array(r, dtype=np.intp)) for c, (v, r) in reads.items()]
         self._in_v, self._in_index = np.array(in_v, dtype=np.intp), np.array(in_index, dtype=np.intp)
-        self._f, self._u = np.array(f_idx, dtype=np.intp), np.array(u_idx, dtype=np.intp)
-        self._starts = np.cumsum([0] + [s.n for s in sides[:-1]]).astype(np.intp)
-        self._sign = np.array([s.sign for s in sides])
+        self._sides = [(int(off), s.n, s.sign) for s, off in zip(sides, offsets)]
+        self.system.need_input_ends(in_index)
 
     def measure(self, h: float) -> None:
-        """Residual of the step just taken (call after the step, before recording).  The same sums
-        as :meth:`_Side.power` for every side at once."""
+        """Residual of the step just taken (call after the step, before recording).  The sums of
+        :meth:`_Side.power` for every side, on Python floats (a bond has 1-3 force/velocity pairs:
+        cheaper than array calls; an overflow gives inf, reported by the run's check)."""
         if not self.bonds:
             return
         v, system = self._v, self.system
@@ -192,15 +191,23 @@ class BondMonitor:
             v[vpos] = system.read(comp)[rpos]
         if len(self._in_v):
             v[self._in_v] = system.input_end[self._in_index]
-        f, u = v[self._f], v[self._u]
-        with np.errstate(over="ignore", invalid="ignore"):  # a blow-up is reported by the run's check
-            power = np.add.reduceat(f * u, self._starts) * self._sign
-            capacity = np.sqrt(np.add.reduceat(f * f, self._starts) * np.add.reduceat(u * u, self._starts))
-            pa, pb = power[0::2], power[1::2]
-            np.multiply(np.abs(pa - pb), h, out=self.residual)
-            np.multiply(np.maximum(np.abs(pa), np.abs(pb)), h, out=self.carried)
-            self.imbalance[:] = ((pa - pb) * h).tolist()
-            self.capacity[:] = (np.maximum(capacity[0::2], capacity[1::2]) * h).tolist()
+        x = v.tolist()
+        power, capacity = [], []
+        for off, n, sign in self._sides:
+            p = ff = uu = 0.0
+            for i in range(off, off + n):
+                f, u = x[i], x[i + n]
+                p += f * u
+                ff += f * f
+                uu += u * u
+            power.append(sign * p)
+            capacity.append(math.sqrt(ff * uu) if ff * uu >= 0.0 else math.nan)
+        for k in range(len(self.bonds)):
+            pa, pb = power[2 * k], power[2 * k + 1]
+            self.residual[k] = abs(pa - pb) * h
+            self.carried[k] = max(abs(pa), abs(pb)) * h
+            self.imbalance[k] = (pa - pb) * h
+            self.capacity[k] = max(capacity[2 * k], capacity[2 * k + 1]) * h
         self.total += self.residual
         self.row[0::2] = self.residual
         self.row[1::2] = self.total

@@ -66,7 +66,6 @@ class CoSystem:
         self.scale = np.full(n, 0.0)        # running max |value| per coupling variable
         self.input_end = np.zeros(n)        # each input's value at the end of the last step, as fed
         self._new = np.zeros(n)             # exchange: the values now
-        self._fed_u, self._fed_d1, self._fed_d2 = np.zeros(n), np.zeros(n), np.zeros(n)  # as last pushed
         self.variable_names = self._variable_names(scene)
         # recorded: every Real output; watched for events: every Integer/Boolean output
         self.out_vrs, self.columns, self.flag_vrs = [], [], []
@@ -112,6 +111,7 @@ class CoSystem:
             # the destination's outputs stay valid after this group's inputs are set, if none depends on them
             inputs = set(g.dst_names)
             g.keeps_outputs = not any(ft[g.dst].get(o, set(inputs)) & inputs for o in reads[g.dst])
+        self._end_groups = list(self.links)   # groups whose inputs' end values are kept (need_input_ends)
         self._flag_reads = []
         for comp, vs in zip(self.comps, self.flag_vrs):
             for boolean in (False, True):
@@ -170,10 +170,6 @@ class CoSystem:
                         count = 3 * n
                         g.rates_set = moving
                 comp.write(g.set_vrs, count, g.set_values)
-                sl = g.sl
-                self._fed_u[sl] = value
-                self._fed_d1[sl] = d1
-                self._fed_d2[sl] = d2
                 if g.fmi_derivatives:
                     CoSystem._input_derivatives(comp.fmu, g, d1, d2)
         except Exception:
@@ -249,7 +245,14 @@ class CoSystem:
 
     def capture_input_ends(self, h: float) -> None:
         """Remember each input's fed value at the end of a step of ``h`` (before the next exchange)."""
-        np.add(self._fed_u, h * (self._fed_d1 + 0.5 * h * self._fed_d2), out=self.input_end)
+        for g in self._end_groups:
+            u, d1, d2 = g.fed
+            self.input_end[g.sl] = u if d1 is g.zero and d2 is g.zero else u + h * (d1 + 0.5 * h * d2)
+
+    def need_input_ends(self, indices: list[int]) -> None:
+        """Only these coupling variables' end values are read from :attr:`input_end` (default: all)."""
+        wanted = set(indices)
+        self._end_groups = [g for g in self.links if wanted.intersection(range(g.sl.start, g.sl.stop))]
 
     def coupling_values(self) -> np.ndarray:
         """The newest value of every coupling variable (the vector the iterative algorithm solves for)."""
@@ -320,8 +323,6 @@ class CoSystem:
         for g, hist, f in zip(self.links, histories, fed):
             g.history[:] = hist
             g.fed = f
-            if f is not None:
-                self._fed_u[g.sl], self._fed_d1[g.sl], self._fed_d2[g.sl] = f
             g.rates_set = True  # the restored FMU holds the rates of the snapshot
 
     def release(self, snap: list | None) -> None:
