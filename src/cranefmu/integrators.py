@@ -24,6 +24,8 @@ import numpy as np
 RHS = Callable[[float, np.ndarray], np.ndarray]
 
 FIXED_STEP = ("euler", "rk2", "rk4", "trbdf2")
+#: the model's own closed-form step (``Model.exact_step``), offered by the FMUs whose model has one
+EXACT = "exact"
 ADAPTIVE = ("rk45", "radau", "bdf")
 METHODS = FIXED_STEP + ADAPTIVE
 

@@ -25,6 +25,9 @@ riding on the girder), so that the fundamental vibration decays with exactly the
 corresponds to delta = 0.465, which eq. 10 would give only for h / L = 0.16 (h = 3.2 m at 20 m span); a
 real 5 t, 20 m box girder is about 1 m high (delta = 0.06 by eq. 10).
 
+The model is linear: solver ``exact`` (the default) steps it in closed form for inputs polynomial in
+time over the step (cranefmu.physics.linear_step), exact to round-off.
+
 Only the vertical direction is dynamic: the girder and headstocks are taken as rigid horizontally
 (seed 001 models vertical motion only), so Fx_rope and Fz_rope are accepted and ignored and the
 suspension point stays at (x_pos, z_pos).  y_top = height + q3.
@@ -37,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .component import Model, Signal
+from .linear_step import LinearPropagator
 from .params import Params, ParameterError, param
 
 
@@ -127,6 +131,7 @@ _TOP = ("x_top", "y_top", "z_top", "vx_top", "vy_top", "vz_top")
 
 class GirderModel(Model):
     Params = GirderParams
+    default_solver = "exact"
     description = ("Overhead crane girder (mass-spring-damper at mid-span) with the drum bearing in series "
                    "(seed 001 eq. 6, 10, Table 6); vertical motion of the rope suspension point")
     inputs = tuple(Signal(f"F{c}_rope", "N", f"{c} component of the rope force on the trolley (up positive)"
@@ -140,6 +145,10 @@ class GirderModel(Model):
                "girder (negative = sag)"),
         Signal("girder_deflection", "m", "vertical displacement q1 of the girder at mid-span (negative = sag)"),
     )
+
+    def __init__(self, params: GirderParams):
+        super().__init__(params)
+        self._linear: LinearPropagator | None = None
 
     def state_names(self) -> tuple[str, ...]:
         return ("q1", "v1", "q3", "v3")
@@ -160,6 +169,32 @@ class GirderModel(Model):
         a1 = (-p.c1 * q1 - b1 * v1 + f3) / p.m1 - p.g
         a3 = (fy - f3) / p.m3 - p.g
         return np.array([v1, a1, v3, a3])
+
+    def linear_system(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """A, b, B of x' = A x + b + B u: :meth:`derivatives` written as matrices (derived)."""
+        p = self.p
+        b1 = girder_damping(p)
+        a = np.zeros((4, 4))
+        big_b = np.zeros((4, 3))
+        a[0, 1] = 1.0
+        if p.bearing == "rigid":   # q3, v3 copy q1, v1
+            m = modal_mass(p)
+            a[2, 1] = 1.0
+            a[1, :2] = a[3, :2] = (-p.c1 / m, -b1 / m)
+            big_b[1, _FY] = big_b[3, _FY] = 1.0 / m
+        else:
+            a[2, 3] = 1.0
+            a[1] = ((-p.c1 - p.c3) / p.m1, (-b1 - p.b3) / p.m1, p.c3 / p.m1, p.b3 / p.m1)
+            a[3] = (p.c3 / p.m3, p.b3 / p.m3, -p.c3 / p.m3, -p.b3 / p.m3)
+            big_b[3, _FY] = 1.0 / p.m3
+        return a, np.array([0.0, -p.g, 0.0, -p.g]), big_b
+
+    def exact_step(self, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray,
+                   r2: np.ndarray, max_step: float) -> np.ndarray | None:
+        """Closed-form step of the linear model (module docstring)."""
+        if self._linear is None:
+            self._linear = LinearPropagator(*self.linear_system())
+        return self._linear.maps(h)[-1] @ self._linear.augment(x, u0, r1, r2)
 
     def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         p = self.p

@@ -1,0 +1,318 @@
+"""Cost of one macro step of each FMU in the crane scenes, split into the physics + integrator time
+and the pythonfmu / adapter overhead.
+
+For each scene, at the scene's macro step H (Jacobi, zero-order hold):
+1. the co-simulation runs once (child process) and records every output;
+2. each component is replayed alone with the inputs the co-simulation fed it (connected outputs
+   at each step start, through the connections' LinearTransformation):
+   - in-process, without FMI: the model built from the scene's parameters and the FMU's solver
+     settings, stepped by ``cranefmu.fmi_adapter.advance`` (the code ``do_step`` runs) and its
+     outputs computed by ``output_values`` (what a getReal after the step computes) -> "physics";
+   - as the built FMU through fmpy in a child process: setReal(inputs) + doStep + getReal(Real
+     outputs) + getInteger(flags) per step -> "FMU".
+   overhead = FMU - physics.  The replay's outputs are compared with the recorded ones
+   ("replay dev": largest deviation relative to the output's range; ~0 confirms the replay steps
+   the same trajectory).
+3. one pythonfmu call pair on a trivial FMU input (the Drive in kinematic mode, frozen) gives
+   the floor a Python FMU cannot go below.
+
+Usage:
+    .venv/bin/python benchmarks/fmu_step_cost.py [--label after] [--scenes truck_telescope,hook_sway]
+        [--stop 30] [--cpu 1]
+
+Writes benchmarks/results/fmu_step_cost_<label>.csv and benchmarks/results/fmu_step_cost.md (a table
+per label found, and the before/after ratio per row when both "before" and "after" exist).  Times are
+per macro step in microseconds; the machine is shared, so compare the ratios of one table.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import multiprocessing as mp
+import os
+import platform
+import sys
+import tempfile
+import time as clock
+from dataclasses import fields
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = ROOT / "benchmarks" / "results"
+# scene -> (macro step H [s], simulated time [s]) : H as in issue 6's measurements (truck at 10 ms)
+SCENES = {"truck_telescope": (1e-2, 30.0), "overhead_lift": (1e-3, 6.0), "hook_sway": (4e-3, 10.0)}
+FIELDS = ("scene", "component", "fmu", "config", "H", "steps", "physics_step_us", "physics_outputs_us",
+          "physics_us", "fmu_set_us", "fmu_dostep_us", "fmu_get_us", "fmu_us", "overhead_us", "replay_dev")
+
+
+def physics_class(fmu_name: str):
+    from cranefmu.physics.boom import BoomModel
+    from cranefmu.physics.chassis import ChassisModel
+    from cranefmu.physics.drive import DriveModel
+    from cranefmu.physics.girder import GirderModel
+    from cranefmu.physics.pendulum import PendulumModel
+    from cranefmu.physics.rope import RopeModel
+
+    return {"Boom": BoomModel, "Chassis": ChassisModel, "Drive": DriveModel, "Girder": GirderModel,
+            "Pendulum": PendulumModel, "Rope": RopeModel}[fmu_name]
+
+
+def in_child(fn, *args):
+    with mp.get_context("spawn").Pool(1) as pool:
+        return pool.apply(fn, args)
+
+
+# --- 1. the co-simulation ---------------------------------------------------------------------------
+def record(scene: str, h: float, stop: float) -> dict:
+    from cranefmu.master.run import run
+
+    res = run(scene, stop_time=stop, step_size=h, keep=True, isolate=False, progress=False)
+    r = res.result
+    return {"columns": list(r.dtype.names), "rows": np.column_stack([r[n] for n in r.dtype.names]),
+            "fmu_time": dict(res.stats.fmu_time), "wall": res.stats.wall_time, "steps": res.stats.steps}
+
+
+def scene_layout(scene: str, workdir: str) -> dict:
+    """Components (name -> FMU stem), connections into each component, the parameter texts."""
+    from cranefmu.master.scene import load_scene
+
+    sc = load_scene(ROOT / "ssp" / f"{scene}.ssp", Path(workdir))
+    comps = {c.name: c.fmu.stem for c in sc.components}
+    conns: dict[str, list] = {c: [] for c in comps}
+    for c in sc.connections:
+        conns[c.dst].append((c.dst_var, f"{c.src}.{c.src_var}", c.factor, c.offset))
+    return {"components": comps, "connections": conns, "parameters": sc.parameters}
+
+
+def solver_settings(fmu_path: Path) -> dict[str, str]:
+    from fmpy import read_model_description
+
+    md = read_model_description(str(fmu_path), validate=False)
+    return {v.name: v.start for v in md.modelVariables if v.name in ("solver", "rtol", "max_step")}
+
+
+def input_series(model_cls, conns, columns, rows) -> np.ndarray:
+    """(steps + 1, n_inputs) inputs the co-simulation fed the component at each recorded time."""
+    col = {c: i for i, c in enumerate(columns)}
+    names = [s.name for s in model_cls.inputs]
+    u = np.tile(np.array([s.start for s in model_cls.inputs], dtype=float), (rows.shape[0], 1))
+    for dst_var, src, factor, offset in conns:
+        u[:, names.index(dst_var)] = rows[:, col[src]] * factor + offset
+    return u
+
+
+def build_model(model_cls, comp: str, parameters: dict[str, str]):
+    values = {}
+    for f in fields(model_cls.Params):
+        text = parameters.get(f"{comp}.{f.name}")
+        if text is not None:
+            kind = type(f.default)
+            values[f.name] = kind(float(text)) if kind in (int, float) else text
+    return model_cls(model_cls.Params(**values))
+
+
+# --- 2a. physics in-process -----------------------------------------------------------------------------
+def physics_replay(model_cls, comp, parameters, settings, u, h, steps) -> dict:
+    from cranefmu.fmi_adapter import advance
+
+    model = build_model(model_cls, comp, parameters)
+    solver, rtol, max_step = settings["solver"], float(settings["rtol"]), float(settings["max_step"])
+    x = model.initial_state(u[0])
+    t = 0.0
+    ys = np.empty((steps, len(model_cls.outputs)))
+    step_time = out_time = 0.0
+    for n in range(steps):  # the master's order: inputs at t_n, outputs read, then the step
+        t = n * h  # as the master counts time (a trapezoid law's corner falls on a step)
+        t0 = clock.perf_counter()
+        ys[n] = model.output_values(t, x, u[n])
+        t1 = clock.perf_counter()
+        x = advance(model, t, x, h, u[n], None, None, solver, rtol, max_step)
+        step_time += clock.perf_counter() - t1
+        out_time += t1 - t0
+    return {"step": step_time / steps * 1e6, "outputs": out_time / steps * 1e6, "y": ys}
+
+
+# --- 2b. the FMU through fmpy (child process) -----------------------------------------------------------
+def fmu_replay(comp: str, fmu_path: str, parameters: dict[str, str], in_names: list[str], u: np.ndarray,
+               h: float, steps: int) -> dict:
+    from cranefmu.master.fmu import FmuComponent
+
+    with tempfile.TemporaryDirectory() as tmp:
+        c = FmuComponent(comp, Path(fmu_path), Path(tmp))
+        c.instantiate()
+        try:
+            fmu = c.fmu
+            for key, text in parameters.items():
+                name = key.split(".", 1)[1]
+                if key.startswith(comp + ".") and name in c.variables:
+                    c.set_start(name, text)
+            vin = c.vrs(in_names)
+            reals = [v for v in c.md.modelVariables if v.causality == "output" and v.type == "Real"]
+            vout = [v.valueReference for v in reals]
+            vflag = [v.valueReference for v in c.md.modelVariables if v.causality == "output" and v.type == "Integer"]
+            fmu.setupExperiment(startTime=0.0)
+            fmu.enterInitializationMode()
+            fmu.setReal(vin, u[0].tolist())
+            fmu.exitInitializationMode()
+            t = 0.0
+            ys = np.empty((steps, len(vout)))
+            t_set = t_step = t_get = 0.0
+            for n in range(steps):  # the master's order: inputs at t_n, outputs read, then the step
+                t = n * h
+                t0 = clock.perf_counter()
+                fmu.setReal(vin, u[n].tolist())
+                t1 = clock.perf_counter()
+                ys[n] = fmu.getReal(vout)
+                if vflag:
+                    fmu.getInteger(vflag)
+                t2 = clock.perf_counter()
+                fmu.doStep(t, h)
+                t3 = clock.perf_counter()
+                t_set += t1 - t0
+                t_get += t2 - t1
+                t_step += t3 - t2
+            return {"set": t_set / steps * 1e6, "step": t_step / steps * 1e6, "get": t_get / steps * 1e6,
+                    "y": ys, "names": [v.name for v in reals]}
+        finally:
+            c.free()
+
+
+def config_text(model_cls, comp, parameters, settings) -> str:
+    p = build_model(model_cls, comp, parameters).p
+    modes = [f"{f.name}={getattr(p, f.name)}" for f in fields(p) if isinstance(f.default, str)]
+    return " ".join([f"solver={settings['solver']}", f"max_step={settings['max_step']}"] + modes)
+
+
+def study(scene: str, stop: float | None, say) -> list[dict]:
+    h, default_stop = SCENES[scene]
+    stop = stop or default_stop
+    steps = int(round(stop / h))
+    say(f"{scene}: co-simulation H={h:g} s, {stop:g} s ...")
+    rec = in_child(record, scene, h, stop)
+    columns, rows = rec["columns"], rec["rows"]
+    col = {c: i for i, c in enumerate(columns)}
+    out = []
+    with tempfile.TemporaryDirectory() as tmp:
+        lay = scene_layout(scene, tmp)
+        for comp, fmu_name in lay["components"].items():
+            model_cls = physics_class(fmu_name)
+            fmu_path = ROOT / "fmus" / f"{fmu_name}.fmu"
+            settings = solver_settings(fmu_path)
+            u = input_series(model_cls, lay["connections"][comp], columns, rows)
+            phys = physics_replay(model_cls, comp, lay["parameters"], settings, u, h, steps)
+            fm = in_child(fmu_replay, comp, str(fmu_path), lay["parameters"], [s.name for s in model_cls.inputs],
+                          u, h, steps)
+            dev, worst = 0.0, ""
+            for j, name in enumerate(fm["names"]):
+                ref = rows[:steps, col[f"{comp}.{name}"]]
+                # a constant output (a residual at round-off level) is compared with its size
+                span = max(float(np.ptp(ref)), 1e-9 * max(1.0, float(np.max(np.abs(ref)))))
+                d = float(np.max(np.abs(fm["y"][:, j] - ref))) / span
+                if d > dev:
+                    dev, worst = d, name
+            row = {"scene": scene, "component": comp, "fmu": fmu_name,
+                   "config": config_text(model_cls, comp, lay["parameters"], settings), "H": h, "steps": steps,
+                   "physics_step_us": phys["step"], "physics_outputs_us": phys["outputs"],
+                   "physics_us": phys["step"] + phys["outputs"], "fmu_set_us": fm["set"],
+                   "fmu_dostep_us": fm["step"], "fmu_get_us": fm["get"],
+                   "fmu_us": fm["set"] + fm["step"] + fm["get"], "replay_dev": dev}
+            row["overhead_us"] = row["fmu_us"] - row["physics_us"]
+            say(f"  {comp:9s} {fmu_name:9s} physics {row['physics_us']:8.1f} us  FMU {row['fmu_us']:8.1f} us "
+                f"(set {fm['set']:.1f}, doStep {fm['step']:.1f}, get {fm['get']:.1f})  overhead "
+                f"{row['overhead_us']:7.1f} us  replay dev {dev:.1e} {worst}")
+            out.append(row)
+    return out
+
+
+# --- report ------------------------------------------------------------------------------------------
+def read_rows(label: str) -> list[dict]:
+    path = RESULTS / f"fmu_step_cost_{label}.csv"
+    if not path.exists():
+        return []
+    with path.open() as f:
+        return list(csv.DictReader(f))
+
+
+def write_report(labels: list[str], notes: dict[str, str]) -> None:
+    lines = ["# Cost of one macro step per FMU", "",
+             "`.venv/bin/python benchmarks/fmu_step_cost.py --label LABEL` (see its docstring for the method).",
+             "Per macro step, in us: physics = the model stepped by `fmi_adapter.advance` plus `output_values`,",
+             "in-process without FMI; FMU = setReal + doStep + getReal (+ getInteger) of the built FMU through",
+             "fmpy, alone in a child process, fed the inputs the co-simulation fed it; overhead = FMU - physics.",
+             "replay dev: largest deviation of the FMU's outputs from the co-simulation's, relative to range.", ""]
+    tables = {lab: read_rows(lab) for lab in labels}
+    for lab, rows in tables.items():
+        if not rows:
+            continue
+        lines += [f"## {lab}", "", notes.get(lab, ""), "",
+                  "| scene | component | configuration | H [s] | physics | FMU (set / doStep / get) | overhead | "
+                  "replay dev |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+        for r in rows:
+            f = {k: float(r[k]) for k in FIELDS[6:]}
+            lines.append(f"| {r['scene']} | {r['component']} | {r['config']} | {float(r['H']):g} | "
+                         f"{f['physics_us']:.0f} | {f['fmu_us']:.0f} ({f['fmu_set_us']:.0f} / {f['fmu_dostep_us']:.0f} / "
+                         f"{f['fmu_get_us']:.0f}) | {f['overhead_us']:.0f} | {f['replay_dev']:.1e} |")
+        for scene in dict.fromkeys(r["scene"] for r in rows):
+            tot = sum(float(r["fmu_us"]) for r in rows if r["scene"] == scene)
+            phys = sum(float(r["physics_us"]) for r in rows if r["scene"] == scene)
+            h = float(next(r["H"] for r in rows if r["scene"] == scene))
+            lines.append(f"\n{scene}: all FMUs {tot:.0f} us per macro step of {h * 1e3:g} ms (physics {phys:.0f} us); "
+                         f"the FMUs alone bound the real-time factor at {h / (tot * 1e-6):.1f}.")
+        lines.append("")
+    if tables.get("before") and tables.get("after"):
+        lines += ["## before / after", "", "| scene | component | FMU before [us] | FMU after [us] | ratio | "
+                  "physics before | physics after | ratio |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+        before = {(r["scene"], r["component"]): r for r in tables["before"]}
+        for r in tables["after"]:
+            b = before.get((r["scene"], r["component"]))
+            if b is None:
+                continue
+            fb, fa, pb, pa = (float(x) for x in (b["fmu_us"], r["fmu_us"], b["physics_us"], r["physics_us"]))
+            lines.append(f"| {r['scene']} | {r['component']} | {fb:.0f} | {fa:.0f} | {fb / fa:.1f} | {pb:.0f} | "
+                         f"{pa:.0f} | {pb / pa:.1f} |")
+        lines.append("")
+    (RESULTS / "fmu_step_cost.md").write_text("\n".join(lines))
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--label", default="after", help="name of this measurement (before, after, ...)")
+    ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated scene names")
+    ap.add_argument("--stop", type=float, default=None, help="simulated time [s] (default: per scene)")
+    ap.add_argument("--cpu", type=int, default=None, help="pin this process and its children to one core")
+    args = ap.parse_args(argv)
+    if args.cpu is not None:
+        os.sched_setaffinity(0, {args.cpu})
+
+    def say(text: str) -> None:
+        print(text, flush=True)
+
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for scene in args.scenes.split(","):
+        rows += study(scene, args.stop, say)
+    with (RESULTS / f"fmu_step_cost_{args.label}.csv").open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=FIELDS)
+        w.writeheader()
+        w.writerows(rows)
+    import subprocess
+
+    commit = subprocess.run(["git", "-C", str(ROOT), "log", "-1", "--format=%h"], capture_output=True,
+                            text=True).stdout.strip()
+    note_path = RESULTS / "fmu_step_cost_notes.txt"
+    notes = dict(line.split("\t", 1) for line in note_path.read_text().splitlines() if "\t" in line) \
+        if note_path.exists() else {}
+    notes[args.label] = (f"{clock.strftime('%Y-%m-%d %H:%M UTC', clock.gmtime())}, commit {commit} (plus uncommitted "
+                         f"work), python {platform.python_version()}, numpy {np.__version__}, "
+                         f"{os.cpu_count()} cores shared, pinned to {sorted(os.sched_getaffinity(0))}")
+    note_path.write_text("".join(f"{k}\t{v}\n" for k, v in notes.items()))
+    labels = ["before", "after"] + [k for k in notes if k not in ("before", "after")]
+    write_report(labels, notes)
+    say(f"wrote {RESULTS / 'fmu_step_cost.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
