@@ -176,3 +176,15 @@ def test_bad_parameters_are_refused():
     with pytest.raises(ValueError):
         steady_state_slip(1.01 * P.M_k, P)
     assert math.isfinite(steady_state_slip(-P.M_k, P))
+
+
+@pytest.mark.parametrize("t", [-0.1, 0.05, 0.3, 2.0])   # unpowered/braked, braked ramp, ramp, full supply
+def test_plain_float_derivatives_equal_the_equation_helpers(t):
+    """The hot-path right-hand side is eq. 4-5 as motor_rhs and drivetrain_accelerations state them."""
+    m = DriveModel(DriveParams(brake_delay=0.1, start_time=0.0))
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        x = rng.normal(size=10) * np.array([300, 300, 5, 5, 5, 0.1, 100, 100, 100, 2])
+        u = np.array([rng.uniform(-5e4, 5e4)])
+        fast, ref = m.derivatives(t, x, u), m.derivatives_from_helpers(t, x, u)
+        assert np.allclose(fast, ref, rtol=1e-13, atol=1e-13 * np.max(np.abs(ref)))
