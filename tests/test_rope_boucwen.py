@@ -130,6 +130,58 @@ def test_inadmissible_bouc_wen_sets_are_refused(change, name):
         RopeParams(model="kelvin_voigt", **change)
 
 
+# --- regimes for event-located solvers (cranefmu.reference) -------------------------------------
+
+def _states_in_each_regime():
+    """(regime, z, hook y, hook vy) samples inside each regime's domain of the unpinned law."""
+    bw = RopeModel(P).bouc_wen_at(L)
+    out = []
+    for d in (1e-4, 1e-3, 2e-3):
+        delta = (L + d) - L                                # as the geometry computes it
+        zl = -boucwen.elastic_force(delta, bw)            # the zero-force line
+        assert zl > -boucwen.z_bound(bw)                   # reachable: inside the band |z| <= z_u
+        for z, vy in ((0.5 * boucwen.virgin_z(delta, bw), 0.3), (0.5 * boucwen.virgin_z(delta, bw), -0.3),
+                      (zl + 50.0, -0.2)):
+            out.append(("taut", z, -(L + delta), vy))
+        out.append(("on_line", zl, -(L + delta), 0.2))    # vy > 0: the hook rises, the rope unloads
+        out.append(("slack", 0.0, -(L - delta), 0.4))
+    return out
+
+
+@pytest.mark.parametrize("model", ["bouc_wen", "kelvin_voigt"])
+def test_pinned_regime_equations_are_the_law_on_its_domain(model):
+    """The monolith integrates each regime's equations between located switches: on the regime's own
+    domain they must be exactly what the FMU's unpinned law computes."""
+    m = RopeModel(RopeParams(model=model, length=L, n_lines=NL))
+    for regime, z, y, vy in _states_in_each_regime():
+        if model == "kelvin_voigt" and regime == "on_line":
+            continue
+        u = hook_at(m, y, vy)
+        x = np.array([z]) if model == "bouc_wen" else np.zeros(0)
+        m.pin(None)
+        assert m.regime(x, u) == regime
+        free = (m.derivatives(0.0, x, u), m.output_values(0.0, x, u))
+        m.pin(regime)
+        pinned = (m.derivatives(0.0, x, u), m.output_values(0.0, x, u))
+        assert pinned[0] == pytest.approx(free[0], rel=1e-12, abs=1e-9)
+        assert pinned[1] == pytest.approx(free[1], rel=1e-12, abs=1e-9)
+        # no switching function has crossed into its firing side inside the domain
+        for g, direction, _ in m.regime_events(x, u):
+            assert g * direction < 0.0
+
+
+def test_regime_entry_resets_are_the_projection_of_the_fmu():
+    m = RopeModel(P)
+    bw = m.bouc_wen_at(L)
+    for delta, z in ((-1e-3, -25.0), (2e-3, -boucwen.elastic_force(2e-3, bw) - 40.0)):
+        u = hook_at(m, -(L + delta), 0.1)
+        regime = "slack" if delta < 0 else "on_line"
+        assert m.enter(regime, np.array([z]), u) == pytest.approx(m.after_step(0.0, np.array([z]), u), abs=1e-9)
+        assert m.pinned == regime
+    with pytest.raises(ValueError, match="on_line"):
+        RopeModel(RopeParams(length=L)).pin("on_line")
+
+
 # --- through the built FMU (fmpy, in a child process) ------------------------------------------
 
 def _fmu_bouc_wen_run() -> dict:

@@ -110,11 +110,28 @@ class Monolith:
             ins = [sig.name for sig in self.models[d].inputs]
             self.links.append(Link(s, outs.index(c.get("startConnector")), d, ins.index(c.get("endConnector"))))
         self.incoming = [[lk for lk in self.links if lk.dst == i] for i in range(len(self.models))]
+        # per component and source: (source, source output indices, input indices) for one fancy-index copy
+        self.feeds = [self._feeds(lks) for lks in self.incoming]
+        self.acyclic = True
         self.order = self._order()
+        # evaluated before the ordered pass: components whose (state-only) outputs feed a component
+        # that comes earlier in the order
+        pos = {i: k for k, i in enumerate(self.order)}
+        self.early = sorted({lk.src for lk in self.links if pos[lk.dst] <= pos[lk.src]})
         self.u = [m.default_inputs() for m in self.models]
         self.y = [np.zeros(len(m.outputs)) for m in self.models]
         self.sizes: list[int] = []
+        self._slices: list[slice] = []
         self.columns = [f"{n}.{s.name}" for n, m in zip(self.names, self.models) for s in m.outputs]
+
+    @staticmethod
+    def _feeds(incoming: list[Link]) -> list[tuple[int, np.ndarray, np.ndarray]]:
+        """(source, its output indices, the input indices they feed) for each source of one component."""
+        by_src: dict[int, list[Link]] = {}
+        for lk in incoming:
+            by_src.setdefault(lk.src, []).append(lk)
+        return [(src, np.array([lk.src_out for lk in lks]), np.array([lk.dst_in for lk in lks]))
+                for src, lks in sorted(by_src.items())]
 
     def _order(self) -> list[int]:
         """Components whose outputs feed others directly first (component-level feedthrough graph;
@@ -128,6 +145,7 @@ class Monolith:
         try:
             return list(TopologicalSorter(graph).static_order())
         except CycleError:
+            self.acyclic = False
             return list(range(len(self.models)))
 
     def _gather(self, i: int) -> bool:
@@ -143,16 +161,37 @@ class Monolith:
 
     def evaluate(self, t: float, xs: list[np.ndarray], initial: bool = False) -> list[np.ndarray]:
         """Outputs of every component at (t, xs), with consistent inputs; with ``initial`` the states
-        are re-derived from the inputs (xs is filled in place), as an FMU does in initialization mode."""
-        for i, m in enumerate(self.models):
-            if initial:
+        are re-derived from the inputs (xs is filled in place), as an FMU does in initialization mode.
+
+        Without an algebraic loop between components one pass in feedthrough order is exact: the
+        outputs computed first (with the previous inputs) are right wherever they depend on the
+        state only, and every feedthrough output is recomputed after its sources."""
+        if not initial:
+            ys, us, models = self.y, self.u, self.models
+            if self.acyclic:
+                for i in self.early:
+                    ys[i] = models[i].output_values(t, xs[i], us[i])
+                for i in self.order:
+                    u = us[i]
+                    for src, outs, ins in self.feeds[i]:
+                        u[ins] = ys[src][outs]
+                    ys[i] = models[i].output_values(t, xs[i], u)
+                return ys
+            for i, m in enumerate(models):
+                ys[i] = m.output_values(t, xs[i], us[i])
+        else:
+            for i, m in enumerate(self.models):
                 xs[i] = m.initial_state(self.u[i])
-            self.y[i] = m.output_values(t, xs[i], self.u[i])
+                self.y[i] = m.output_values(t, xs[i], self.u[i])
         for sweep in range(INIT_MAX_SWEEPS if initial else len(self.models) + 1):
             change = 0.0
             for i in self.order:
-                old = self.u[i].copy()
+                old = self.u[i].copy() if initial else None
                 if self._gather(i):
+                    if not initial:   # any change means another sweep
+                        change = math.inf
+                        self.y[i] = self.models[i].output_values(t, xs[i], self.u[i])
+                        continue
                     diff = float(np.max(np.abs(self.u[i] - old)))
                     change = max(change, diff) if math.isfinite(diff) else math.inf
                     if initial:
@@ -161,8 +200,10 @@ class Monolith:
                         self.u[i] = old + INIT_RELAXATION * (self.u[i] - old)
                         xs[i] = self.models[i].initial_state(self.u[i])
                     self.y[i] = self.models[i].output_values(t, xs[i], self.u[i])
-            scale = max(float(np.max(np.abs(u), initial=0.0)) for u in self.u)
-            if change <= (1e-9 * (1.0 + scale) if initial else 0.0):
+            if not initial and change == 0.0:
+                return self.y
+            scale = max(float(np.max(np.abs(u), initial=0.0)) for u in self.u) if initial else 0.0
+            if initial and change <= 1e-9 * (1.0 + scale):
                 return self.y
         if initial:
             raise SimulationError(f"reference {self.scene}: initialization did not converge "
@@ -170,12 +211,14 @@ class Monolith:
         raise SimulationError(f"reference {self.scene}: the outputs do not settle (algebraic loop?)")
 
     def split(self, x: np.ndarray) -> list[np.ndarray]:
-        return np.split(x, np.cumsum(self.sizes)[:-1]) if self.sizes else []
+        return [x[sl] for sl in self._slices]
 
     def initial_state(self, t0: float = 0.0) -> np.ndarray:
         xs = [np.zeros(0) for _ in self.models]
         self.evaluate(t0, xs, initial=True)
         self.sizes = [len(x) for x in xs]
+        ends = np.cumsum(self.sizes)
+        self._slices = [slice(int(e - n), int(e)) for e, n in zip(ends, self.sizes)]
         return np.concatenate(xs)
 
     def rhs(self, t: float, x: np.ndarray) -> np.ndarray:
@@ -183,16 +226,94 @@ class Monolith:
         more rope wound in than exists) gives NaN, which Radau/BDF treat as a failed iteration and
         answer with a smaller step."""
         xs = self.split(x)
+        dx = np.empty(len(x))
         try:
             with np.errstate(all="ignore"):
                 self.evaluate(t, xs)
-                dx = np.concatenate([m.derivatives(t, xi, ui) for m, xi, ui in zip(self.models, xs, self.u)])
+                for m, xi, ui, sl in zip(self.models, xs, self.u, self._slices):
+                    if sl.stop > sl.start:
+                        dx[sl] = m.derivatives(t, xi, ui)
         except (FloatingPointError, OverflowError, SimulationError):
-            return np.full(len(x), np.nan)
+            dx[:] = np.nan
         return dx
 
     def output_row(self, t: float, x: np.ndarray) -> np.ndarray:
         return np.concatenate(self.evaluate(t, self.split(x)))
+
+
+class RegimeEvents:
+    """The switching functions of every component with regimes (``pin``/``regime``/``regime_events``/
+    ``enter``, e.g. the slack-capable rope) as terminal events of solve_ivp: between two located
+    events each such component stays pinned in one regime, so the right-hand side is smooth there."""
+
+    def __init__(self, mono: Monolith):
+        self.mono = mono
+        self.switched = [i for i, m in enumerate(mono.models) if hasattr(m, "regime_events")]
+        self._key: tuple | None = None
+        self._values: list[tuple[float, int, str]] = []
+
+    def pin_from_state(self, t: float, x: np.ndarray) -> None:
+        xs = self.mono.split(x)
+        for i in self.switched:
+            self.mono.models[i].pin(None)
+        self.mono.evaluate(t, xs)
+        for i in self.switched:
+            self.mono.models[i].pin(self.mono.models[i].regime(xs[i], self.mono.u[i]))
+        self._key = None
+
+    def _table(self, t: float, x: np.ndarray) -> list[tuple[int, float, int, str]]:
+        key = (t, x.tobytes())
+        if key != self._key:
+            xs = self.mono.split(x)
+            with np.errstate(all="ignore"):
+                self.mono.evaluate(t, xs)
+            self._values = [(i, *ev) for i in self.switched
+                            for ev in self.mono.models[i].regime_events(xs[i], self.mono.u[i])]
+            self._key = key
+        return self._values
+
+    def functions(self, t: float, x: np.ndarray) -> list:
+        """One solve_ivp event function per way out of the current regimes."""
+        fns = []
+        for k, (_, _, direction, _) in enumerate(self._table(t, x)):
+            def g(tt, xx, k=k):
+                return self._table(tt, xx)[k][1]
+            g.terminal, g.direction = True, direction
+            fns.append(g)
+        return fns
+
+    def switch(self, t: float, x: np.ndarray, fired: int) -> np.ndarray:
+        """State after the event ``fired`` (index into :meth:`functions`): that component enters its
+        next regime (with its reset)."""
+        i, _, _, regime = self._table(t, x)[fired]
+        xs = [xi.copy() for xi in self.mono.split(x)]
+        self.mono.evaluate(t, xs)
+        xs[i] = self.mono.models[i].enter(regime, xs[i], self.mono.u[i])
+        self._key = None   # the table belongs to the old regime
+        return np.concatenate(xs)
+
+    def pins(self) -> list[str | None]:
+        return [self.mono.models[i].pinned for i in self.switched]
+
+    def restore(self, pins: list[str | None]) -> None:
+        for i, regime in zip(self.switched, pins):
+            self.mono.models[i].pin(regime)
+        self._key = None
+
+
+MAX_EVENTS = 10000
+
+
+def breakpoints(models: list[Model]) -> list[float]:
+    """Times [s] at which a model's right-hand side jumps by its own clock: the motor drive's supply
+    switching on, its brake letting go and the end of its frequency ramp (drive.py).  The solver
+    restarts there instead of shrinking its step onto the jump (which fails at tight tolerances)."""
+    times = []
+    for m in models:
+        if isinstance(m, DriveModel) and m.p.mode == "motor":
+            p = m.p
+            times += [p.start_time, p.start_time + p.brake_delay, p.start_time + p.ramp_time]
+    return sorted(set(times))
 
 
 def solve(scene: str, stop_time: float, times: np.ndarray | None = None, parameter_set: str = "default",
@@ -201,16 +322,49 @@ def solve(scene: str, stop_time: float, times: np.ndarray | None = None, paramet
 
     Returns ``{"time": times, "comp.var": values, ...}`` for every output of every component, the
     co-simulation's column names.  ``times`` defaults to 2001 points; ``parameters`` overrides
-    'comp.var' values as ``--set`` does.  atol is 1e-3 rtol.
+    'comp.var' values as ``--set`` does.  atol is 1e-3 rtol.  The run is cut into smooth segments,
+    each solved by a fresh solver: at the models' clock breakpoints (:func:`breakpoints`) and at the
+    located regime switches of the rope (slack, taut, on the zero-force line; :class:`RegimeEvents`).
     """
     mono = Monolith(scene, parameter_set, parameters)
-    x0 = mono.initial_state(0.0)
+    x = mono.initial_state(0.0)
     t_eval = np.asarray(times, dtype=float) if times is not None else np.linspace(0.0, stop_time, 2001)
-    sol = solve_ivp(mono.rhs, (0.0, stop_time), x0, method=method, t_eval=t_eval, rtol=rtol, atol=1e-3 * rtol)
-    if not sol.success:
-        raise SimulationError(f"reference solve of {scene} failed: {sol.message}")
-    rows = np.array([mono.output_row(t, x) for t, x in zip(sol.t, sol.y.T)])
-    out = {"time": sol.t}
+    cuts = [b for b in breakpoints(mono.models) if 0.0 < b < stop_time] + [stop_time]
+    events = RegimeEvents(mono)
+    events.pin_from_state(0.0, x)
+    t, ts, ys, pins = 0.0, [], [], []
+    for _ in range(MAX_EVENTS):
+        end = next(c for c in cuts if c > t)
+        wanted = t_eval[((t_eval >= t) if not ts else (t_eval > t)) & (t_eval <= end)]
+        # the segment sees the clock up to just before the cut: the jump belongs to the next segment
+        left = float(np.nextafter(end, -np.inf))
+        sol = solve_ivp(lambda tt, xx: mono.rhs(min(tt, left), xx), (t, end), x, method=method,
+                        t_eval=np.union1d(wanted, [end]), rtol=rtol, atol=1e-3 * rtol,
+                        events=events.functions(t, x) or None)
+        if sol.status == -1:
+            raise SimulationError(f"reference solve of {scene} failed at t = {sol.t[-1] if len(sol.t) else t:.6g} s: "
+                                  f"{sol.message}")
+        keep = np.isin(sol.t, wanted)
+        ts.append(sol.t[keep])
+        ys.append(sol.y[:, keep])
+        pins.append(events.pins())
+        if sol.status == 0:
+            if end >= stop_time:
+                break
+            t, x = end, sol.y[:, -1]
+            continue
+        fired = next(k for k, te in enumerate(sol.t_events) if len(te))
+        t = float(sol.t_events[fired][0])
+        x = events.switch(t, sol.y_events[fired][0], fired)
+    else:
+        raise SimulationError(f"reference solve of {scene}: more than {MAX_EVENTS} regime switches before "
+                              f"t = {t:.6g} s (chattering?)")
+    rows = []
+    for seg_t, seg_y, seg_pins in zip(ts, ys, pins):
+        events.restore(seg_pins)   # outputs in the regime each segment was solved in
+        rows += [mono.output_row(tt, xx) for tt, xx in zip(seg_t, seg_y.T)]
+    out = {"time": np.concatenate(ts)}
+    rows = np.array(rows).reshape(len(out["time"]), len(mono.columns))
     out.update({c: rows[:, j] for j, c in enumerate(mono.columns)})
     return out
 

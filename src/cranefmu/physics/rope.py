@@ -30,6 +30,24 @@ small-amplitude stiffness.  Initial state: the rope was loaded monotonically fro
 initial elongation (virgin curve, :func:`.boucwen.virgin_z`), so a rope at rest under the load
 that this elongation carries is in equilibrium (z' = 0 when delta' = 0).  Scene authors place
 the hook with :func:`static_elongation`.
+
+Regimes (for a solver that locates events, :mod:`cranefmu.reference`)
+---------------------------------------------------------------------
+The law above switches between three smooth regimes; on its own domain each one is exactly the
+law the FMU integrates (derived from the rules above):
+
+* ``slack``   (delta < 0):  T = 0, z' = 0, z = 0 (entered with z set to 0);
+* ``taut``    (delta >= 0, F >= 0):  KV T = max(0, c delta + b delta'), BW T = F_2 (z + F_1), z' = eq. 1;
+* ``on_line`` (Bouc-Wen, delta > 0, unloading on the zero-force line z = -F_1(delta); entered with z
+  set to -F_1):  T = 0, z' = -F_1'(delta) delta'.
+
+:meth:`RopeModel.pin` holds one regime, whose equations then also apply a little outside its
+domain (a Newton trial, the step that crosses the boundary), and :meth:`RopeModel.regime_events`
+gives the switching functions that leave it.  With the regime pinned between located events the
+right-hand side is smooth, and an implicit solver's difference Jacobian never straddles the jump
+of z' (0 -> alpha delta') or of the Kelvin-Voigt force (0 -> b delta') at delta = 0.  The resets
+on entry are the FMU's ``after_step`` projection at the switching instant.  Unpinned (the FMU),
+the model picks the regime from the state at every call.
 """
 from __future__ import annotations
 
@@ -92,8 +110,10 @@ class RopeParams(Params):
         return BoucWenParams(**{name: getattr(self, name) for name, _, _ in BoucWenParams.field_specs()})
 
 
-# input indices (order of RopeModel.inputs)
-_P_TOP, _V_TOP, _P_HOOK, _V_HOOK, _PAYOUT, _PAYOUT_RATE = slice(0, 3), slice(3, 6), slice(6, 9), slice(9, 12), 12, 13
+#: regimes of the slack-capable rope (module docstring)
+SLACK, TAUT, ON_LINE = "slack", "taut", "on_line"
+REGIMES = (SLACK, TAUT, ON_LINE)
+
 
 
 def _vec_signals(prefix: str, what: str, unit: str, coupling: bool) -> tuple[Signal, ...]:
@@ -122,16 +142,20 @@ def damping(p: RopeParams, c: float, l_u: float) -> float:
     return 2.0 * p.zeta * math.sqrt(c * m_eff)
 
 
-def geometry(u: np.ndarray, p: RopeParams) -> tuple[np.ndarray, float, float, float]:
-    """Unit vector top->hook, chord length L [m], unstretched length L_u [m], dL/dt - dL_u/dt [m/s]."""
-    d = u[_P_HOOK] - u[_P_TOP]
-    length = float(np.sqrt(d @ d))
-    l_u = p.length + u[_PAYOUT] / p.n_lines
+def geometry(u: np.ndarray, p: RopeParams) -> tuple[tuple[float, float, float], float, float, float]:
+    """Unit vector top->hook, chord length L [m], unstretched length L_u [m], dL/dt - dL_u/dt [m/s].
+
+    Scalar arithmetic: called several times per right-hand side, where numpy's per-call cost on
+    3-vectors dominated."""
+    xt, yt, zt, vxt, vyt, vzt, xh, yh, zh, vxh, vyh, vzh, payout, rate = u[:14].tolist()
+    dx, dy, dz = xh - xt, yh - yt, zh - zt
+    length = math.sqrt(dx * dx + dy * dy + dz * dz)
+    l_u = p.length + payout / p.n_lines
     if l_u <= 0.0:
-        raise FloatingPointError(f"rope.payout = {u[_PAYOUT]:.6g} m leaves no rope: unstretched length "
+        raise FloatingPointError(f"rope.payout = {payout:.6g} m leaves no rope: unstretched length "
                                  f"{l_u:.6g} m must stay > 0")
-    e = d / length if length > 0.0 else np.array([0.0, -1.0, 0.0])
-    delta_dot = float(e @ (u[_V_HOOK] - u[_V_TOP])) - u[_PAYOUT_RATE] / p.n_lines
+    e = (dx / length, dy / length, dz / length) if length > 0.0 else (0.0, -1.0, 0.0)
+    delta_dot = e[0] * (vxh - vxt) + e[1] * (vyh - vyt) + e[2] * (vzh - vzt) - rate / p.n_lines
     return e, length, l_u, delta_dot
 
 
@@ -170,6 +194,7 @@ class RopeModel(Model):
         super().__init__(params)
         self._bw = params.bouc_wen() if params.model == "bouc_wen" else None
         self._scaled: tuple[float, BoucWenParams | None] = (math.nan, None)
+        self.pinned: str | None = None
 
     def bouc_wen_at(self, l_u: float) -> BoucWenParams:
         """Bouc-Wen set of the whole reeving at unstretched line length ``l_u`` [m] (cached:
@@ -192,7 +217,57 @@ class RopeModel(Model):
         if self._bw is None:
             return np.zeros(0)
         _, length, l_u, delta_dot = geometry(u, self.p)
-        return np.array([boucwen.rope_z_rate(length - l_u, delta_dot, float(x[0]), self.bouc_wen_at(l_u))])
+        delta, z, bw = length - l_u, float(x[0]), self.bouc_wen_at(l_u)
+        if self.pinned is None:
+            return np.array([boucwen.rope_z_rate(delta, delta_dot, z, bw)])
+        if self.pinned == SLACK:
+            return np.zeros(1)
+        if self.pinned == ON_LINE:
+            return np.array([-boucwen.elastic_slope(delta, bw) * delta_dot])
+        return np.array([boucwen.z_rate(delta_dot, z, bw)])
+
+    # --- regimes (module docstring) -----------------------------------------------------------
+    def pin(self, regime: str | None) -> None:
+        """Hold ``regime`` (one of REGIMES) in every later call, or None to pick it from the state."""
+        if regime not in (None, *REGIMES) or (regime == ON_LINE and self._bw is None):
+            allowed = REGIMES if self._bw is not None else (SLACK, TAUT)
+            raise ValueError(f"rope regime {regime!r}: allowed None or one of {', '.join(allowed)} "
+                             f"(model {self.p.model})")
+        self.pinned = regime
+
+    def regime(self, x: np.ndarray, u: np.ndarray) -> str:
+        """The regime the unpinned law is in at state ``x`` and inputs ``u``."""
+        _, length, l_u, delta_dot = geometry(u, self.p)
+        delta = length - l_u
+        if delta < 0.0:
+            return SLACK
+        if self._bw is not None and delta > 0.0 and delta_dot < 0.0:
+            if float(x[0]) + boucwen.elastic_force(delta, self.bouc_wen_at(l_u)) <= 0.0:
+                return ON_LINE
+        return TAUT
+
+    def regime_events(self, x: np.ndarray, u: np.ndarray) -> list[tuple[float, int, str]]:
+        """(g, direction, next regime) for each way out of the pinned regime: the regime ends when g
+        crosses 0 in ``direction`` (+1 upward, -1 downward)."""
+        _, length, l_u, delta_dot = geometry(u, self.p)
+        delta = length - l_u
+        if self.pinned == SLACK:
+            return [(delta, 1, TAUT)]
+        if self.pinned == ON_LINE:
+            return [(delta, -1, SLACK), (delta_dot, 1, TAUT)]
+        if self._bw is None:
+            return [(delta, -1, SLACK)]
+        return [(delta, -1, SLACK), (float(x[0]) + boucwen.elastic_force(delta, self.bouc_wen_at(l_u)), -1, ON_LINE)]
+
+    def enter(self, regime: str, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """State on entering ``regime`` (the reset of the module docstring), and pin it."""
+        self.pin(regime)
+        if self._bw is None or regime == TAUT:
+            return x
+        if regime == SLACK:
+            return np.zeros(1)
+        _, length, l_u, _ = geometry(u, self.p)
+        return np.array([-boucwen.elastic_force(length - l_u, self.bouc_wen_at(l_u))])
 
     def after_step(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         if self._bw is None:
@@ -203,15 +278,22 @@ class RopeModel(Model):
     def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         p = self.p
         e, length, l_u, delta_dot = geometry(u, p)
-        if self._bw is None:
+        z = float(x[0]) if self._bw is not None else 0.0
+        if self.pinned == TAUT:
+            if self._bw is None:
+                c = stiffness(p, l_u)
+                tension = max(0.0, c * (length - l_u) + damping(p, c, l_u) * delta_dot)
+            else:
+                tension = boucwen.force(length - l_u, delta_dot, z, self.bouc_wen_at(l_u))
+        elif self.pinned is not None:
+            tension = 0.0
+        elif self._bw is None:
             c = stiffness(p, l_u)
             tension = kelvin_voigt_tension(length - l_u, delta_dot, c, damping(p, c, l_u))
-            z = 0.0
         else:
-            z = float(x[0])
             tension = boucwen.tension(length - l_u, delta_dot, z, self.bouc_wen_at(l_u))
-        f_hook = -tension * e
-        return np.array([tension, tension / p.n_lines, *f_hook, *(-f_hook), length, length - l_u,
+        fx, fy, fz = -tension * e[0], -tension * e[1], -tension * e[2]
+        return np.array([tension, tension / p.n_lines, fx, fy, fz, -fx, -fy, -fz, length, length - l_u,
                          1.0 if tension == 0.0 else 0.0, z])
 
 
