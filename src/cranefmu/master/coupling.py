@@ -46,6 +46,7 @@ class InputGroup:
     keeps_fresh: bool = False    # the same, and in step mode: setting them leaves the destination's read valid
     sl: slice | None = None      # this group's part of the vector of all coupling values
     plain: bool = False          # factor 1 and offset 0: values pass unchanged
+    set_at: int = 0              # where set_values starts in the system's array of all of them
 
 
 def feedthrough(comp: FmuComponent) -> dict[str, set[str]]:

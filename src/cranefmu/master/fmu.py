@@ -234,9 +234,16 @@ class FmuComponent:
             self.fresh = True
         return self._read[3]
 
-    def write(self, vrs, n: int, values) -> None:
-        """fmi2SetReal of the first ``n`` of the ctypes arrays ``vrs``, ``values``."""
+    def use_buffer(self, values, view: np.ndarray) -> None:
+        """Read into ``values`` (a ctypes double array of len(read_vrs), e.g. part of one buffer for
+        every component) seen as the numpy array ``view``."""
+        n = len(self.read_vrs)
+        self._read = ((ctypes.c_uint * n)(*self.read_vrs), n, values, view)
         self.fresh = False
+
+    def write(self, vrs, n: int, values) -> None:
+        """fmi2SetReal of the first ``n`` of the ctypes arrays ``vrs``, ``values``.  The caller decides
+        whether the inputs set make :attr:`fresh` false (an output depends on them)."""
         status = self._set_real(self._c, vrs, n, values)
         if status > 1:
             self._failed("fmi2SetReal", status)

@@ -41,6 +41,37 @@ class RunStats:
         return simulated / self.wall_time if self.wall_time > 0 else float("inf")
 
 
+class _Phase:
+    """Consecutive connection groups (in exchange order) whose reads no input set among them changes."""
+
+    def __init__(self, groups: list[InputGroup], read_at: list[int], read_view: np.ndarray):
+        self.read_view = read_view
+        self.sources = list(dict.fromkeys(g.src for g in groups))
+        self.sl = slice(groups[0].sl.start, groups[-1].sl.stop)
+        self.members, gather, factor, offset, set_values = [], [], [], [], []
+        rate_sel, set_d1, set_d2 = [], [], []
+        for g in groups:
+            a = g.sl.start - self.sl.start
+            n = len(g.dst_vrs)
+            self.members.append((g, a, a + n))
+            gather += [read_at[g.src] + int(i) for i in g.src_pos]
+            factor += list(g.factor)
+            offset += list(g.offset)
+            set_values += range(g.set_at, g.set_at + n)
+            if g.dt_vrs is not None:
+                rate_sel += range(a, a + n)
+                set_d1 += range(g.set_at + n, g.set_at + 2 * n)
+                set_d2 += range(g.set_at + 2 * n, g.set_at + 3 * n)
+        index = lambda xs: np.array(xs, dtype=np.intp)
+        self.gather, self.set_values = index(gather), index(set_values)
+        self.rate_sel, self.set_d1, self.set_d2 = index(rate_sel), index(set_d1), index(set_d2)
+        self.factor, self.offset = np.array(factor), np.array(offset)
+        self.plain = all(g.plain for g in groups)
+        self.zero = np.zeros(self.sl.stop - self.sl.start)
+        self.all_rates = len(rate_sel) == len(self.zero)
+        self.d2_zero = False   # the set array holds zero curvatures for every group of the phase
+
+
 class CoSystem:
     """Instantiated FMUs, their connections in exchange order, and the coupling values' history."""
 
@@ -105,9 +136,17 @@ class CoSystem:
             n = len(g.dst_vrs)
             vrs = g.dst_vrs + (g.dt_vrs + g.dt2_vrs if g.dt_vrs is not None else [])
             g.set_vrs = (ctypes.c_uint * len(vrs))(*vrs)
-            g.set_values = (ctypes.c_double * len(vrs))()
-            g.set_view = np.ctypeslib.as_array(g.set_values)
             g.zero = np.zeros(n)
+        # the values of every group's fmi2SetReal are parts of one array, filled per phase (see exchange)
+        sizes = [len(g.set_vrs) for g in self.links]
+        self._set_all = (ctypes.c_double * max(1, sum(sizes)))()
+        self._set_view = np.ctypeslib.as_array(self._set_all)
+        off = 0
+        for g, m in zip(self.links, sizes):
+            g.set_values = (ctypes.c_double * m).from_buffer(self._set_all, off * ctypes.sizeof(ctypes.c_double))
+            g.set_view = self._set_view[off:off + m]
+            g.set_at = off
+            off += m
             # the destination's outputs stay valid after this group's inputs are set, if none depends on them
             inputs = set(g.dst_names)
             g.keeps_outputs = not any(ft[g.dst].get(o, set(inputs)) & inputs for o in reads[g.dst])
@@ -128,6 +167,9 @@ class CoSystem:
             g.keeps_fresh = on and g.keeps_outputs
         for c in self.comps:
             c.fresh = False
+        self._stepping = on
+        self._curvature_written = True
+        self._phases = None   # built at the first exchange in step mode (every read position is known then)
 
     def _variable_names(self, scene: Scene) -> list[str]:
         """'src.out -> dst.in' for each coupling variable, in the order of the coupling vector."""
@@ -169,6 +211,7 @@ class CoSystem:
                         view[2 * n:] = d2
                         count = 3 * n
                         g.rates_set = moving
+                        self._curvature_written = True
                 comp.write(g.set_vrs, count, g.set_values)
                 if g.fmi_derivatives:
                     CoSystem._input_derivatives(comp.fmu, g, d1, d2)
@@ -212,36 +255,130 @@ class CoSystem:
 
     def exchange(self, t: float, order: int | None = None) -> None:
         """Move values along every connection at time t, in feedthrough order, feeding the rates of
-        the extrapolation polynomial (of ``order``, default the run's)."""
+        the extrapolation polynomial (of ``order``, default the run's).
+
+        In step mode the groups go in phases (:meth:`_plan_phases`): every source of a phase is read,
+        the phase's values taken from all of them in one gather, their rates computed in one product,
+        written to the phase's part of the set array, then each group's fmi2SetReal.  A phase ends
+        where a group would read a component that an input set of the phase makes stale, so the
+        values are those a group-by-group exchange in feedthrough order reads."""
         p = self.order_of_extrapolation if order is None else order
-        new = self._new
+        if not self._stepping:
+            self._exchange_groups(t, p)
+        else:
+            if self._phases is None:
+                self._phases = self._plan_phases()
+            if self._curvature_written:  # push() wrote rates: no phase may assume its zero curvatures
+                for phase in self._phases:
+                    phase.d2_zero = False
+                self._curvature_written = False
+            for phase in self._phases:
+                self._exchange_phase(phase, t, p)
+        np.maximum(self.scale, np.abs(self._new), out=self.scale)
+
+    def _plan_phases(self) -> list[_Phase]:
+        total = sum(len(c.read_vrs) for c in self.comps)
+        self._read_all = (ctypes.c_double * max(1, total))()
+        read_view = np.ctypeslib.as_array(self._read_all)
+        at, off = [], 0
+        for comp in self.comps:
+            n = len(comp.read_vrs)
+            comp.use_buffer((ctypes.c_double * n).from_buffer(self._read_all, off * ctypes.sizeof(ctypes.c_double)),
+                            read_view[off:off + n])
+            at.append(off)
+            off += n
+        phases, current, stale = [], [], set()
         for g in self.links:
-            comp = self.comps[g.src]
-            try:
-                value = comp.read()[g.src_pos]
-            except Exception:
-                raise self.refused(comp, "reading its outputs") from None
-            if not g.plain:
-                value = value * g.factor + g.offset
+            if g.src in stale:
+                phases.append(current)
+                current, stale = [], set()
+            current.append(g)
+            if not g.keeps_outputs:
+                stale.add(g.dst)
+        phases.append(current)
+        return [_Phase(gs, at, read_view) for gs in phases if gs]
+
+    def _exchange_phase(self, ph: _Phase, t: float, p: int) -> None:
+        for i in ph.sources:
+            comp = self.comps[i]
+            if not comp.fresh:
+                try:
+                    comp.read()
+                except Exception:
+                    raise self.refused(comp, "reading its outputs") from None
+        values = ph.read_view[ph.gather]
+        if not ph.plain:
+            values = values * ph.factor + ph.offset
+        self._new[ph.sl] = values
+        first = None
+        for g, a, b in ph.members:
             hist = g.history
-            sl = g.sl
-            new[sl] = value
             if hist and hist[-1][0] == t:
-                hist[-1] = (t, value)
+                hist[-1] = (t, values[a:b])
             else:
-                hist.append((t, value))
+                hist.append((t, values[a:b]))
                 if len(hist) > 3:
                     del hist[0]
+            first = first or hist
+        d1 = d2 = None
+        if p > 0 and len(first) >= 2:
+            points = first[-(p + 1):]
+            arrays = [q[1].base for q in points]
+            k = len(points)
+            # the phase's past values are arrays of this method, unless a history was rewritten (rollback,
+            # start-up): then group by group
+            if all(len(g.history) >= k and all(q[1].base is arr for q, arr in zip(g.history[-k:], arrays))
+                   for g, _, _ in ph.members):
+                w1, w2 = lagrange_weights([q[0] for q in points], t)
+                stack = np.array(arrays)
+                d1 = w1 @ stack
+                d2 = w2 @ stack if p > 1 else ph.zero  # a line has no curvature
+            else:
+                for g, a, b in ph.members:
+                    self.push(g, values[a:b], *rates(g.history[-(p + 1):], t))
+                return
+        sv = self._set_view
+        sv[ph.set_values] = values
+        if d1 is not None and len(ph.rate_sel):
+            sv[ph.set_d1] = d1 if ph.all_rates else d1[ph.rate_sel]
+            if d2 is not ph.zero or not ph.d2_zero:   # a line's zero curvature is written once
+                sv[ph.set_d2] = d2 if ph.all_rates else d2[ph.rate_sel]
+                ph.d2_zero = d2 is ph.zero
+        for g, a, b in ph.members:
+            n = b - a
+            count = n
+            if g.dt_vrs is not None:
+                if d1 is not None:
+                    count, g.rates_set = 3 * n, True
+                elif g.rates_set:  # zero rates: sent once, then values only
+                    g.set_view[n:] = 0.0
+                    count, g.rates_set = 3 * n, False
+            comp = self.comps[g.dst]
+            u1 = g.zero if d1 is None else d1[a:b]
+            u2 = g.zero if d1 is None else d2[a:b]
+            try:
+                comp.write(g.set_vrs, count, g.set_values)
+                if g.fmi_derivatives:
+                    CoSystem._input_derivatives(comp.fmu, g, u1, u2)
+            except Exception:
+                raise self.refused(comp, "setting its inputs") from None
+            if not g.keeps_fresh:
+                comp.fresh = False
+            g.fed = (values[a:b], u1, u2)
+
+    def _exchange_groups(self, t: float, p: int) -> None:
+        """Group by group (initialization mode, where any input set may change any output)."""
+        new = self._new
+        for g in self.links:
+            value = self.pull(g)
+            self.record_history(g, t, value)
+            new[g.sl] = value
+            hist = g.history
             if p == 0 or len(hist) < 2:
                 d1 = d2 = g.zero
             else:
-                points = hist[-(p + 1):]
-                w1, w2 = lagrange_weights([q[0] for q in points], t)
-                values = np.array([q[1] for q in points])
-                d1 = w1 @ values
-                d2 = w2 @ values if p > 1 else g.zero  # a line has no curvature
+                d1, d2 = rates(hist[-(p + 1):], t)
             self.push(g, value, d1, d2)
-        np.maximum(self.scale, np.abs(new), out=self.scale)
 
     def capture_input_ends(self, h: float) -> None:
         """Remember each input's fed value at the end of a step of ``h`` (before the next exchange)."""
