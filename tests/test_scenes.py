@@ -58,7 +58,7 @@ HELD = {"truck_telescope": {"boom.telescope_start": 1.0, "drive.start_time": 1.0
                                                    ("truck_telescope", "luff45"), ("overhead_lift", "default")])
 def test_crane_scenes_start_at_rest_in_the_cosimulation(built, scene, parameter_set):
     """The co-simulation initializes every crane scene at rest (at 30 deg the initialization loop used
-    to stall: pendulum.start = below_top).  Measured: velocities <= 3e-13, drifts <= 1e-12 relative."""
+    to stall: pendulum.start = below_top).  Measured: velocities <= 3e-13 m/s, drifts <= 2e-12 relative."""
     res = run(scene, stop_time=0.05, step_size=1e-3, parameter_set=parameter_set, parameters=HELD.get(scene)).result
     assert np.max(np.abs(res["pendulum.vy"])) < 1e-9
     if scene != "truck_telescope":
