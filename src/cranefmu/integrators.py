@@ -10,8 +10,10 @@ for ``max_step`` below about 2.8/|lambda_max| (rk4) on a stiff internal.
 Implicit fixed-step: ``trbdf2`` (Bank et al. 1985, gamma = 2 - sqrt(2)): a trapezoidal stage to
 t + gamma h, then BDF2 through (t, t + gamma h, t + h); order 2, L-stable, one step (no history to
 carry across communication points).  Both stages solve ``y = a + c h f(y)`` with the same
-c = gamma/2 = (1 - gamma)/(2 - gamma), so one finite-difference Jacobian and one LU per sub-step
-serve both (simplified Newton; the LU is kept over the sub-steps of a call while Newton converges).
+c = gamma/2 = (1 - gamma)/(2 - gamma), so one finite-difference Jacobian and one inverse of
+I - c h J per sub-step serve both (simplified Newton; the inverse is kept over the sub-steps of a
+call while Newton converges).  The states are few (at most 10): a matrix-vector product with the
+inverse costs less than scipy's LU solve per Newton iteration.
 Adaptive: ``rk45`` (explicit), ``radau`` and ``bdf`` (implicit), from scipy.
 """
 from __future__ import annotations
@@ -68,13 +70,12 @@ def _jacobian(f: RHS, t: float, x: np.ndarray, fx: np.ndarray) -> np.ndarray:
     return jac
 
 
-def _solve_stage(f: RHS, t: float, a: np.ndarray, y: np.ndarray, ch: float, lu, tol: float) -> np.ndarray:
-    """Simplified Newton for y = a + ch f(t, y) with the factorised I - ch J."""
-    from scipy.linalg import lu_solve
-
+def _solve_stage(f: RHS, t: float, a: np.ndarray, y: np.ndarray, ch: float, inverse: np.ndarray,
+                 tol: float) -> np.ndarray:
+    """Simplified Newton for y = a + ch f(t, y) with the inverse of I - ch J."""
     for _ in range(_NEWTON_ITERATIONS):
         r = y - a - ch * f(t, y)
-        dy = lu_solve(lu, r)
+        dy = inverse @ r
         y = y - dy
         if np.all(np.abs(dy) <= tol * (1.0 + np.abs(y))):
             return y
@@ -82,38 +83,40 @@ def _solve_stage(f: RHS, t: float, a: np.ndarray, y: np.ndarray, ch: float, lu, 
                              f"(sub-step {ch / _C:.3g} s)")
 
 
-def _trbdf2_step(f: RHS, t: float, x: np.ndarray, dt: float, lu, tol: float) -> np.ndarray:
-    """One TR-BDF2 step with the factorised I - c dt J; FloatingPointError if Newton fails."""
+def _trbdf2_step(f: RHS, t: float, x: np.ndarray, dt: float, inverse: np.ndarray, tol: float) -> np.ndarray:
+    """One TR-BDF2 step with ``inverse`` = (I - c dt J)^-1; FloatingPointError if Newton fails."""
     ch = _C * dt
     fx = f(t, x)
     tg = t + _GAMMA * dt
-    xg = _solve_stage(f, tg, x + ch * fx, x + _GAMMA * dt * fx, ch, lu, tol)
-    return _solve_stage(f, t + dt, _W_G * xg - _W_0 * x, xg + (1.0 - _GAMMA) * dt * f(tg, xg), ch, lu, tol)
+    xg = _solve_stage(f, tg, x + ch * fx, x + _GAMMA * dt * fx, ch, inverse, tol)
+    return _solve_stage(f, t + dt, _W_G * xg - _W_0 * x, xg + (1.0 - _GAMMA) * dt * f(tg, xg), ch, inverse, tol)
 
 
 def _trbdf2(f: RHS, t0: float, x0: np.ndarray, dt: float, n: int, tol: float = 1e-10, depth: int = 0) -> np.ndarray:
-    """``n`` TR-BDF2 sub-steps of ``dt``.  The LU is kept while the simplified Newton iteration
+    """``n`` TR-BDF2 sub-steps of ``dt``.  The inverse is kept while the simplified Newton iteration
     converges and renewed when it does not; if Newton fails even with a fresh Jacobian (a kink of
     f inside the step: contact, slack), the sub-step is halved, at most 8 times."""
-    from scipy.linalg import lu_factor
 
-    def fresh_lu(t: float, x: np.ndarray):
-        return lu_factor(np.eye(x.size) - _C * dt * _jacobian(f, t, x, f(t, x)))
+    def fresh_inverse(t: float, x: np.ndarray) -> np.ndarray:
+        try:
+            return np.linalg.inv(np.eye(x.size) - _C * dt * _jacobian(f, t, x, f(t, x)))
+        except np.linalg.LinAlgError:
+            raise FloatingPointError(f"solver trbdf2: singular Newton matrix at t = {t:.6g} s") from None
 
-    x, lu = x0, None
+    x, inverse = x0, None
     for i in range(n):
         t = t0 + i * dt
         try:
-            lu = lu if lu is not None else fresh_lu(t, x)
+            inverse = inverse if inverse is not None else fresh_inverse(t, x)
             try:
-                x = _trbdf2_step(f, t, x, dt, lu, tol)
+                x = _trbdf2_step(f, t, x, dt, inverse, tol)
             except FloatingPointError:
-                lu = fresh_lu(t, x)
-                x = _trbdf2_step(f, t, x, dt, lu, tol)
+                inverse = fresh_inverse(t, x)
+                x = _trbdf2_step(f, t, x, dt, inverse, tol)
         except FloatingPointError:
             if depth >= 8:
                 raise
-            x, lu = _trbdf2(f, t, x, 0.5 * dt, 2, tol, depth + 1), None
+            x, inverse = _trbdf2(f, t, x, 0.5 * dt, 2, tol, depth + 1), None
     return x
 
 
