@@ -1,18 +1,22 @@
 """Speed against accuracy for every scene, on one core, in one run.
 
-For each scene: the master at every algorithm x extrapolation order x macro step H, fmpy's
-``fmpy.ssp.simulate_ssp`` on the same .ssp (same FMUs) at the same H, and the monolithic scipy solve
-at a sweep of tolerances; every error is the worst over the scene's key outputs of max|y - y_ref| /
-range(y_ref), against one tight monolithic solve (rtol 1e-10) or, where no monolithic model exists,
-the master's finest run (Jacobi, extrapolation 2, H_min / 4).  Then the equal-accuracy comparison
-(cheapest of each method meeting an error level), the hot-path profile (--profile), the cost of one
-pythonfmu call, and peak memory against simulated length with ``keep=False``.
+Sections of the report, in order: a summary against issue 6's targets; the hot path of every scene
+(where a macro step's time goes: each FMU's doStep, the other FMI calls, the master's own work,
+measured without a profiler by timing every FMI C call); the truck_telescope 30 s real-time target
+(several algorithm/H settings against the finest run); then per scene the master at every algorithm
+x extrapolation order x macro step H, fmpy's ``fmpy.ssp.simulate_ssp`` on the same .ssp (same FMUs)
+at the same H, and the monolithic scipy solve at a sweep of tolerances; every error is the worst
+over the scene's key outputs of max|y - y_ref| / range(y_ref), against one tight monolithic solve
+(rtol 1e-10) or, where no monolithic model exists, the master's finest run; the equal-accuracy
+comparison (cheapest of each method meeting an error level); with --profile a cProfile of one run
+and the cost of one pythonfmu call; peak memory against simulated length with ``keep=False``.
 
 Writes benchmarks/results/speed_accuracy.{md,csv}, speed_accuracy_<scene>.png, profile.txt.
 Every run executes in a spawned child (pythonfmu FMUs cannot be instantiated again in one process);
 all processes are pinned to one core.  Compare later runs as ratios, never as absolute times.
 
-    .venv/bin/python benchmarks/speed_accuracy.py [--quick] [--profile] [--scenes a,b] [--cpu 0]
+    .venv/bin/python benchmarks/speed_accuracy.py [--quick] [--profile] [--scenes a,b] [--steps ...]
+        [--algorithms jacobi,gauss-seidel] [--extrapolations 0,1] [--no-target] [--cpu 0]
 """
 from __future__ import annotations
 
@@ -60,7 +64,8 @@ def in_child(fn, *args, timeout: float = 900.0, **kwargs):
         ex.shutdown(wait=False, cancel_futures=True)
 
 
-def master_runs(scene: str, settings: list, stop: float, algorithm: str, extrapolation: int, say) -> tuple[list, list]:
+def master_runs(scene: str, settings: list, stop: float, algorithm: str, extrapolation: int, say,
+                **options) -> tuple[list, list]:
     """converge.run_once for each (H, tolerance), each in a guarded child (isolate=False inside it)."""
     from cranefmu import converge as cv
 
@@ -69,7 +74,7 @@ def master_runs(scene: str, settings: list, stop: float, algorithm: str, extrapo
         say(f"run {algorithm} x{extrapolation} {'tol=%g' % tol if tol is not None else 'H=%g' % h} ...")
         try:
             row, res = in_child(cv.run_once, scene, stop, h, tol, algorithm, extrapolation, None, None,
-                                isolate=False, timeout=max(120.0, 30 * stop))
+                                isolate=False, timeout=max(120.0, 30 * stop), **options)
         except ChildFailed as err:
             row, res = cv.ConvergenceRun(h, tol, failure=str(err)), None
         except cv.CraneFmuError as err:
@@ -128,12 +133,12 @@ def fmpy_run(ssp: str, scene: str, stop: float, h: float, keys: tuple[str, ...])
 
 
 # --- the monolithic solve at a sweep of tolerances ----------------------------------------------------
-def mono_sweep(scene: str, stop: float, times: np.ndarray, reference, keys) -> list[dict]:
+def mono_sweep(scene: str, stop: float, times: np.ndarray, reference, keys, rtols=MONO_RTOLS) -> list[dict]:
     from cranefmu.converge import monolithic_reference
 
     rows = []
     exact = reference.at(times)
-    for rtol in MONO_RTOLS:
+    for rtol in rtols:
         t0 = clock.perf_counter()
         try:
             sol = monolithic_reference(scene, stop, times, rtol=rtol)
@@ -183,7 +188,7 @@ def profile_run(scene: str, stop: float, h: float, algorithm: str, extrapolation
     t0 = clock.perf_counter()
     prof.enable()
     res = run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
-              keep=False, isolate=False)
+              keep=False, isolate=False, instability_alarm=False)
     prof.disable()
     total = clock.perf_counter() - t0
     st = pstats.Stats(prof)
@@ -217,6 +222,126 @@ def profile_run(scene: str, stop: float, h: float, algorithm: str, extrapolation
             "overhead": loop - inside, "steps": res.stats.steps, "fmu_time": dict(res.stats.fmu_time),
             "fmu_calls": dict(res.stats.fmu_calls), "layers": layers, "by_layer": by_layer,
             "text": buf.getvalue()}
+
+
+class _TimedCall:
+    """A ctypes FMI function that adds its wall time to a table (instance, function) -> [s, calls]."""
+
+    __slots__ = ("f", "cell")
+
+    def __init__(self, f, cell):
+        self.f, self.cell = f, cell
+
+    def __call__(self, *args):
+        t0 = clock.perf_counter()
+        try:
+            return self.f(*args)
+        finally:
+            self.cell[0] += clock.perf_counter() - t0
+            self.cell[1] += 1
+
+    def __getattr__(self, name):  # restype, argtypes, argnames: fmpy's wrapper reads them
+        return getattr(self.f, name)
+
+
+def fmi_split(scene: str, stop: float, h: float, algorithm: str, extrapolation: int, **options) -> dict:
+    """Without a profiler: the stepping loop's wall time and the time inside the FMI C functions
+    (each ctypes function fmpy loads is wrapped with a timer, so the master's direct calls and fmpy's
+    wrappers are timed alike), per FMU instance and per function.  Master = loop - FMI."""
+    import fmpy.fmi1 as fmi1
+
+    import cranefmu.master.run as runmod
+
+    table: dict[tuple[str, str], list] = {}
+    load = fmi1._FMU._loadFunctions
+
+    def timed_load(fmu):
+        load(fmu)
+        for name in list(fmu._functions):
+            cell = table.setdefault((fmu.instanceName, name.replace("fmi2", "")), [0.0, 0])
+            fmu._functions[name] = _TimedCall(fmu._functions[name], cell)
+
+    fmi1._FMU._loadFunctions = timed_load
+    loop_box = {}
+    inner = runmod._loop
+
+    def timed_loop(*args, **kwargs):
+        before = {k: v[0] for k, v in table.items()}
+        calls = {k: v[1] for k, v in table.items()}
+        t0 = clock.perf_counter()
+        try:
+            return inner(*args, **kwargs)
+        finally:
+            loop_box["wall"] = clock.perf_counter() - t0
+            loop_box["fmi"] = {k: (v[0] - before.get(k, 0.0), v[1] - calls.get(k, 0)) for k, v in table.items()}
+
+    runmod._loop = timed_loop
+    try:
+        res = runmod.run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
+                         keep=False, isolate=False, **options)
+    finally:
+        runmod._loop, fmi1._FMU._loadFunctions = inner, load
+    # the timer's own cost per call, to say how much of "inside FMI" it adds
+    cell = [0.0, 0]
+    dummy = _TimedCall(lambda *a: 0, cell)
+    t0 = clock.perf_counter()
+    for _ in range(20000):
+        dummy(1, 2)
+    timer_us = ((clock.perf_counter() - t0) / 20000) * 1e6
+    fmi = {k: v for k, v in loop_box["fmi"].items() if v[1]}
+    return {"scene": scene, "h": h, "steps": res.stats.steps, "wall": res.stats.wall_time, "loop": loop_box["wall"],
+            "fmi": fmi, "fmu_time": dict(res.stats.fmu_time), "timer_us": timer_us, "algorithm": algorithm,
+            "extrapolation": extrapolation}
+
+
+def hot_path_report(cases: list[tuple[str, float, float]], say) -> tuple[list[str], dict]:
+    """Per scene: where one macro step's time goes (each FMU's doStep, the other FMI calls, the master)."""
+    out = ["## Hot path: where a macro step's time goes (no profiler; Jacobi x1 or x0, keep=False, no CSV)", "",
+           "Loop = wall time of the stepping loop; FMI = time inside the FMI C functions (the FMU's own code, "
+           "pythonfmu included), timed around each ctypes call; master = loop - FMI (the master's own work: "
+           "exchange, extrapolation, power bonds, recorder, checks).  Target: master <= 25 % of FMI at equal H.", "",
+           "| scene | H [s] | steps | loop [us/step] | FMI [us/step] | doStep | getReal | setReal | other FMI | "
+           "master [us/step] | master / FMI | FMI calls/step | RTF bound by doStep |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    per_fmu = []
+    results = {}
+    for scene, stop, h in cases:
+        r = None
+        for ex in (1, 0):  # extrapolation 1; 0 where the iterative start-up of 1 fails
+            say(f"hot path {scene} H={h:g} x{ex} ...")
+            try:
+                r = in_child(fmi_split, scene, stop, h, "jacobi", ex, instability_alarm=False, timeout=900)
+                break
+            except Exception as err:  # reported, the other scenes still measured
+                out.append(f"| {scene} x{ex} | {h:g} | failed: {type(err).__name__}: {str(err)[:160]} |")
+        if r is None:
+            continue
+        results[scene] = r
+        n = max(r["steps"], 1)
+        by_fn: dict[str, float] = {}
+        by_fmu: dict[str, dict[str, float]] = {}
+        calls = 0
+        for (inst, fn), (sec, nc) in r["fmi"].items():
+            by_fn[fn] = by_fn.get(fn, 0.0) + sec
+            by_fmu.setdefault(inst, {})[fn] = by_fmu.setdefault(inst, {}).get(fn, 0.0) + sec
+            calls += nc
+        fmi = sum(by_fn.values())
+        step = by_fn.get("DoStep", 0.0)
+        master = r["loop"] - fmi
+        other = fmi - step - by_fn.get("GetReal", 0.0) - by_fn.get("SetReal", 0.0)
+        us = lambda x: f"{x / n * 1e6:.0f}"
+        out.append(f"| {scene} x{r['extrapolation']} | {h:g} | {n} | {us(r['loop'])} | {us(fmi)} | {us(step)} | {us(by_fn.get('GetReal', 0))} | "
+                   f"{us(by_fn.get('SetReal', 0))} | {us(other)} | {us(master)} | **{master / fmi * 100:.0f} %** | "
+                   f"{calls / n:.1f} | {h / (step / n):.1f} |")
+        r["master_ratio"] = master / fmi
+        r["rtf_bound"] = h / (step / n)
+        per_fmu.append(f"- {scene} (H = {h:g} s), inside FMI per FMU [us/step]: " + ", ".join(
+            f"{inst} {sum(f.values()) / n * 1e6:.0f} (doStep {f.get('DoStep', 0.0) / n * 1e6:.0f})"
+            for inst, f in sorted(by_fmu.items(), key=lambda kv: -sum(kv[1].values()))))
+    timer = next((r["timer_us"] for r in results.values()), float("nan"))
+    out += ["", *per_fmu, "", f"The timer around each FMI call costs {timer:.2f} us per call (a dummy call timed the "
+            "same way), counted partly on each side.", ""]
+    return out, results
 
 
 def unprofiled_split(scene: str, stop: float, h: float, algorithm: str, extrapolation: int) -> dict:
@@ -315,7 +440,8 @@ def scene_stop(scene: str, quick: bool) -> float:
 ADAPTIVE_TOLERANCES = (1e-3, 1e-4, 1e-5)
 
 
-def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: list[float] | None = None) -> dict:
+def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: list[float] | None = None,
+                algorithms: tuple[str, ...] | None = None, extrapolations: tuple[int, ...] = (0, 1, 2)) -> dict:
     from cranefmu import converge as cv
     from cranefmu.master.run import ALGORITHMS, resolve_scene
 
@@ -323,8 +449,9 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
     stop = stop or scene_stop(scene, quick)
     steps = steps or [4e-3, 2e-3, 1e-3]
     series: dict[tuple[str, int], tuple[list, list]] = {}
-    for alg in ALGORITHMS:
-        for ex in (0, 1, 2):
+    for alg in algorithms or ALGORITHMS:
+        # Jacobi x0 and x1 always: the same-H comparison with fmpy and the adaptive comparison use them
+        for ex in sorted(set(extrapolations) | ({0, 1} if alg == "jacobi" else set())):
             series[(alg, ex)] = master_runs(scene, [(h, None) for h in steps], stop, alg, ex, say)
     if cv.master_supports_adaptive():  # adaptive Jacobi, extrapolation 1, started at the finest fixed H
         series[("jacobi adaptive", 1)] = master_runs(scene, [(min(steps), tol) for tol in ADAPTIVE_TOLERANCES],
@@ -379,7 +506,8 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
         finest = next(r for r in series[("jacobi", 0)][1][::-1] if r is not None)
         say("monolithic tolerance sweep ...")
         try:
-            mono = in_child(mono_sweep, scene, stop, finest["time"], ref, keys, timeout=900)
+            mono = in_child(mono_sweep, scene, stop, finest["time"], ref, keys,
+                            MONO_RTOLS[:4] if quick else MONO_RTOLS, timeout=900)
         except ChildFailed as err:
             mono = [{"rtol": math.nan, "error": f"tolerance sweep: {err}"}]
     return {"scene": scene, "stop": stop, "keys": keys, "steps": steps, "series": series, "fmpy": fm_rows,
@@ -503,10 +631,13 @@ def scene_report(s: dict) -> list[str]:
     return out
 
 
-def write_csv(scenes: list[dict], path: Path) -> None:
+def write_csv(scenes: list[dict], path: Path, target: dict | None = None) -> None:
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["scene", "method", "setting", "worst_rel", "steps", "wall_time", "failure"])
+        for r, label in zip(*(target or {}).get("runs", ([], []))):
+            w.writerow([target["scene"], f"target {label} ({r.simulated:g} s)", r.step_size, r.worst_rel, r.steps,
+                        r.wall_time, r.failure or ""])
         for s in scenes:
             for (alg, ex), (runs, _) in s["series"].items():
                 for r in runs:
@@ -539,54 +670,82 @@ def plot_scene(s: dict, path: Path) -> None:
 
 
 def profile_report(scene: str, stop: float, h: float, say) -> list[str]:
+    """cProfile of one run: the top functions by own time (profile.txt) and own time per layer."""
     say(f"profile {scene} H={h:g} ...")
     p = in_child(profile_run, scene, stop, h, "jacobi", 0)
-    u = in_child(unprofiled_split, scene, stop, h, "jacobi", 0)
     (RESULTS / "profile.txt").write_text(f"cProfile of cranefmu.master.run.run({scene!r}, stop_time={stop}, "
                                          f"step_size={h}, jacobi, extrapolation 0), sorted by own time\n\n"
                                          + p["text"])
-    steps = max(p["steps"], 1)
-    per = {k: v / steps * 1e6 for k, v in p["fmi"].items() if v}
-    out = [f"## Hot path: {scene}, H = {h:g} s, {stop:g} s simulated, Jacobi x0", "",
-           f"Profiled (cProfile inflates Python-side time): run {p['total']:.2f} s, setup (load, instantiate, "
-           f"initialize, free) {p['setup']:.2f} s, stepping loop {p['loop']:.2f} s = inside fmpy's FMI calls "
-           f"{p['inside']:.2f} s + master {p['overhead']:.2f} s; "
-           f"**master overhead = {p['overhead'] / p['inside'] * 100:.0f} % of the FMI time** (target <= 25 %).",
-           "", "Per macro step inside the FMI calls [us]: " + ", ".join(f"{k} {v:.1f} ({p['ncalls'][k] / steps:.1f} "
-                                                                          "calls)" for k, v in per.items()),
-           "", f"Unprofiled: wall {u['wall']:.3f} s for {u['steps']} steps ({u['wall'] / max(u['steps'], 1) * 1e6:.1f} "
-           "us/step incl. setup); inside doStep per FMU: "
-           + ", ".join(f"{k} {v:.3f} s ({v / max(u['steps'], 1) * 1e6:.1f} us/step)" for k, v in u["fmu_time"].items())
-           + f"; everything outside doStep: {u['wall'] - sum(u['fmu_time'].values()):.3f} s "
-           f"({(u['wall'] - sum(u['fmu_time'].values())) / sum(u['fmu_time'].values()) * 100:.0f} % of doStep time, "
-           "setup included).", "", "Own time by layer (profiled run, setup included): "
-           + "; ".join(f"{k} {v:.2f} s ({v / p['total'] * 100:.0f} %)"
-                       for k, v in sorted(p["by_layer"].items(), key=lambda kv: -kv[1])) + ".",
-           "", "Top functions by own time: benchmarks/results/profile.txt.", ""]
-    n = {k: p["ncalls"][k] / steps for k in ("getReal", "setReal", "doStep")}
-    lay = {k: (v[0] / max(v[1], 1) * 1e6, v[1] / steps) for k, v in p["layers"].items()}
-    floor = sum(u["fmu_time"].values()) / max(u["steps"], 1)
-    out += ["Findings (measured above; proposals for the owners of master/ and fmi_adapter.py):", "",
-            f"1. FMI calls per macro step: {n['doStep']:.0f} doStep, {n['setReal']:.0f} setReal, {n['getReal']:.0f} "
-            "getReal.  The master reads every output for the recorder (`CoSystem.outputs`) and again the coupling "
-            "outputs for the exchange (`CoSystem.pull`): one getReal per component per step, sliced for both, "
-            "saves the second read.  Values and their `_dt`/`_dt2` go in two setReal calls per connection group: "
-            "one call with both, and none for `_dt`/`_dt2` at extrapolation 0 (they stay 0), saves the second "
-            "write.",
-            f"2. fmpy's generic wrapper (`fmpy.fmi1._call`, status check and logging hooks) costs "
-            f"{lay['fmpy _call wrapper'][0]:.1f} us own time per call (profiled), {lay['fmpy _call wrapper'][1]:.0f} "
-            "calls per step; calling the ctypes functions directly with value-reference and value arrays "
-            "allocated once per connection group removes it and the per-call list->array conversion "
-            "(see the raw ctypes column of the call-cost table).",
-            f"3. pythonfmu's set_real/get_real loop over variables in Python: {lay['pythonfmu set_real'][0]:.1f} us "
-            f"per set_real, {lay['pythonfmu get_real'][0]:.1f} us per get_real (profiled); the Rope declares 42 Real "
-            "inputs (14 values + their _dt and _dt2).  This is inside the FMU: only fewer calls or fewer variables "
-            "per call help.",
-            f"4. Floor with the present design: the FMUs' own doStep time is {floor * 1e6:.0f} us per macro step, "
-            f"so at H = {h:g} s no master can exceed a real-time factor of {h / floor:.1f} on this machine; "
-            "a faster scene needs a larger H (higher extrapolation order or iterative coupling at equal accuracy) "
-            "or cheaper FMU steps (the internal integrator's substeps).", ""]
-    return out
+    return [f"## Profile: {scene}, H = {h:g} s, {stop:g} s simulated, Jacobi x0 (cProfile)", "",
+            f"cProfile inflates Python-side time and does not see the ctypes calls themselves (the hot-path table "
+            f"above is the measurement); run {p['total']:.2f} s with setup {p['setup']:.2f} s. Own time by layer: "
+            + "; ".join(f"{k} {v:.2f} s ({v / p['total'] * 100:.0f} %)"
+                        for k, v in sorted(p["by_layer"].items(), key=lambda kv: -kv[1])) + ".",
+            "", "Top functions by own time: benchmarks/results/profile.txt.", ""]
+
+
+TARGET_SETTINGS = (("jacobi", 1, 2e-2), ("jacobi", 1, 1e-2), ("jacobi", 1, 5e-3), ("jacobi", 0, 1e-2),
+                   ("jacobi", 0, 5e-3))
+
+
+def rtf_target_report(say, hot: dict, scene: str = "truck_telescope", stop: float = 30.0,
+                      settings: tuple = TARGET_SETTINGS, level: float = 1e-2) -> tuple[list[str], dict]:
+    """Issue 6's speed target: the scene over ``stop`` s within ``level`` of each key output's range, as
+    fast as possible (each (algorithm, extrapolation, H) of ``settings``; the error against the finest
+    run, Jacobi x1 at the smallest H / 4)."""
+    from cranefmu import converge as cv
+
+    keys = cv.key_outputs(scene)
+    runs, results, labels, notes = [], [], [], []
+    for alg, ex, h in settings:
+        row, res = master_runs(scene, [(h, None)], stop, alg, ex, say)
+        if row[0].failure and "instability_alarm=False" in row[0].failure:  # stopped by the alarm, not a blow-up
+            notes.append(f"{alg} x{ex} H={h:g} with the default instability alarm: {row[0].failure[:200]}; "
+                         "run again with the alarm off")
+            row, res = master_runs(scene, [(h, None)], stop, alg, ex, say, instability_alarm=False)
+        runs.append(row[0])
+        results.append(res[0])
+        labels.append(f"{alg} x{ex}")
+    h_ref = min(h for _, _, h in settings) / 2   # Jacobi x1: error about a quarter of the finest setting's
+    ref = cv.Reference.finest(scene, keys, stop, h_ref, "jacobi", 1, progress=say, instability_alarm=False)
+    for r, res in zip(runs, results):
+        if res is not None:
+            cv.measure(r, res, ref.at(res["time"]), keys)
+    out = [f"## Target: {scene}, {stop:g} s simulated, key outputs within {level:g} of their range, >= 20x real time",
+           "", f"Error against the finest run (Jacobi x1, H = {h_ref:g} s, {ref.wall_time:.1f} s wall). Wall time "
+           "includes setup (load, instantiate, initialize).", "",
+           "| method | H [s] | worst rel err | worst key | steps | wall [s] | RTF | meets 1 %? |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for r, label in zip(runs, labels):
+        ok = r.failure is None and r.worst_rel <= level
+        out.append(f"| {label} | {r.step_size:g} | {fmt(r.worst_rel)} | {r.worst_key or '-'} | {r.steps} | "
+                   f"{fmt(r.wall_time, '.2f')} | {fmt(r.real_time_factor, '.2f')} | {'yes' if ok else 'no'} |"
+                   + (f" FAILED: {r.failure[:160]}" if r.failure else ""))
+    good = [r for r in runs if r.failure is None and r.worst_rel <= level]
+    best = max(good, key=lambda r: r.real_time_factor) if good else None
+    out += [""] + [f"- {n}" for n in notes]
+    summary = {"best": best, "runs": (runs, labels), "scene": scene}
+    if best is not None:
+        out.append(f"- Best: {labels[runs.index(best)]} at H = {best.step_size:g} s, error {best.worst_rel:.3g} of range, "
+                   f"**RTF {best.real_time_factor:.2f}** (target 20).")
+    hp = hot.get(scene)
+    if hp is not None:
+        n = max(hp["steps"], 1)
+        fmi_step = sum(sec for sec, _ in hp["fmi"].values()) / n
+        do_step = {}
+        for (inst, fn), (sec, _) in hp["fmi"].items():
+            if fn == "DoStep":
+                do_step[inst] = sec / n
+        need = hp["h"] / 20
+        out.append(f"- What bounds it: at H = {hp['h']:g} s one macro step spends {fmi_step * 1e6:.0f} us inside the FMI "
+                   f"calls (doStep per FMU: " + ", ".join(f"{k} {v * 1e6:.0f} us" for k, v in
+                                                        sorted(do_step.items(), key=lambda kv: -kv[1]))
+                   + f") and {hp['master_ratio'] * fmi_step * 1e6:.0f} us in the master; 20x real time at this H "
+                   f"allows {need * 1e6:.0f} us per step in all. Even a master costing nothing stays at RTF "
+                   f"{hp['h'] / fmi_step:.1f}; the FMUs' internal integration (doStep) dominates, see the call-cost "
+                   "table for the cost of one pythonfmu call.")
+        summary["fmi_step"] = fmi_step
+    return out + [""], summary
 
 
 def call_cost_report(scene: str, say) -> list[str]:
@@ -637,14 +796,63 @@ def memory_report(scene: str, quick: bool, say) -> list[str]:
     return out
 
 
+def targets_summary(done: list[dict], hot: dict, target: dict | None) -> list[str]:
+    """Issue 6's targets against what this run measured (read from the sections below)."""
+    out = ["## Summary against the targets of issue 6 (this run)", "", "| target | measured | met? |", "| --- | --- | --- |"]
+    if target is not None:
+        best = target.get("best")
+        out.append(f"| truck_telescope 30 s within 1 % of range at >= 20x real time | "
+                   + (f"RTF {best.real_time_factor:.2f} at H = {best.step_size:g} s (error {best.worst_rel:.2g} of range); "
+                      if best else "no run met 1 %; ")
+                   + (f"{target['fmi_step'] * 1e6:.0f} us per macro step inside the FMI calls (section 'Target') | "
+                      if "fmi_step" in target else "| ")
+                   + ("yes" if best and best.real_time_factor >= 20 else "no") + " |")
+    if hot:
+        ratios = ", ".join(f"{k} {v['master_ratio'] * 100:.0f} %" for k, v in hot.items())
+        out.append(f"| master overhead <= 25 % of the time inside the FMI calls at equal H | {ratios} (hot-path table) | "
+                   + ("yes" if all(v["master_ratio"] <= 0.25 for v in hot.values()) else
+                      "partly" if any(v["master_ratio"] <= 0.25 for v in hot.values()) else "no") + " |")
+    for level in LEVELS[:1] if done else ():
+        fm, mo = [], []
+        for s in done:
+            all_master = [r for runs, _ in s["series"].values() for r in runs]
+            best = cheapest(all_master, level)
+            f = cheapest(s["fmpy"], level)
+            ms = [m for m in s["mono"] if "worst" in m and m["worst"] <= level]
+            m = min(ms, key=lambda m: m["wall"]) if ms else None
+            fm.append(f"{s['scene']}: " + (f"fmpy/master {f.wall_time / best.wall_time:.2f}" if f and best else
+                                          "fmpy reaches it at no H run" if best else "master does not reach it"))
+            mo.append(f"{s['scene']}: " + (f"monolithic/master {m['wall'] / best.wall_time:.2f}" if m and best else
+                                          "no monolithic run reaches it" if best else "master does not reach it"))
+        out.append(f"| >= 5x less wall than fmpy simulate_ssp at equal accuracy ({level:g} of range) | {'; '.join(fm)} | "
+                   "see the scene sections |")
+        out.append(f"| no slower than the monolithic solve at equal accuracy ({level:g}) | {'; '.join(mo)} | "
+                   "see the scene sections |")
+    ad = []
+    for s in done:
+        for a in s["series"].get(("jacobi adaptive", 1), ([], []))[0]:
+            if a.failure is None:
+                f = [r for r in s["series"][("jacobi", 1)][0] if r.failure is None and r.worst_rel <= a.worst_rel]
+                b = min(f, key=lambda r: r.steps) if f else None
+                ad.append(f"{s['scene']} {a.label}: {a.steps} steps vs " + (f"{b.steps}" if b else "no fixed run as accurate"))
+                break
+    if ad:
+        out.append(f"| adaptive: fewer macro steps than the cheapest fixed step that meets the tolerance | {'; '.join(ad)} | "
+                   "see the scene sections |")
+    return out + [""]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="3 s runs, 3 steps, short memory runs")
+    ap.add_argument("--quick", action="store_true", help="3 s runs, 3 steps, 4 monolithic tolerances, short memory runs")
     ap.add_argument("--profile", action="store_true", help="cProfile of the hot path and the per-call cost")
     ap.add_argument("--scenes", default=None, help="comma-separated scenes (default: every scene with key outputs)")
     ap.add_argument("--stop-time", type=float, default=None, help="simulated length of every run [s] "
                     "(default 10 s, truck_telescope 30 s; --quick 3 s)")
     ap.add_argument("--steps", default=None, help="macro steps, comma-separated (default 4e-3,2e-3,1e-3)")
+    ap.add_argument("--algorithms", default=None, help="comma-separated (default all; jacobi is always run)")
+    ap.add_argument("--extrapolations", default="0,1,2", help="orders, comma-separated (default 0,1,2)")
+    ap.add_argument("--no-target", action="store_true", help="skip the truck_telescope 30 s real-time target runs")
     ap.add_argument("--cpu", type=int, default=None, help="core to pin to (default: the last allowed)")
     ap.add_argument("--output", default=None, help="results directory (default benchmarks/results)")
     args = ap.parse_args(argv)
@@ -657,44 +865,72 @@ def main(argv: list[str] | None = None) -> int:
     from cranefmu.scenes import SCENES
 
     names = args.scenes.split(",") if args.scenes else [n for n in SCENES if (ROOT / "ssp" / n).is_dir()]
+    algorithms = tuple(dict.fromkeys(["jacobi", *args.algorithms.split(",")])) if args.algorithms else None
+    extrapolations = tuple(int(x) for x in args.extrapolations.split(","))
 
     def say(text: str) -> None:
         print(f"[{clock.strftime('%H:%M:%S')}] {text}", file=sys.stderr, flush=True)
 
     wall0 = clock.perf_counter()
-    lines = ["# Speed against accuracy", "", *machine(), f"- mode: {'quick' if args.quick else 'full'}", "",
-             "Command: `.venv/bin/python benchmarks/speed_accuracy.py " + " ".join(argv or sys.argv[1:]) + "`", "",
-             "The machine is shared (2 cores, several engineers' jobs): absolute times are inflated and noisy; "
-             "compare the ratios measured in one run.", ""]
-    done = []
+    head = ["# Speed against accuracy", "", *machine(), f"- mode: {'quick' if args.quick else 'full'}", "",
+            "Command: `.venv/bin/python benchmarks/speed_accuracy.py " + " ".join(argv or sys.argv[1:]) + "`", "",
+            "The machine is shared (2 cores, several engineers' jobs): absolute times are inflated and noisy; "
+            "compare the ratios measured in one run.", ""]
+    body: list[str] = []
+    summary: list[str] = []
+
+    def save() -> None:  # a cut-off run keeps what it had
+        (RESULTS / "speed_accuracy.md").write_text("\n".join(head + summary + body) + "\n")
+
+    # where the time goes, first: it is short and the other sections refer to it
+    cases = [(n, 5.0 if n == "truck_telescope" else 2.0, 1e-2 if n == "truck_telescope" else 1e-3) for n in names]
+    hot_lines, hot = hot_path_report(cases, say)
+    body += hot_lines
+    save()
+    target = None
+    if "truck_telescope" in names and not args.no_target:
+        try:
+            lines, target = rtf_target_report(say, hot)
+        except Exception as err:
+            lines = ["## Target: truck_telescope 30 s", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
+        body += lines
+    done: list[dict] = []
+    summary = targets_summary(done, hot, target)
+    write_csv(done, RESULTS / "speed_accuracy.csv", target)
+    save()
+    sections = []
+    if args.profile and names:
+        scene = "truck_telescope" if "truck_telescope" in names else names[0]
+        h = 1e-2 if scene == "truck_telescope" else 1e-3
+        sections += [("Profile", lambda scene=scene, h=h: profile_report(scene, 2.0 if args.quick else 5.0, h, say)),
+                     ("Call cost", lambda scene=scene: call_cost_report(scene, say))]
+    if names:
+        mem = "elastic_pendulum" if "elastic_pendulum" in names else names[0]
+        sections.append(("Memory", lambda: memory_report(mem, args.quick, say)))
+    for title, section in sections:
+        try:
+            body += section()
+        except Exception as err:  # reported, and the other sections still run
+            body += [f"## {title}", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
+        save()
     for name in names:
         try:
             s = study_scene(name, args.quick, say, args.stop_time,
-                            [float(x) for x in args.steps.split(",")] if args.steps else None)
+                            [float(x) for x in args.steps.split(",")] if args.steps else None,
+                            algorithms, extrapolations)
         except Exception as err:  # one scene failing must not lose the others
-            lines += [f"## {name}", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
+            body += [f"## {name}", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
             continue
         done.append(s)
-        lines += scene_report(s)
+        body += scene_report(s)
         plot_scene(s, RESULTS / f"speed_accuracy_{name}.png")
-        (RESULTS / "speed_accuracy.md").write_text("\n".join(lines) + "\n")  # a cut-off run keeps what it had
-        write_csv(done, RESULTS / "speed_accuracy.csv")
-    sections = []
-    if args.profile and names:
-        sections += [("Hot path", lambda: profile_report(names[0], 2.0 if args.quick else 5.0, 1e-3, say)),
-                     ("Call cost", lambda: call_cost_report(names[0], say))]
-    if names:
-        scene = "elastic_pendulum" if "elastic_pendulum" in names else names[0]
-        sections.append(("Memory", lambda: memory_report(scene, args.quick, say)))
-    for title, section in sections:
-        try:
-            lines += section()
-        except Exception as err:  # reported, and the other sections still run
-            lines += [f"## {title}", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
-        (RESULTS / "speed_accuracy.md").write_text("\n".join(lines) + "\n")
-    lines += [f"Benchmark wall time {clock.perf_counter() - wall0:.0f} s.", ""]
-    (RESULTS / "speed_accuracy.md").write_text("\n".join(lines) + "\n")
-    print("\n".join(lines))
+        write_csv(done, RESULTS / "speed_accuracy.csv", target)
+        summary = targets_summary(done, hot, target)
+        save()
+    summary = targets_summary(done, hot, target)
+    body += [f"Benchmark wall time {clock.perf_counter() - wall0:.0f} s.", ""]
+    save()
+    print("\n".join(head + summary + body))
     return 0
 
 
