@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from cranefmu.master.errors import CraneFmuError
-from cranefmu.sway_envelope import (double_pendulum_modes, envelope, initial_lengths, payload_sway_envelope,
+from cranefmu.sway_envelope import (air_drag_decay, double_pendulum_modes, envelope, initial_lengths, payload_sway_envelope,
                                     quadratic_drag_amplitude, simulate_hook_sway)
 
 SMALL = {"pendulum.theta_payload0": 0.01, "pendulum.phi_payload0": 0.005}   # linear range, 3-D release
@@ -72,3 +72,12 @@ def test_quadratic_drag_law_halves_the_amplitude_when_the_drag_term_reaches_the_
     x0, omega, k = 0.1, 3.0, 0.05
     t_half = 1.0 / (4.0 / (3.0 * math.pi) * k * omega * x0)
     assert quadratic_drag_amplitude(x0, omega, k, t_half) == pytest.approx(0.5 * x0, rel=1e-12)
+
+
+def test_air_drag_takes_off_what_the_quadratic_drag_law_predicts():
+    """A 1 m2 plate on the 10 kg payload (the hook without drag), 4 s: the sway reduction against the
+    undamped run agrees with the payload-only law x0 / (1 + 4/(3 pi) (k/m) w1 x0 t), t the time between
+    the two swing peaks compared, within 15 % (measured 2026-11: 2.24 % against 2.41 %; 6 s: 3.63 / 4.01 %)."""
+    d = air_drag_decay(drag_area=1.0, drag_area_hook=0.0, stop_time=4.0)
+    assert d["ratio_drag"] < d["ratio_no_drag"]
+    assert d["reduction"] == pytest.approx(d["reduction_estimate"], rel=0.15)
