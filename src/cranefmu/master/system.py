@@ -327,8 +327,9 @@ class CoSystem:
             k = len(points)
             # the phase's past values are arrays of this method, unless a history was rewritten (rollback,
             # start-up): then group by group
-            if all(len(g.history) >= k and all(q[1].base is arr for q, arr in zip(g.history[-k:], arrays))
-                   for g, _, _ in ph.members):
+            if all(arr is not None for arr in arrays) and all(
+                    len(g.history) >= k and all(q[1].base is arr for q, arr in zip(g.history[-k:], arrays))
+                    for g, _, _ in ph.members):
                 w1, w2 = lagrange_weights([q[0] for q in points], t)
                 stack = np.array(arrays)
                 d1 = w1 @ stack
