@@ -206,8 +206,8 @@ def simulate_hook_sway(m_hook: float, hook_length: float, stop_time: float = 2.0
         from .master.run import run
 
         res = run("hook_sway", stop_time=stop_time, step_size=step_size, extrapolation=1, parameters=values).result
-        return {k: np.interp(times, np.asarray(res["time"]), np.asarray(res[k])) if k != "time" else times
-                for k in res.keys()}
+        names = res.dtype.names   # a structured array, one field per column
+        return {k: np.interp(times, res["time"], res[k]) if k != "time" else times for k in names}
     raise SwayEnvelopeError(f"hook sway engine {engine!r}: allowed monolith, cosimulation")
 
 
