@@ -18,6 +18,11 @@ Writes benchmarks/results/stability_map.{md,csv,png}.
     .venv/bin/python benchmarks/stability_map.py          # 3 stiffnesses, jacobi + gauss-seidel (144 runs,
                                                           # 7 min alone, 14 min measured on a busy 2-core machine)
     .venv/bin/python benchmarks/stability_map.py --full   # 7 stiffnesses, every algorithm, tighter bisection
+    .venv/bin/python benchmarks/stability_map.py --full --budget 60   # no new row after 60 min
+    .venv/bin/python benchmarks/stability_map.py --full --resume      # measure the rows still missing
+
+The table and plot are rewritten after every row, so a run cut short keeps what it measured; the
+stiffnesses are visited spread over their range first (ends, middle, then between).
 """
 from __future__ import annotations
 
@@ -111,37 +116,53 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--full", action="store_true", help="7 stiffnesses, every algorithm, 2 %% bisection")
     ap.add_argument("--replot", action="store_true", help="rewrite table and plot from the last CSV")
+    ap.add_argument("--budget", type=float, default=None, help="minutes: start no new row after this")
+    ap.add_argument("--resume", action="store_true", help="keep the rows of the last CSV, measure the rest")
     args = ap.parse_args(argv)
     if args.replot:
         write(rows_from_csv(), math.nan, False)
         return
     if args.full:
-        stiffnesses, algorithms, rel_tol = np.geomspace(1e9, 1e15, 7), list(ALGORITHMS), 0.02
+        # spread first: a run cut short by --budget still spans the range; gauss-seidel last (with the
+        # stateless rope it repeats jacobi's recurrence)
+        stiffnesses, algorithms, rel_tol = [1e9, 1e15, 1e12, 1e10, 1e14, 1e11, 1e13], ["jacobi", "iterative",
+                                                                                       "gauss-seidel"], 0.02
+        assert sorted(algorithms) == sorted(ALGORITHMS)
     else:
         stiffnesses, algorithms, rel_tol = [1e10, 1e11, 1e12], ["jacobi", "gauss-seidel"], 0.05
     RESULTS.mkdir(parents=True, exist_ok=True)
-    rows = []
+    rows = rows_from_csv() if args.resume else []
+    done = {(r["E"], r["algorithm"], r["order"]) for r in rows}
+    todo = [(E, a, o) for E in stiffnesses for a in algorithms for o in (0, 1, 2) if (E, a, o) not in done]
     t0 = clock.perf_counter()
-    for E in stiffnesses:
+    for i, (E, algorithm, order) in enumerate(todo):
+        if args.budget is not None and clock.perf_counter() - t0 > 60.0 * args.budget:
+            missing = sorted({f"{e:.0e} {a}" for e, a, _ in todo[i:]})
+            note = (f"Partial run: the time budget of {args.budget:g} min (on a 2-core machine shared with other "
+                    f"jobs, load ~9) was spent after {len(rows)} of {len(rows) + len(todo) - i} rows; not "
+                    f"measured: {'; '.join(missing)} (E [Pa], algorithm; orders 0-2 where listed).")
+            write(rows, clock.perf_counter() - t0, args.full, note)
+            print(note)
+            return
         omega, z, _ = axial(E)
-        for algorithm in algorithms:
-            for order in (0, 1, 2):
-                h_lo, h_hi, runs = largest_stable_step(E, algorithm, order, rel_tol)
-                s_analytic = stability_limit(z, order)
-                row = dict(E=E, c=stiffness(RopeParams(E=E, A=AREA, length=LENGTH), LENGTH), omega=omega, z=z,
-                           algorithm=algorithm, order=order, H_stable=h_lo, H_unstable=h_hi,
-                           omegaH_measured=omega * h_lo, omegaH_analytic=s_analytic,
-                           H_analytic=s_analytic / omega, ratio=(h_lo / (s_analytic / omega)) if s_analytic else
-                           math.nan, runs=runs)
-                rows.append(row)
-                print(f"E={E:.1e} Pa  omega={omega:7.1f}  z={z:.4f}  {algorithm:<12} order {order}: "
-                      f"H in [{h_lo:.4g}, {h_hi:.4g}] s  (omega H {omega * h_lo:.3f}; analytic {s_analytic:.3f})  "
-                      f"{runs} runs", flush=True)
+        h_lo, h_hi, runs = largest_stable_step(E, algorithm, order, rel_tol)
+        s_analytic = stability_limit(z, order)
+        row = dict(E=E, c=stiffness(RopeParams(E=E, A=AREA, length=LENGTH), LENGTH), omega=omega, z=z,
+                   algorithm=algorithm, order=order, H_stable=h_lo, H_unstable=h_hi,
+                   omegaH_measured=omega * h_lo, omegaH_analytic=s_analytic,
+                   H_analytic=s_analytic / omega, ratio=(h_lo / (s_analytic / omega)) if s_analytic else
+                   math.nan, runs=runs)
+        rows.append(row)
+        print(f"E={E:.1e} Pa  omega={omega:7.1f}  z={z:.4f}  {algorithm:<12} order {order}: "
+              f"H in [{h_lo:.4g}, {h_hi:.4g}] s  (omega H {omega * h_lo:.3f}; analytic {s_analytic:.3f})  "
+              f"{runs} runs", flush=True)
+        write(rows, clock.perf_counter() - t0, args.full, "Still running: rows so far.")
     wall = clock.perf_counter() - t0
     write(rows, wall, args.full)
 
 
-def write(rows: list[dict], wall: float, full: bool) -> None:
+def write(rows: list[dict], wall: float, full: bool, note: str = "") -> None:
+    rows = sorted(rows, key=lambda r: (r["E"], r["algorithm"], r["order"]))
     with open(RESULTS / "stability_map.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
@@ -166,6 +187,8 @@ def write(rows: list[dict], wall: float, full: bool) -> None:
               f"{len(rows)} rows.  H scales as 1 / omega ~ E^(-1/2) at a fixed damping ratio z.  With the "
               "stateless rope, Gauss-Seidel (pendulum first) feeds the same sampled force as Jacobi, so its "
               "limit is the same."]
+    if note:
+        lines += ["", note]
     (RESULTS / "stability_map.md").write_text("\n".join(lines) + "\n")
     plot(rows)
     print(f"wrote {RESULTS / 'stability_map.md'}, .csv, .png ({wall:.0f} s)")

@@ -5,8 +5,9 @@ Scene elastic_pendulum (1000 kg on a 10 m rope, axial period 0.264 s) pushed to 
 step ten times the rope period, a load beyond the tipping limit of the truck chassis, a long run.
 Detection of explicit coupling beyond its limit uses the power bond of the hook (README, "Power
 bonds") that the scene declares, with an energy alarm of 5 % of the swing energy and the default
-instability alarm (geometric growth of the residual): together they must stop every unstable run
-and leave every stable one alone (tests/test_instability_alarm.py: the default alone).
+instability alarm (geometric growth of the residual, energy the coupling makes up against what the
+bond carries; fixed and adaptive steps): together they must stop every unstable run and leave every
+stable one alone (tests/test_instability_alarm.py: the default alone).
 """
 from __future__ import annotations
 
@@ -57,6 +58,15 @@ def axial(E: float, mass: float = 1000.0) -> tuple[float, float]:
     return math.sqrt(c / mass), damping(p, c, LENGTH) / (2.0 * math.sqrt(c * mass))
 
 
+def one_d_pendulum(factor: float) -> tuple[dict, float, float]:
+    """elastic_pendulum made 1-D (rope axial mode only, load 30 % of the static stretch below rest):
+    (parameters, H = factor x the Jacobi zero-order-hold limit omega H = 4 z, static tension [N])."""
+    omega, z = axial(1e11)
+    stretch = 1000.0 * G / (1e11 * AREA / LENGTH)
+    params = {"pendulum.dimension": 1, "pendulum.x0": 0.0, "pendulum.y0": -(LENGTH + 1.3 * stretch)}
+    return params, factor * stability_limit(z, 0) / omega, 1000.0 * G
+
+
 def relative_error(res, ref: dict, name: str) -> float:
     span = np.ptp(ref[name]) or np.max(np.abs(ref[name]))
     return float(np.max(np.abs(res[name] - ref[name])) / span)
@@ -85,7 +95,8 @@ def test_measured_jacobi_limit_brackets_the_analytic_limit(built, order):
     growth = {}
     for factor in (0.9, 1.1):
         h = factor * s_lim / omega
-        res = run("elastic_pendulum", stop_time=400 * h, step_size=h, extrapolation=order, parameters=params).result
+        res = run("elastic_pendulum", stop_time=400 * h, step_size=h, extrapolation=order, parameters=params,
+                  instability_alarm=False).result   # growth is measured here, not alarmed
         swing = np.abs(res["rope.elongation"] - stretch)
         growth[factor] = swing[-100:].max() / swing[:100].max()
     assert growth[0.9] < 1.0 < growth[1.1], growth
@@ -143,6 +154,32 @@ def test_iterative_coupling_on_the_stiff_rope_matches_monolithic(bonded):
     ref = monolithic(0.1, times=res["time"], overrides=p, rtol=1e-8)
     assert relative_error(res, ref, "pendulum.x") < 1e-3
     assert np.max(np.abs(res["rope.tension"] - ref["rope.tension"])) < 1e-2 * ref["rope.tension"].max()
+
+
+def test_adaptive_step_from_10_rope_periods_matches_monolithic(bonded):
+    """Adaptive, first step 2.64 s (ten axial periods): the controller cuts the step to the rope's
+    scale at once (it ends at min_step = H / 1000, omega H = 0.063, inside the Jacobi limit 0.2) and
+    the run follows the one-ODE solve; stop 2.7 s, the least the first step allows."""
+    p = at_rest_on_rope(1e11, 1000.0)
+    r = run(bonded, stop_time=2.7, step_size=2.64, adaptive=True, parameters=p)
+    res = r.result
+    assert r.stats.max_step < 0.1 * 2.64 and r.stats.rejections >= 1
+    ref = monolithic(2.7, times=res["time"], overrides=p, rtol=1e-8)
+    assert relative_error(res, ref, "pendulum.x") < 1e-2                                           # 1.0e-3
+    assert np.max(np.abs(res["rope.tension"] - ref["rope.tension"])) < 1e-3 * ref["rope.tension"].max()  # 2.7e-5
+
+
+def test_adaptive_step_held_beyond_the_limit_is_stopped(built):
+    """Adaptive with min_step at 2 x the Jacobi limit (the controller cannot go below it): the 1-D
+    pendulum saturates (tension 33 x static with the alarm off) and the default alarm stops it."""
+    params, h, static = one_d_pendulum(2.0)
+    with pytest.raises(SimulationError) as err:
+        run("elastic_pendulum", stop_time=20.0, step_size=2.64, adaptive=True, min_step=h, parameters=params)
+    msg = str(err.value)
+    for needle in ("power bond hook", "rope and pendulum", "t = ", "smaller --step", "--algorithm iterative",
+                   "--no-instability-alarm"):
+        assert needle in msg, (needle, msg)
+    assert err.value.result["rope.tension"].max() < 8.0 * static
 
 
 # --- slack and snatch ------------------------------------------------------------------------------------

@@ -1,24 +1,60 @@
-"""Default alarm for an unstable explicit coupling: geometric growth of the power-bond residuals.
+"""Default alarm for an unstable explicit coupling: the master's watch over every run.
 
 Beyond its stability limit an explicit coupling multiplies its error by the spectral radius
-rho > 1 of the step recurrence every macro step (:mod:`cranefmu.stability`), so the energy
-residual of a bond grows like rho^(2n).  A slack-capable connection (a rope cannot push) may
-bound the blow-up and leave finite nonsense, so waiting for a non-finite value is not enough.
+rho > 1 of the step recurrence every macro step (:mod:`cranefmu.stability`).  A connection that
+can only pull (a rope) bounds the blow-up and leaves finite nonsense, so waiting for a non-finite
+value is not enough.  Three detectors, chosen by :class:`Watch` for the run:
 
-The test (derived): the maxima of the residual over 4 consecutive blocks of W = 1, 2, 4, ... 256
-steps; each block's maximum must be at least ``factor`` (and at least ``per_step``^W) times the
-one before, and each of these ratios at least ``keep`` times the previous ratio.  Geometric growth
-keeps its ratio; growth that follows a power of the time since an event, dE ~ (t - t_e)^p, has
-ratios ((a + kW) / (a + (k-1)W))^p that fall from block to block, so it does not pass unless p is
-so large (about 10) that it is growth in all but name (measured: no alarm in the stable runs of
-every scene).  ``per_step`` = 1.01 leaves alone a slow energy gain such as an
-undamped Jacobi oscillator at omega H < 0.14 (energy factor 1 + (omega H)^2 / 2 per step, see
-README).  A residual at the level of round-off (below ``floor`` times the largest energy the bond
-carried in a step so far) is not growth.  Fixed-step runs only: with an adaptive step dE follows
-h as well.
+1. Growth (fixed step, power bonds): the energy residual dE = |P_a - P_b| h of a bond grows like
+   rho^(2n).  Test (derived): the maxima of the residual over 4 consecutive blocks of W = 1, 2, 4,
+   ... 256 steps; each block's maximum must be at least ``factor`` (and at least ``per_step``^W)
+   times the one before, and each of these ratios between ``keep`` = 0.7 and ``rise`` = 3 times
+   the previous ratio.  Geometric growth keeps its ratio, and a mode emerging from a floor of
+   residual raises it gradually (measured 1.4-1.8 per block: rope E = 1e14 Pa, 1 kg hook); growth
+   that follows a power of the time since an event, dE ~ (t - t_e)^p, has ratios
+   ((a + kW) / (a + (k-1)W))^p that fall from block to block, so it does not pass unless p is so
+   large (about 10) that it is growth in all but name; a jump at an event raises the ratio by
+   orders of magnitude (truck_telescope at H = 10 ms, x1, when the telescoping stops: 1e-7 J to
+   3.5e-2 J in two steps, then decaying; ratios 3.6, 52, 1e4).  ``per_step`` =
+   1.01 leaves alone a slow energy gain such as an undamped Jacobi oscillator at omega H < 0.14
+   (energy factor 1 + (omega H)^2 / 2 per step, see README).  A residual at round-off level (below
+   ``floor`` times the largest energy the bond carried in a step so far) is not growth.
+
+2. Imbalance (power bonds, fixed or adaptive step): an instability that saturates (the rope goes
+   slack, the load bounces) grows only a few times before it stops growing, too few blocks for
+   test 1: the 1-D pendulum at 2 x its limit starts 30 % of the static stretch off rest and is
+   bounded after growing 3.3 times (measured: tension 24 x static, no growth alarm).  What such a
+   run keeps doing is creating energy at the bond.  Per window of ``window`` steps (derived):
+
+       r = |sum (P_a - P_b) h| / sum max(|f_a| |v_a|, |f_b| |v_b|) h
+
+   the net energy the coupling created or destroyed, against the most energy the bond's forces
+   and velocities could have carried (the product of their magnitudes: the bond's own power can
+   be near zero, a swinging rope does little work, while force and velocity are large).  With a
+   zero-order hold and an oscillation at omega in quadrature with the force, each step creates
+   F v sin(omega H), so r ~ (pi / 2) omega H times the oscillating share of the force: small in
+   any run that resolves the motion (measured at H = 1 ms: r <= 0.08 in every scene and parameter
+   set, benchmarks/results/alarm_margins.md), O(1) once the force swings through zero each
+   period.  The alarm needs r > ``ratio`` = 0.5 in
+   ``windows`` = 3 consecutive windows (one event, a snatch, is one window); windows whose
+   capacity is below ``floor`` times the largest so far (a bond at rest) neither count nor break
+   the run.  r does not depend on h, so it watches adaptive runs too.  It also stops a run that is
+   stable but far too coarse: the damped test oscillator, whose coupling force swings through
+   zero (r ~ 1.6 omega H), from about 0.5 x its spectral limit (omega H = 0.55, error 18 % of the
+   amplitude; at 0.3 x, error 10 %, it runs).
+
+3. Increments (scenes without power bonds): test 1 on each coupling value's change per unit time
+   |u_j(t_n) - u_j(t_n-1)| / h_n (divided by h, so that an adaptive step does not look like growth;
+   below ``floor`` times the value's largest magnitude so far it is round-off).  It sees geometric
+   growth; a saturating instability without power bonds is not caught (no energy to compare).
+
+Per step the detectors use plain floats over the few bonds (numpy's per-call cost would dominate);
+only 3. touches the coupling vector with numpy.
 """
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,7 +64,7 @@ LEVELS = 9   # block lengths 1 ... 256 steps
 
 @dataclass
 class Growth:
-    bond: int          # index of the bond
+    bond: int          # index of the bond (of the coupling variable for detector 3)
     steps: int         # steps over which it grew
     factor: float      # residual at the end / residual at the start of those steps
 
@@ -37,12 +73,14 @@ class Growth:
 
 
 class GrowthAlarm:
-    """Feed it each step's residuals and carried energies [J] per bond; :meth:`update` returns the
-    :class:`Growth` that trips it, or None."""
+    """Detector 1 (and 3) of the module docstring.  Feed it each step's residuals and carried
+    energies [J] per bond (or changes per unit time and sizes per coupling variable); :meth:`update`
+    returns the :class:`Growth` that trips it, or None."""
 
     def __init__(self, n_bonds: int, factor: float = 3.0, per_step: float = 1.01, keep: float = 0.7,
-                 blocks: int = 3, floor: float = 1e-9):
+                 rise: float = 3.0, blocks: int = 3, floor: float = 1e-9):
         self.factor, self.per_step, self.keep, self.blocks, self.floor = factor, per_step, keep, blocks, floor
+        self.rise = rise
         self.count = 0
         self.carried = [0.0] * n_bonds        # largest carried energy per step so far
         # per level: completed block maxima of the residual per bond, and the carried maxima at each
@@ -51,14 +89,14 @@ class GrowthAlarm:
         self.scale: list[list[list[float]]] = [[] for _ in range(LEVELS)]
         self.least = [max(factor, per_step ** (1 << j)) for j in range(LEVELS)]   # least ratio per level
 
-    def update(self, residual: np.ndarray, carried: np.ndarray) -> Growth | None:
+    def update(self, residual: Sequence[float], carried: Sequence[float]) -> Growth | None:
         self.count += 1
-        self.carried = [max(a, b) for a, b in zip(self.carried, carried.tolist())]
+        self.carried = [max(a, b) for a, b in zip(self.carried, carried)]
         hit = None
         for j in range(LEVELS):
             if self.count % (1 << j):
                 break
-            block = residual.tolist() if j == 0 else [max(a, b) for a, b in zip(*self.done[j - 1][-2:])]
+            block = list(residual) if j == 0 else [max(a, b) for a, b in zip(*self.done[j - 1][-2:])]
             done, scale = self.done[j], self.scale[j]
             done.append(block)
             scale.append(self.carried)
@@ -80,7 +118,119 @@ class GrowthAlarm:
         ratio = None
         for a, b in zip(done, done[1:]):
             r = b[k] / a[k]
-            if r < least or (ratio is not None and r < self.keep * ratio):
+            if r < least or (ratio is not None and not self.keep * ratio <= r <= self.rise * ratio):
                 return False
             ratio = r
         return True
+
+
+@dataclass
+class Imbalance:
+    bond: int          # index of the bond
+    steps: int         # steps over which the imbalance held
+    ratio: float       # smallest window ratio r over those steps
+
+
+class ImbalanceAlarm:
+    """Feed it each step's signed imbalance (P_a - P_b) h and capacity [J] per bond (detector 2 of
+    the module docstring); :meth:`update` returns the :class:`Imbalance` that trips it, or None."""
+
+    def __init__(self, n_bonds: int, window: int = 50, windows: int = 3, ratio: float = 0.5, floor: float = 1e-6):
+        self.window, self.windows, self.ratio, self.floor = window, windows, ratio, floor
+        self.count = 0
+        self.net = [0.0] * n_bonds
+        self.capacity = [0.0] * n_bonds
+        self.biggest = [0.0] * n_bonds     # largest window capacity so far
+        self.held = [0] * n_bonds          # consecutive windows over the ratio
+        self.least = [0.0] * n_bonds       # smallest ratio of those windows
+        self.peak = [0.0] * n_bonds        # largest window ratio so far (the margin, for benchmarks)
+
+    def update(self, imbalance: list[float], capacity: list[float]) -> Imbalance | None:
+        for k, (d, c) in enumerate(zip(imbalance, capacity)):
+            self.net[k] += d
+            self.capacity[k] += c
+        self.count += 1
+        if self.count < self.window:
+            return None
+        self.count = 0
+        hit = None
+        for k, (net, cap) in enumerate(zip(self.net, self.capacity)):
+            self.net[k] = self.capacity[k] = 0.0
+            self.biggest[k] = max(self.biggest[k], cap)
+            if not cap > self.floor * self.biggest[k]:
+                continue
+            r = abs(net) / cap
+            self.peak[k] = max(self.peak[k], r)
+            if r > self.ratio:
+                self.least[k] = min(self.least[k], r) if self.held[k] else r
+                self.held[k] += 1
+            else:
+                self.held[k] = 0
+            if hit is None and self.held[k] >= self.windows:
+                hit = Imbalance(k, self.held[k] * self.window, self.least[k])
+        return hit
+
+
+class IncrementAlarm:
+    """Detector 3 of the module docstring: geometric growth of each coupling value's change per
+    unit time (scenes without power bonds).  One growth test per coupling variable (not one on the
+    largest relative change: a value that grows geometrically keeps its change relative to its own
+    running maximum constant)."""
+
+    def __init__(self, n: int):
+        self.growth = GrowthAlarm(n)
+        self.previous: np.ndarray | None = None
+
+    def update(self, values: np.ndarray, scale: np.ndarray, h: float) -> Growth | None:
+        previous, self.previous = self.previous, values
+        if previous is None:
+            return None
+        with np.errstate(over="ignore", invalid="ignore"):
+            rate = (np.abs(values - previous) / h).tolist()
+            size = (scale / h).tolist()    # a change below floor x the value's size is round-off
+        return self.growth.update(rate, size)
+
+
+ADVICE = ("Try a smaller --step, --algorithm iterative, or --adaptive (instability_alarm=False / "
+          "--no-instability-alarm runs on).")
+
+
+class Watch:
+    """The detectors a run needs (module docstring), fed once per accepted step; :meth:`update`
+    returns the error message naming the bond or connection, the time and the advice, or None.
+
+    ``bonds`` is the run's :class:`~.power_bonds.BondMonitor` (measured for this step), ``system``
+    its :class:`~.system.CoSystem`."""
+
+    def __init__(self, system, bonds, adaptive: bool):
+        self.system, self.bonds = system, bonds
+        n = len(bonds.bonds)
+        self.growth = GrowthAlarm(n) if n and not adaptive else None
+        self.imbalance = ImbalanceAlarm(n) if n else None
+        self.increments = IncrementAlarm(system.n_coupling) if not n and system.n_coupling else None
+
+    def update(self, t: float, h: float) -> str | None:
+        b = self.bonds
+        if self.growth is not None:
+            g = self.growth.update(b.residual.tolist(), b.carried.tolist())
+            if g is not None:
+                return (f"power bond {b.names[g.bond]} (between {b.between(g.bond)}): its energy residual grew "
+                        f"{g.factor:.3g} times in the last {g.steps} steps, by t = {t:.9g} s ({g.per_step():.4g} "
+                        "per step, geometric): the explicit coupling is unstable at this step size. " + ADVICE)
+        if self.imbalance is not None:
+            m = self.imbalance.update(b.imbalance, b.capacity)
+            if m is not None:
+                return (f"power bond {b.names[m.bond]} (between {b.between(m.bond)}): in each of the last "
+                        f"{m.steps // self.imbalance.window} windows of {self.imbalance.window} steps up to "
+                        f"t = {t:.9g} s the coupling created or destroyed at least {m.ratio:.0%} of the energy "
+                        "the bond's force and velocity can carry (|f| |v| h): the explicit coupling is unstable "
+                        "(bounded by a slack or a stop) or far too coarse at this step size. " + ADVICE)
+        if self.increments is not None:
+            s = self.system
+            g = self.increments.update(s.coupling_values(), s.scale, h)
+            if g is not None:
+                name = s.variable_names[g.bond] if s.variable_names else "?"
+                return (f"connection {name}: its change per step grew {g.factor:.3g} times in the last {g.steps} "
+                        f"steps, by t = {t:.9g} s ({g.per_step():.4g} per step, geometric): the explicit coupling "
+                        "is unstable at this step size. " + ADVICE)
+        return None
