@@ -22,7 +22,8 @@ Usage:
 
 Writes benchmarks/results/fmu_step_cost_<label>.csv and benchmarks/results/fmu_step_cost.md (a table
 per label found, and the before/after ratio per row when both "before" and "after" exist).  Times are
-per macro step in microseconds; the machine is shared, so compare the ratios of one table.
+per macro step in microseconds, the median over the steps (robust against other jobs on the shared
+machine); compare ratios.
 """
 from __future__ import annotations
 
@@ -122,16 +123,22 @@ def physics_replay(model_cls, comp, parameters, settings, u, h, steps) -> dict:
     x = model.initial_state(u[0])
     t = 0.0
     ys = np.empty((steps, len(model_cls.outputs)))
-    step_time = out_time = 0.0
+    step_time, out_time = np.empty(steps), np.empty(steps)
     for n in range(steps):  # the master's order: inputs at t_n, outputs read, then the step
         t = n * h  # as the master counts time (a trapezoid law's corner falls on a step)
         t0 = clock.perf_counter()
         ys[n] = model.output_values(t, x, u[n])
         t1 = clock.perf_counter()
         x = advance(model, t, x, h, u[n], None, None, solver, rtol, max_step)
-        step_time += clock.perf_counter() - t1
-        out_time += t1 - t0
-    return {"step": step_time / steps * 1e6, "outputs": out_time / steps * 1e6, "y": ys}
+        step_time[n] = clock.perf_counter() - t1
+        out_time[n] = t1 - t0
+    return {"step": typical(step_time), "outputs": typical(out_time), "y": ys}
+
+
+def typical(seconds: np.ndarray) -> float:
+    """Median per-step time [us]: robust against other jobs on the shared machine taking the core
+    for a while, which the mean is not (two runs of the same replay under load differed 2x in mean)."""
+    return float(np.median(seconds)) * 1e6
 
 
 # --- 2b. the FMU through fmpy (child process) -----------------------------------------------------------
@@ -158,7 +165,7 @@ def fmu_replay(comp: str, fmu_path: str, parameters: dict[str, str], in_names: l
             fmu.exitInitializationMode()
             t = 0.0
             ys = np.empty((steps, len(vout)))
-            t_set = t_step = t_get = 0.0
+            t_set, t_step, t_get = np.empty(steps), np.empty(steps), np.empty(steps)
             for n in range(steps):  # the master's order: inputs at t_n, outputs read, then the step
                 t = n * h
                 t0 = clock.perf_counter()
@@ -170,10 +177,10 @@ def fmu_replay(comp: str, fmu_path: str, parameters: dict[str, str], in_names: l
                 t2 = clock.perf_counter()
                 fmu.doStep(t, h)
                 t3 = clock.perf_counter()
-                t_set += t1 - t0
-                t_get += t2 - t1
-                t_step += t3 - t2
-            return {"set": t_set / steps * 1e6, "step": t_step / steps * 1e6, "get": t_get / steps * 1e6,
+                t_set[n] = t1 - t0
+                t_get[n] = t2 - t1
+                t_step[n] = t3 - t2
+            return {"set": typical(t_set), "step": typical(t_step), "get": typical(t_get),
                     "y": ys, "names": [v.name for v in reals]}
         finally:
             c.free()
@@ -238,7 +245,7 @@ def read_rows(label: str) -> list[dict]:
 def write_report(labels: list[str], notes: dict[str, str]) -> None:
     lines = ["# Cost of one macro step per FMU", "",
              "`.venv/bin/python benchmarks/fmu_step_cost.py --label LABEL` (see its docstring for the method).",
-             "Per macro step, in us: physics = the model stepped by `fmi_adapter.advance` plus `output_values`,",
+             "Per macro step, in us (median over the steps: robust to the shared machine's load): physics = the model stepped by `fmi_adapter.advance` plus `output_values`,",
              "in-process without FMI; FMU = setReal + doStep + getReal (+ getInteger) of the built FMU through",
              "fmpy, alone in a child process, fed the inputs the co-simulation fed it; overhead = FMU - physics.",
              "replay dev: largest deviation of the FMU's outputs from the co-simulation's, relative to range.", ""]
