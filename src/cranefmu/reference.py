@@ -344,14 +344,16 @@ def solve(scene: str, stop_time: float, times: np.ndarray | None = None, paramet
         if sol.status == -1:
             raise SimulationError(f"reference solve of {scene} failed at t = {sol.t[-1] if len(sol.t) else t:.6g} s: "
                                   f"{sol.message}")
-        keep = np.isin(sol.t, wanted)
-        ts.append(sol.t[keep])
-        ys.append(sol.y[:, keep])
+        seg_t = np.asarray(sol.t, dtype=float)
+        seg_y = np.asarray(sol.y, dtype=float).reshape(len(x), len(seg_t))
+        keep = np.isin(seg_t, wanted)
+        ts.append(seg_t[keep])
+        ys.append(seg_y[:, keep])
         pins.append(events.pins())
         if sol.status == 0:
             if end >= stop_time:
                 break
-            t, x = end, sol.y[:, -1]
+            t, x = end, seg_y[:, -1]
             continue
         fired = next(k for k, te in enumerate(sol.t_events) if len(te))
         t = float(sol.t_events[fired][0])
