@@ -38,6 +38,32 @@ def _payload_state(model: PendulumModel, x: np.ndarray) -> tuple[np.ndarray, np.
 
 # --- point mass (payload = "none") ------------------------------------------------------------
 
+@pytest.mark.parametrize("dimension", [1, 2, 3])
+def test_exact_step_of_the_lone_hook_matches_a_tight_solve_with_polynomial_force(dimension):
+    """The closed-form step equals the ODE solved at rtol 1e-12 with the force u0 + s r1 + s^2/2 r2."""
+    m = _model(mass=2500.0, dimension=dimension)
+    x0 = np.array([0.3, -9.0, 0.1, 0.2, -0.05, 0.04])
+    x0[3:] *= np.array([1.0 if dimension >= 2 else 0.0, 1.0, 1.0 if dimension == 3 else 0.0])
+    u0 = _u(1200.0, 24000.0, -300.0)
+    r1, r2 = _u(-800.0, 3000.0, 50.0), _u(4000.0, -9000.0, 700.0)
+    h = 0.05
+    x1 = m.exact_step(0.0, x0, h, u0, r1, r2, 1e-3)
+    sol = solve_ivp(lambda s, x: m.derivatives(s, x, u0 + s * (r1 + 0.5 * s * r2)), (0.0, h), x0,
+                    rtol=1e-12, atol=1e-14)
+    assert np.max(np.abs(x1 - sol.y[:, -1])) < 1e-11
+    # frozen directions stay where they were
+    if dimension < 3:
+        assert x1[2] == x0[2] + x0[5] * h and x1[5] == x0[5] == 0.0
+
+
+def test_exact_step_declines_ground_drag_and_payload():
+    x = np.zeros(6)
+    z = _u()
+    assert _model(ground="spring_damper", y0=0.0).exact_step(0.0, x, 1e-2, z, z, z, 1e-3) is None
+    assert _model(drag_coefficient=1.0).exact_step(0.0, x, 1e-2, z, z, z, 1e-3) is None
+    assert _model(payload="rigid", m_payload=10.0).exact_step(0.0, np.zeros(10), 1e-2, z, z, z, 1e-3) is None
+
+
 def test_point_mass_is_free_fall_plus_rope_force():
     m = _model(dimension=3, mass=800.0, x0=1.0, y0=-5.0, z0=0.5, vx0=0.2, vy0=-0.1, vz0=0.3)
     u = _u(400.0, 3000.0, -160.0, top=(0.0, 0.0, 0.0))
