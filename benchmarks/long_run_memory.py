@@ -173,7 +173,8 @@ def write(args, samples, peak, hwm, reaped, rows, size, wall, stats, note: str =
              f"| rows written (without header) | {rows}" + (f" (expected {steps + 1}: {steps} steps + the initial row) |" if stats else " |"),
              f"| CSV size | {size / 1e6:.0f} MB |",
              f"| simulated | {simulated:.0f} s of {args.stop:g} s |",
-             f"| wall time | {wall:.0f} s (master's own: {own:.0f} s; real-time factor {simulated / own:.2f}) |",
+             f"| wall time | {wall:.0f} s (" + (f"master's own: {own:.0f} s; " if stats else "")
+             + f"real-time factor {simulated / own:.2f}) |",
              f"| peak RSS of the child | {peak / 1024:.1f} MiB (VmHWM {hwm / 1024:.1f}"
              + (f", ru_maxrss of reaped children {reaped / 1024:.1f}) |" if reaped else ") |")]
     for frac in (0.1, 0.5, 1.0):
