@@ -26,6 +26,13 @@ def _parse_set(items: list[str]) -> dict[str, str]:
     return out
 
 
+def _stop_when(text: str | None) -> list[str] | None:
+    """--stop-when: None keeps the scene's own stop conditions, 'none' runs on."""
+    if text is None:
+        return None
+    return [] if text.strip().lower() == "none" else [v.strip() for v in text.split(",") if v.strip()]
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     from .master.run import run
     from .scenes import summary
@@ -35,6 +42,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
                    max_iterations=args.max_iterations, accelerator=args.accelerator, energy_alarm=args.energy_alarm,
                    substeps=args.substeps,
                    instability_alarm=not args.no_instability_alarm,
+                   stop_when=_stop_when(args.stop_when),
                    order=args.order.split(",") if args.order else None,
                    progress=False if args.no_progress else None)
     res = run(args.scene, stop_time=args.stop_time, step_size=args.step, algorithm=args.algorithm,
@@ -46,6 +54,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     steps = f"{st.steps} steps of {st.min_step:.3g} to {st.max_step:.3g} s, {st.rejections} rejected" \
         if args.adaptive else f"{st.steps} steps of {args.step:g} s"
     print(f"scene {res.scene}: {steps} to t = {simulated:g} s ({args.algorithm}, extrapolation {args.extrapolation})")
+    if st.stopped:
+        print(st.stopped)
     print(f"wall time {st.wall_time:.3f} s (master {st.master_time:.3f} s), real-time factor "
           f"{st.real_time_factor(simulated):.1f}")
     print("  per FMU: " + ", ".join(f"{k} {st.fmu_calls[k]} steps {st.fmu_time[k]:.3f} s" for k in st.fmu_time))
@@ -181,6 +191,9 @@ def build_parser() -> argparse.ArgumentParser:
                    "total energy residual exceeds this")
     r.add_argument("--no-instability-alarm", action="store_true", help="do not stop a fixed-step run whose power "
                    "bond residual grows geometrically (an unstable explicit coupling; on by default)")
+    r.add_argument("--stop-when", default=None, metavar="VARS", help="end the run (as a result) at the first "
+                   "output time where one of these comma-separated outputs is non-zero; default: the scene's own "
+                   "stop conditions (truck_telescope: chassis.tipping); 'none' runs on")
     r.add_argument("--parameter-set", default=None, help="a parameter set of the scene (see cranefmu info)")
     r.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
                    help="override a parameter or start value (repeatable)")

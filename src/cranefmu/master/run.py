@@ -26,6 +26,7 @@ from .progress import Progress
 from .results import Recorder
 from .scene import Scene, load_scene
 from .step_control import PIController, coupling_error, ecco_error
+from .stop_conditions import StopWatch, read_stop_conditions
 from .system import CoSystem, RunStats
 from .waveform import WaveformIterative
 
@@ -66,10 +67,15 @@ class Settings:
     progress: bool | None = None
     substeps: int = 1
     instability_alarm: bool = True
+    stop_when: list[str] | None = None
 
     def check(self) -> None:
         if not isinstance(self.instability_alarm, bool):
             raise SettingsError(f"instability_alarm = {self.instability_alarm!r} is not allowed: True or False")
+        if self.stop_when is not None and (isinstance(self.stop_when, str) or
+                                           not all(isinstance(v, str) for v in self.stop_when)):
+            raise SettingsError(f"stop_when = {self.stop_when!r} is not allowed: a list of output names "
+                                "'component.variable' (empty: run on)")
         for name in ("start_time", "stop_time", "step_size", "tolerance", "coupling_tolerance", "init_tolerance"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
@@ -164,7 +170,8 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
         max_step: float | None = None, step_control: str = "extrapolation", coupling_tolerance: float = 1e-8,
         max_iterations: int = 50, accelerator: str = "iqn-ils", order: list[str] | None = None,
         energy_alarm: float | None = None, init_tolerance: float = 1e-10,
-        progress: bool | None = None, substeps: int = 1, instability_alarm: bool = True) -> RunResult:
+        progress: bool | None = None, substeps: int = 1, instability_alarm: bool = True,
+        stop_when: list[str] | None = None) -> RunResult:
     """Run a scene and return its results and statistics (arguments as :func:`simulate`, plus):
 
     keep: hold the rows in memory (the result array); isolate: run in a child process.
@@ -178,7 +185,10 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
     change per step grows geometrically (see :mod:`.divergence`; on by default); init_tolerance:
     relative agreement of the connections after initialization; progress: bar on/off (default: on a
     terminal, after 3 s); substeps: iterative only, waveform iteration on this many sub-intervals
-    of each macro step (1: inputs are one polynomial over the step; see :mod:`.waveform`).
+    of each macro step (1: inputs are one polynomial over the step; see :mod:`.waveform`);
+    stop_when: outputs ("component.variable") that end the run at the first communication point
+    where one is non-zero, as a result (``stats.stopped`` says why); default: the scene's own list
+    (SSD annotation, see :mod:`.stop_conditions`), [] to run on.
 
     With ``isolate`` (the default) the FMUs run in a fresh child process.  pythonfmu FMUs share the
     host's interpreter and do not survive being instantiated again after a previous run in the same
@@ -189,6 +199,7 @@ def run(scene: str | Path, stop_time: float | None = None, step_size: float = 1e
                         max_step, step_control, coupling_tolerance, max_iterations, accelerator, order, energy_alarm,
                         init_tolerance, progress, substeps)
     settings.instability_alarm = instability_alarm
+    settings.stop_when = stop_when
     ssp = resolve_scene(scene)  # build in the parent, once
     args = (ssp, settings, parameter_set, parameters, output, keep)
     if not isolate:
@@ -224,9 +235,12 @@ def _run_here(ssp: Path, settings: Settings, parameter_set: str | None, paramete
         _check_capabilities(system, settings, bonds)
         watch = Watch(system, bonds, settings.adaptive) if settings.instability_alarm else None
         recorder = Recorder(system.columns + bonds.columns, Path(output) if output else None, keep=keep)
+        conditions = read_stop_conditions(workdir / "SystemStructure.ssd") if settings.stop_when is None \
+            else {v: "" for v in settings.stop_when}
+        stopper = StopWatch(system.columns + bonds.columns, conditions) if conditions else None
         system.stats.init_iterations = initialize(system, settings.start_time, overrides, settings.init_tolerance)
         progress = Progress(settings.start_time, settings.stop_time, settings.progress)
-        _loop(system, settings, recorder, bonds, progress, watch)
+        _loop(system, settings, recorder, bonds, progress, watch, stopper)
         system.stats.wall_time = clock.perf_counter() - wall0
         system.stats.master_time = system.stats.wall_time - sum(system.stats.fmu_time.values())
         system.stats.bond_energy = bonds.totals()
@@ -276,7 +290,7 @@ def _algorithm(system: CoSystem, s: Settings):
 
 
 def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor, progress: Progress,
-          watch: Watch | None) -> None:
+          watch: Watch | None, stopper: StopWatch | None = None) -> None:
     """Step from start to stop: fixed steps, or adaptive with rejection, rollback and event location.
 
     Start-up: an explicit scheme of extrapolation order p takes its first p steps with iterative
@@ -302,6 +316,10 @@ def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor,
     flags = system.flags() if s.adaptive else None
     row = _row(system, bonds, s.adaptive)
     recorder.record(t, row)
+    if stopper is not None:
+        stats.stopped = stopper.check(t, row) or ""
+        if stats.stopped:
+            return
     n_fixed = max(1, round((stop - t) / s.step_size))
     h = s.step_size
     locating = False
@@ -356,6 +374,10 @@ def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor,
             alarm = watch.update(t, h)
             if alarm is not None:
                 raise SimulationError(alarm)
+        if stopper is not None:
+            stats.stopped = stopper.check(t, row) or ""
+            if stats.stopped:
+                break
         progress.update(t)
         if s.adaptive:
             if locating and event:      # the switch is located to min_step: restart small
