@@ -170,3 +170,28 @@ def test_exact_chassis_falls_back_to_rk4_at_lift_off():
     assert q_front[-1] < 0.0                        # lifted off by the end
     assert 0 < fallbacks < 30                       # exact before lift-off, integrated through it
     assert rel_error(exact, ref) < 1e-4
+
+
+def test_exact_step_maps_are_reused_for_a_step_size_that_differs_in_round_off():
+    """A fixed-step master's h = t_next - t varies in the last bits: the same cached map must serve
+    (keyed on the raw h, every step of truck_telescope recomputed expm), and the map for the rounded
+    h equals a fresh one for the raw h to round-off."""
+    from cranefmu.physics.linear_step import LinearPropagator
+
+    a = np.array([[0.0, 1.0], [-400.0, -2.0]])
+    lin = LinearPropagator(a, np.array([0.0, -9.81]), np.array([[0.0], [1.0]]))
+    h = 0.01
+    t = 0.0
+    steps = []
+    for n in range(1, 200):
+        t_next = n * h
+        steps.append(t_next - t)
+        t = t_next
+    assert len(set(steps)) > 1                      # the raw step sizes do differ
+    first = lin.maps(steps[0])
+    assert all(lin.maps(s) is first for s in steps)
+    from scipy.linalg import expm
+
+    odd = max(steps, key=lambda s: abs(s - h))
+    exact = expm(lin.generator * odd)[:2]
+    assert np.max(np.abs(first[-1] - exact)) < 1e-12

@@ -51,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .component import Model, Signal
-from .linear_step import LinearPropagator
+from .linear_step import LinearPropagator, step_key
 from .params import Params, ParameterError, param
 
 
@@ -217,6 +217,7 @@ class ChassisModel(Model):
         """For a step h checked at k sub-points: the map of z = (x, 1, u0, r1, r2) to the end state;
         the map of z to the settlements at s = 0, h/k, ..., h (first 2(k+1) rows) and the contact
         reactions there (last 2(k+1) rows); the margin per unit of reaction (module docstring)."""
+        h = step_key(h)
         key = (h, k)
         if key not in self._checks:
             if self._linear is None:
