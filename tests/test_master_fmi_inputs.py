@@ -39,13 +39,20 @@ def _scene(interpolate: bool, with_rates: bool):
     return comps, input_groups(comps, [ConnectionSpec("a", "y", "b", "u")])
 
 
+def _host(comps):
+    """What CoSystem.push needs of a CoSystem for groups it did not prepare: the components."""
+    host = SimpleNamespace(comps=comps)
+    host._send = lambda *args: CoSystem._send(host, *args)
+    return host
+
+
 def test_capable_fmu_without_rate_inputs_gets_fmi_input_derivatives():
     comps, groups = _scene(interpolate=True, with_rates=False)
     g = groups[1][0]
     assert g.fmi_derivatives and g.dt_vrs is None
     # the polynomial through (t, u) = (-2, 1), (-1, 3), (0, 7) is t^2 + 5 t + 7: u' = 5, u'' = 2 at t = 0
     d1, d2 = rates([(-2.0, np.array([1.0])), (-1.0, np.array([3.0])), (0.0, np.array([7.0]))], 0.0)
-    CoSystem.push(SimpleNamespace(comps=comps), g, np.array([7.0]), d1, d2)
+    CoSystem.push(_host(comps), g, np.array([7.0]), d1, d2)
     assert comps[1].fmu.calls == [("setReal", [5], [7.0]), ("derivatives", [5], [1], [5.0]),
                                   ("derivatives", [5], [2], [2.0])]
 
@@ -55,7 +62,7 @@ def test_rate_inputs_win_and_incapable_fmus_get_a_zero_order_hold():
         comps, groups = _scene(interpolate, with_rates)
         g = groups[1][0]
         assert g.fmi_derivatives is expected
-        CoSystem.push(SimpleNamespace(comps=comps), g, np.array([7.0]), np.array([6.0]), np.array([2.0]))
+        CoSystem.push(_host(comps), g, np.array([7.0]), np.array([6.0]), np.array([2.0]))
         assert not any(c[0] == "derivatives" for c in comps[1].fmu.calls)
 
 

@@ -196,23 +196,30 @@ class CoSystem:
 
     def push(self, g: InputGroup, value: np.ndarray, d1: np.ndarray, d2: np.ndarray) -> None:
         """Feed ``value`` (at the step start) and its first and second time derivative."""
+        count = -1                      # a group not prepared by a CoSystem: fmpy's calls
+        if g.set_view is not None:
+            view = g.set_view
+            n = len(value)
+            view[:n] = value
+            count = n
+            if g.dt_vrs is not None:
+                moving = not (d1 is g.zero and d2 is g.zero) and bool(d1.any() or d2.any())
+                if moving or g.rates_set:  # zero rates stay zero: values only for a zero-order hold
+                    view[n:2 * n] = d1
+                    view[2 * n:] = d2
+                    count = 3 * n
+                    g.rates_set = moving
+                    self._curvature_written = True
+        self._send(g, count, value, d1, d2)
+
+    def _send(self, g: InputGroup, count: int, value: np.ndarray, d1: np.ndarray, d2: np.ndarray) -> None:
+        """Write the first ``count`` entries of the group's set array (-1: set value and rates with
+        fmpy's calls), the FMI input derivatives where the FMU takes them, and note what was fed."""
         comp = self.comps[g.dst]
         try:
-            if g.set_view is None:      # a group not prepared by a CoSystem: fmpy's calls
+            if count < 0:
                 CoSystem._push_lists(comp.fmu, g, value, d1, d2)
             else:
-                view = g.set_view
-                n = len(value)
-                view[:n] = value
-                count = n
-                if g.dt_vrs is not None:
-                    moving = not (d1 is g.zero and d2 is g.zero) and bool(d1.any() or d2.any())
-                    if moving or g.rates_set:  # zero rates stay zero: values only for a zero-order hold
-                        view[n:2 * n] = d1
-                        view[2 * n:] = d2
-                        count = 3 * n
-                        g.rates_set = moving
-                        self._curvature_written = True
                 comp.write(g.set_vrs, count, g.set_values)
                 if g.fmi_derivatives:
                     CoSystem._input_derivatives(comp.fmu, g, d1, d2)
@@ -355,18 +362,9 @@ class CoSystem:
                 elif g.rates_set:  # zero rates: sent once, then values only
                     g.set_view[n:] = 0.0
                     count, g.rates_set = 3 * n, False
-            comp = self.comps[g.dst]
             u1 = g.zero if d1 is None else d1[a:b]
             u2 = g.zero if d1 is None else d2[a:b]
-            try:
-                comp.write(g.set_vrs, count, g.set_values)
-                if g.fmi_derivatives:
-                    CoSystem._input_derivatives(comp.fmu, g, u1, u2)
-            except Exception:
-                raise self.refused(comp, "setting its inputs") from None
-            if not g.keeps_fresh:
-                comp.fresh = False
-            g.fed = (values[a:b], u1, u2)
+            self._send(g, count, values[a:b], u1, u2)
 
     def _exchange_groups(self, t: float, p: int) -> None:
         """Group by group (initialization mode, where any input set may change any output)."""
