@@ -128,11 +128,26 @@ def load_scene(ssp: Path, workdir: Path) -> Scene:
             sets[ssv.stem] = _parameter_dict(read_ssv(str(ssv)))
         except Exception as err:
             raise ParameterSetError(f"{ssp.name}: parameter set {ssv.name} cannot be read: {err}") from None
-    stop = None
-    de = getattr(ssd, "defaultExperiment", None)
-    if de is not None and getattr(de, "stopTime", None) is not None:
-        stop = float(de.stopTime)
+    stop = default_stop_time(workdir / "SystemStructure.ssd")
     return Scene(ssd.name or ssp.stem, ssp, components, connections, bound, sets, stop)
+
+
+def default_stop_time(ssd: Path) -> float | None:
+    """stopTime [s] of the SSD's DefaultExperiment (read here: fmpy 0.3's SSD reader leaves
+    ``defaultExperiment`` empty), or None."""
+    from lxml import etree
+
+    root = etree.parse(str(ssd), etree.XMLParser(resolve_entities=False, no_network=True)).getroot()
+    for de in root.iter("{*}DefaultExperiment"):
+        text = de.get("stopTime")
+        if text is None:
+            return None
+        try:
+            stop = float(text)
+        except ValueError:
+            raise SceneError(f"{ssd.name}: DefaultExperiment stopTime={text!r} is not a number") from None
+        return stop
+    return None
 
 
 def output_units(scene: Scene) -> dict[str, str]:
