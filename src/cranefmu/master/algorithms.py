@@ -19,6 +19,7 @@ from .acceleration import ACCELERATORS
 from .coupling import InputGroup, feedthrough, rates
 from .errors import SimulationError
 from .residual import relative_residual
+from .system import CoSystem
 
 # A fixed-point map evaluated through FMUs is not exact: round-off, and the quasi-Newton update
 # near convergence, leave its change at a noise level (measured on truck_telescope's start-up:
@@ -27,7 +28,6 @@ from .residual import relative_residual
 # of its size is that noise: the step counts as converged.
 STALL = 5
 NOISE = 1e-8
-from .system import CoSystem
 
 
 class Jacobi:

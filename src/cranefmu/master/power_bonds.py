@@ -16,6 +16,7 @@ import numpy as np
 from .divergence import Growth, GrowthAlarm
 from .errors import SceneError
 from .system import CoSystem
+from .xml_guard import parse_xml
 
 ANNOTATION = "org.cranefmu.powerbonds"
 
@@ -71,7 +72,7 @@ def read_bonds(ssd: Path) -> list[tuple[str, list[dict]]]:
     """(bond name, [side attributes a, b]) from the SSD's power-bond annotation (none if absent)."""
     from lxml import etree
 
-    root = etree.parse(str(ssd), etree.XMLParser(resolve_entities=False, no_network=True)).getroot()
+    root = parse_xml(ssd)
     out = []
     for ann in root.iter("{*}Annotation"):
         if ann.get("type") != ANNOTATION:

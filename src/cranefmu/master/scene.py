@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .errors import ParameterSetError, SceneError
-from .xml_guard import check_xml_files
+from .xml_guard import check_xml_files, parse_xml
 
 
 @dataclass
@@ -61,9 +61,7 @@ def linear_transformations(ssd: Path) -> dict[tuple[str, str, str, str], tuple[f
     """(start element, start connector, end element, end connector) -> (factor, offset) of each
     connection's ``LinearTransformation``.  Read here because fmpy 0.3 looks for it in the ssd
     namespace, while the SSP schema (which fmpy validates against) puts it in ssc."""
-    from lxml import etree
-
-    root = etree.parse(str(ssd), etree.XMLParser(resolve_entities=False, no_network=True)).getroot()
+    root = parse_xml(ssd)
     out = {}
     for conn in root.iter("{*}Connection"):
         for lt in conn.iter("{*}LinearTransformation"):
@@ -135,9 +133,7 @@ def load_scene(ssp: Path, workdir: Path) -> Scene:
 def default_stop_time(ssd: Path) -> float | None:
     """stopTime [s] of the SSD's DefaultExperiment (read here: fmpy 0.3's SSD reader leaves
     ``defaultExperiment`` empty), or None."""
-    from lxml import etree
-
-    root = etree.parse(str(ssd), etree.XMLParser(resolve_entities=False, no_network=True)).getroot()
+    root = parse_xml(ssd)
     for de in root.iter("{*}DefaultExperiment"):
         text = de.get("stopTime")
         if text is None:

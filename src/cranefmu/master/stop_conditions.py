@@ -19,15 +19,14 @@ from __future__ import annotations
 from pathlib import Path
 
 from .errors import SceneError, SettingsError
+from .xml_guard import parse_xml
 
 ANNOTATION = "org.cranefmu.stopwhen"
 
 
 def read_stop_conditions(ssd: Path) -> dict[str, str]:
     """variable ("component.output") -> reason, from the SSD's stop annotation (empty if absent)."""
-    from lxml import etree
-
-    root = etree.parse(str(ssd), etree.XMLParser(resolve_entities=False, no_network=True)).getroot()
+    root = parse_xml(ssd)
     out = {}
     for ann in root.iter("{*}Annotation"):
         if ann.get("type") != ANNOTATION:
