@@ -32,7 +32,7 @@ FACTORS = (0.9, 1.3, 2.0, 3.0)   # H / the analytic limit
 def one_run(scene: str, parameter_set: str | None, kw: dict, alarm: bool) -> dict:
     """One run in this (spawned) process; what the watch saw."""
     from cranefmu.master import run as run_mod
-    from cranefmu.master.errors import SimulationError
+    from cranefmu.errors import SimulationError
 
     watches = []
 

@@ -21,7 +21,7 @@ SCHEMES = [("jacobi", 0), ("jacobi", 1), ("jacobi", 2), ("gauss-seidel", 0), ("g
 
 
 def main(steps: list[float]) -> None:
-    from cranefmu.master.errors import SimulationError
+    from cranefmu.errors import SimulationError
     from cranefmu.master.run import run
     from oscillator import build_oscillator
     from oscillator.exact import Oscillator

@@ -58,7 +58,7 @@ def axial(E: float) -> tuple[float, float, float]:
 
 def one_run(E: float, h: float, algorithm: str, order: int) -> tuple[bool, float]:
     """Run the scene at H = h; (stable?, late/early amplitude ratio); runs in a spawned child."""
-    from cranefmu.master.errors import CraneFmuError
+    from cranefmu.errors import CraneFmuError
     from cranefmu.master.run import run
 
     omega, _, stretch = axial(E)

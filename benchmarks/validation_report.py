@@ -23,7 +23,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from cranefmu.master.errors import CraneFmuError  # noqa: E402
+from cranefmu.errors import CraneFmuError  # noqa: E402
 from cranefmu.reference import solve  # noqa: E402
 from cranefmu.scenes import (hook_sway_metrics, hook_sway_parameters, overhead_lift_metrics,  # noqa: E402
                              payload_sway, truck_telescope_metrics, truck_telescope_parameters)
@@ -64,7 +64,7 @@ def cosim_kept(scene: str, stop: float, step: float, parameter_set: str, extrapo
     """A co-simulation and, if it ended early, why: the scene's stop condition (truck_telescope ends
     where an outrigger lifts off: after it the chassis model means nothing) or a failure (the rows it
     had are kept).  The instability alarm is on (default)."""
-    from cranefmu.master.errors import SimulationError
+    from cranefmu.errors import SimulationError
     from cranefmu.master.run import run as cosimulate
 
     t0 = time.perf_counter()

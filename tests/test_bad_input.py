@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from cranefmu.cli import main as cli
-from cranefmu.master.errors import ParameterSetError, SceneError, SettingsError, SimulationError
+from cranefmu.errors import ParameterSetError, SceneError, SettingsError, SimulationError
 from cranefmu.master.run import run
 
 from faulty import faulty_fmu, faulty_scene

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cranefmu.master.errors import SimulationError
+from cranefmu.errors import SimulationError
 from cranefmu.master.results import read_csv
 from cranefmu.master.run import ALGORITHMS, run
 from cranefmu.physics.boom import BoomModel, BoomParams

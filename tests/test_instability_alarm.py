@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from cranefmu.master.divergence import GrowthAlarm, ImbalanceAlarm
-from cranefmu.master.errors import SimulationError
+from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
 from cranefmu.scenes import SCENES
 from test_extremes import G, at_rest_on_rope, one_d_pendulum

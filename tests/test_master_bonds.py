@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from cranefmu.master.errors import SimulationError
+from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
 from oscillator.exact import Oscillator
 

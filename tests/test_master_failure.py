@@ -4,7 +4,7 @@ import io
 
 import pytest
 
-from cranefmu.master.errors import SimulationError
+from cranefmu.errors import SimulationError
 from cranefmu.master.progress import Progress
 from cranefmu.master.run import run
 from oscillator.exact import Oscillator

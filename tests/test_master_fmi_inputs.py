@@ -94,6 +94,6 @@ def test_connection_units_convert_through_the_unit_definitions():
     comps["b"].variables["u"].unit = "m"                    # temperature into a length: refused
     import pytest
 
-    from cranefmu.master.errors import SceneError
+    from cranefmu.errors import SceneError
     with pytest.raises(SceneError, match="'degC' -> 'm' differ"):
         check_connection(ConnectionSpec("a", "y", "b", "u"), comps)

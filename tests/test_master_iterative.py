@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from cranefmu.master.errors import SimulationError
+from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
 from oscillator.exact import Oscillator
 

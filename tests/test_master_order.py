@@ -28,7 +28,7 @@ def test_observed_order_is_extrapolation_order_plus_one(oscillator_ssp, algorith
 
 
 def test_gauss_seidel_order_override(oscillator_ssp):
-    from cranefmu.master.errors import SettingsError
+    from cranefmu.errors import SettingsError
 
     pars = {**OSC.parameters(), "mass.x0": X0}
     mass_first = run(oscillator_ssp, stop_time=0.5, step_size=1e-2, algorithm="gauss-seidel", order=["mass", "spring"],

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from cranefmu.master.errors import ParameterSetError, SceneError
+from cranefmu.errors import ParameterSetError, SceneError
 from cranefmu.master.graph import is_loop, strongly_connected
 from cranefmu.master.run import run
 from oscillator import SSD, build_oscillator

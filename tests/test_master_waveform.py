@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from cranefmu.master.errors import SettingsError
+from cranefmu.errors import SettingsError
 from cranefmu.master.run import run
 from cranefmu.master.waveform import fed_quadratic, stencil
 from oscillator.exact import Oscillator

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cranefmu.master.errors import ParameterSetError, SimulationError
+from cranefmu.errors import ParameterSetError, SimulationError
 from cranefmu.master.results import read_csv
 
 from faulty import faulty_fmu, faulty_scene
@@ -29,7 +29,7 @@ def _counted_run(tmpdir: str, scene: str, kwargs: dict) -> dict:
 
     from fmpy.fmi2 import FMU2Slave
 
-    from cranefmu.master.errors import CraneFmuError
+    from cranefmu.errors import CraneFmuError
     from cranefmu.master.results import Recorder
     from cranefmu.master.run import run
 

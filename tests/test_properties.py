@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from cranefmu.integrators import integrate
-from cranefmu.master.errors import CraneFmuError, SimulationError
+from cranefmu.errors import CraneFmuError, SimulationError
 from cranefmu.master.run import run
 from cranefmu.physics.boom import BoomModel
 from cranefmu.physics.boucwen import BoucWenParams

@@ -1,7 +1,7 @@
 """What a scene file sets by default: the stop time of its DefaultExperiment."""
 import pytest
 
-from cranefmu.master.errors import SceneError
+from cranefmu.errors import SceneError
 from cranefmu.master.run import run
 from cranefmu.master.scene import default_stop_time
 

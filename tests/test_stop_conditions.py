@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from cranefmu.master.errors import SettingsError
+from cranefmu.errors import SettingsError
 from cranefmu.master.run import run
 
 

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from cranefmu.master.errors import CraneFmuError
+from cranefmu.errors import CraneFmuError
 from cranefmu.sway_envelope import (air_drag_decay, double_pendulum_modes, envelope, initial_lengths, payload_sway_envelope,
                                     quadratic_drag_amplitude, simulate_hook_sway)
 

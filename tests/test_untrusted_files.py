@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from cranefmu.master.errors import SceneError
+from cranefmu.errors import SceneError
 from cranefmu.master.run import run
 from cranefmu.master.scene import safe_extract
 from cranefmu.master.xml_guard import check_xml

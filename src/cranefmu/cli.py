@@ -5,7 +5,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .master.errors import CraneFmuError
+from .errors import CraneFmuError
 
 
 def _cmd_build(args: argparse.Namespace) -> int:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .master.errors import CraneFmuError, SceneError, SettingsError
+from .errors import CraneFmuError, SceneError, SettingsError
 
 REFERENCES = ("monolithic", "finest")
 FINEST_FACTOR = 4  # --reference finest: an extra run at min(H) / 4 serves as the reference
@@ -146,7 +146,7 @@ def energy_residual(stats) -> float | None:
 def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: float | None, algorithm: str,
              extrapolation: int, parameter_set: str | None, parameters: dict | None, **extra):
     """One isolated master run; returns (ConvergenceRun, result array or None)."""
-    from .master.errors import SimulationError
+    from .errors import SimulationError
     from .master.run import run
 
     kwargs = dict(stop_time=stop_time, step_size=step_size, algorithm=algorithm, extrapolation=extrapolation,

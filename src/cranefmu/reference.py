@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .master.errors import ParameterSetError, SceneError, SimulationError
+from .errors import ParameterSetError, SceneError, SimulationError
 from .physics.boom import BoomModel
 from .physics.chassis import ChassisModel
 from .physics.component import Model

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .master.errors import CraneFmuError
+from .errors import CraneFmuError
 
 G = 9.81
 #: sway angles the module measures: line tip -> payload ("tip") and hook -> payload ("hook")

@@ -17,7 +17,7 @@ import numpy as np
 
 from .acceleration import ACCELERATORS
 from .coupling import InputGroup, feedthrough, rates
-from .errors import SimulationError
+from ..errors import SimulationError
 from .residual import relative_residual
 from .system import CoSystem
 
@@ -57,7 +57,7 @@ class GaussSeidel:
             names = [c.name for c in system.comps]
             unknown = [n for n in order if n not in names]
             if unknown or sorted(order) != sorted(names):
-                from .errors import SettingsError
+                from ..errors import SettingsError
                 raise SettingsError(f"gauss-seidel order {order!r} is not allowed: a permutation of "
                                     f"{', '.join(names)}")
             self.order = [names.index(n) for n in order]

@@ -12,7 +12,7 @@ from graphlib import CycleError, TopologicalSorter
 
 import numpy as np
 
-from .errors import SceneError
+from ..errors import SceneError
 from .fmu import FmuComponent
 from .scene import ConnectionSpec
 

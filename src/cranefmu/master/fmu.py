@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import ParameterSetError, SceneError
+from ..errors import ParameterSetError, SceneError
 
 _BOOL_TEXT = {"true": True, "false": False, "1": True, "0": False}
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .acceleration import IQNILS
-from .errors import SimulationError
+from ..errors import SimulationError
 from .graph import component_graph, is_loop, strongly_connected
 from .residual import relative_residual
 from .system import CoSystem

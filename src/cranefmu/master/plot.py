@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import CraneFmuError, SettingsError
+from ..errors import CraneFmuError, SettingsError
 
 
 def figure_groups(scene: str, result: np.ndarray, variables: list[str] | None) -> list[tuple[str, list[str]]]:

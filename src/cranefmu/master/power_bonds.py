@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from .divergence import Growth, GrowthAlarm
-from .errors import SceneError
+from ..errors import SceneError
 from .system import CoSystem
 from .xml_guard import parse_xml
 

@@ -19,7 +19,7 @@ import numpy as np
 from .acceleration import ACCELERATORS
 from .algorithms import GaussSeidel, Iterative, Jacobi
 from .divergence import Watch
-from .errors import CraneFmuError, ParameterSetError, SceneError, SettingsError, SimulationError
+from ..errors import CraneFmuError, ParameterSetError, SceneError, SettingsError, SimulationError
 from .initialization import initialize
 from .power_bonds import BondMonitor, read_bonds, resolve
 from .progress import Progress
@@ -435,7 +435,7 @@ def simulate(scene: str | Path, stop_time: float | None = None, step_size: float
     that the coupling values' local error stays below ``tolerance`` (relative); parameter_set: a
     .ssv in the scene; parameters: {"comp.var": value} overrides; output: CSV written as the run
     goes.  Further keyword options as :func:`run`.
-    Raises a :class:`~cranefmu.master.errors.CraneFmuError` subclass naming what is wrong.
+    Raises a :class:`~cranefmu.errors.CraneFmuError` subclass naming what is wrong.
     """
     return run(scene, stop_time, step_size, algorithm, extrapolation, parameter_set, parameters, output,
                start_time, adaptive=adaptive, tolerance=tolerance, **options).result

@@ -5,7 +5,7 @@ import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .errors import ParameterSetError, SceneError
+from ..errors import ParameterSetError, SceneError
 from .xml_guard import check_xml_files, parse_xml
 
 

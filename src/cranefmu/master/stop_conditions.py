@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .errors import SceneError, SettingsError
+from ..errors import SceneError, SettingsError
 from .xml_guard import parse_xml
 
 ANNOTATION = "org.cranefmu.stopwhen"

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .coupling import InputGroup, check_connection, feedthrough, lagrange_weights, ordered_links, rates, visit_order
-from .errors import CraneFmuError, ParameterSetError, SceneError, SimulationError
+from ..errors import CraneFmuError, ParameterSetError, SceneError, SimulationError
 from .fmu import FmuComponent
 from .scene import Scene
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from .errors import SceneError
+from ..errors import SceneError
 
 _DOCTYPE = re.compile(rb"<!DOCTYPE", re.IGNORECASE)
 _DTD_REFUSED = ("{} declares a document type (<!DOCTYPE ...>): not allowed, SSP and FMI XML needs no DTD "

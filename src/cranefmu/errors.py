@@ -1,4 +1,4 @@
-"""Exceptions of the master: each names the item, its value and what is allowed."""
+"""Exceptions of cranefmu (a leaf module every layer may import): each names the item, its value and what is allowed."""
 
 
 class CraneFmuError(Exception):
