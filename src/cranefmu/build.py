@@ -219,9 +219,12 @@ def build(force: bool = False, verbose: bool = True, only: list[str] | None = No
             return _build(force, verbose, only)
         with cache.locked(FMU_DIR.parent):
             return _build(force, verbose, only)
-    except PermissionError as err:
+    except OSError as err:
+        if err.filename is None:
+            raise
+        hint = f"; set {cache.ENV} to a writable folder" if _in_cache() else ""
         raise CraneFmuError(f"cannot build the FMUs and scenes into {FMU_DIR.parent}: {err.strerror} "
-                            f"({err.filename}); set {cache.ENV} to a writable folder") from None
+                            f"({err.filename}){hint}") from None
 
 
 def _build(force: bool, verbose: bool, only: list[str] | None) -> list[Path]:

@@ -11,10 +11,13 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
+import shutil
 from collections.abc import Iterator
 from pathlib import Path
 
 ENV = "CRANEFMU_CACHE_DIR"
+_BUILD_FOLDER = re.compile(r"^\d[\w.+!-]*-[0-9a-f]{16}$")  # <version>-<digest>: what versioned_dir makes
 
 
 def cache_root() -> Path:
@@ -31,6 +34,16 @@ def versioned_dir(digest: str) -> Path:
     from . import __version__
 
     return cache_root() / f"{__version__}-{digest[:16]}"
+
+
+def clear() -> list[Path]:
+    """Remove every build folder (all versions) from the cache; returns them.  Only folders named
+    as :func:`versioned_dir` names them: a cache root pointed at a folder of other files loses none."""
+    root = cache_root()
+    removed = sorted(p for p in root.iterdir() if p.is_dir() and _BUILD_FOLDER.match(p.name)) if root.is_dir() else []
+    for folder in removed:
+        shutil.rmtree(folder)
+    return removed
 
 
 def writable(folder: Path) -> bool:

@@ -10,11 +10,16 @@ from .errors import CraneFmuError
 
 def _cmd_build(args: argparse.Namespace) -> int:
     from . import build as b
+    from .cache import clear
 
-    where = b.FMU_DIR.parent if b.FMU_DIR.parent == b.SSP_DIR.parent else f"{b.FMU_DIR} and {b.SSP_DIR}"
     if args.where:
-        print(where)
+        print(f"{b.FMU_DIR}\n{b.SSP_DIR}")
         return 0
+    if args.clear_cache:
+        removed = clear()
+        print("\n".join(f"removed {p}" for p in removed) or "the cache holds no builds")
+        return 0
+    where = b.FMU_DIR.parent if b._in_cache() else f"{b.FMU_DIR} and {b.SSP_DIR}"
     done = b.build(force=args.force, only=args.only or None)
     print(f"{len(done)} file(s) built in {where}" if done else f"everything in {where} is up to date")
     return 0
@@ -170,7 +175,10 @@ def build_parser() -> argparse.ArgumentParser:
     b = sub.add_parser("build", help="build the FMUs and .ssp scenes that are missing or older than their sources "
                                      "(a checkout: into fmus/ and ssp/; installed: into the user cache)")
     b.add_argument("--force", action="store_true", help="rebuild everything")
-    b.add_argument("--where", action="store_true", help="print where the FMUs and scenes are built, build nothing")
+    b.add_argument("--where", action="store_true", help="print the folders the FMUs and the scenes are built in "
+                   "(two lines), build nothing")
+    b.add_argument("--clear-cache", action="store_true", help="remove every build in the user cache (all versions; "
+                   "a checkout's fmus/ and ssp/ are not touched), build nothing")
     b.add_argument("only", nargs="*", help="FMU or scene names to build (default: all)")
     b.set_defaults(func=_cmd_build)
 
