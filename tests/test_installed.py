@@ -210,6 +210,9 @@ def test_info_converge_docs_and_build(installed, built):
     for name in ("Rope", "Pendulum"):
         assert (installed.work / "pages" / f"{name}.md").read_text() == \
             (CHECKOUT / "docs" / "fmus" / f"{name}.md").read_text()
+    (installed.work / "a_file").write_text("")
+    res = installed.run(str(installed.venv / "bin" / "cranefmu"), "docs", "--output", "a_file/pages", "Rope")
+    assert res.returncode == 2 and res.stderr.startswith("cranefmu: error: cannot write the FMU pages into a_file")
     out = installed.cranefmu("build").stdout
     fmus = sorted(p.stem for p in installed.cache.glob("*/fmus/*.fmu"))
     assert fmus == sorted(p.stem for p in CHECKOUT.glob("fmus/[!_]*.py")), out
@@ -268,3 +271,26 @@ def test_a_read_only_checkout_with_stale_builds_runs_from_the_cache(built, check
         _same_rows(res.result, checkout_rows[0])
     finally:
         b.set_build_dirs(*before)
+
+
+def test_the_master_resolves_names_only_through_the_registered_resolver(built, monkeypatch):
+    """Names reach the master through the resolver `import cranefmu` registers; without it only .ssp
+    paths are accepted, and no master module imports the build or the scene catalog."""
+    import ast
+
+    from cranefmu import build as b
+    from cranefmu.errors import SceneError
+    from cranefmu.master import scene_names
+
+    ssp = b.SSP_DIR / f"{SCENE}.ssp"
+    assert scene_names.resolve_scene(SCENE) == ssp
+    monkeypatch.setattr(scene_names, "_resolver", None)
+    with pytest.raises(SceneError, match=f"scene '{SCENE}' is not allowed: a path to an .ssp file"):
+        scene_names.resolve_scene(SCENE)
+    assert scene_names.resolve_scene(ssp) == ssp
+    imported = set()
+    for path in (CHECKOUT / "src" / "cranefmu" / "master").glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level == 2:   # from ..x import y / from .. import x
+                imported |= {node.module} if node.module else {a.name for a in node.names}
+    assert not imported & {"build", "scene_catalog", "sources", "cache"}, imported

@@ -145,7 +145,12 @@ def _cmd_docs(args: argparse.Namespace) -> int:
         for name in stale:
             print(f"{output / (name + '.md')} differs from fmus/{name}.fmu: run cranefmu docs")
         return 1 if stale else 0
-    for page in write_docs(output, args.only or None):
+    try:
+        pages = write_docs(output, args.only or None)
+    except OSError as err:
+        raise CraneFmuError(f"cannot write the FMU pages into {output}: {err.strerror} ({err.filename}); "
+                            "give --output DIR") from None
+    for page in pages:
         print(f"wrote {page}")
     return 0
 
