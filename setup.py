@@ -8,6 +8,7 @@ the checkout itself and copies nothing.  All other metadata is in pyproject.toml
 """
 from __future__ import annotations
 
+import importlib.util
 import shutil
 from pathlib import Path
 
@@ -17,13 +18,20 @@ from setuptools.command.build_py import build_py
 HERE = Path(__file__).resolve().parent
 
 
+def _sources_module():
+    """src/cranefmu/sources.py loaded on its own (stdlib only; the package and its dependencies are not
+    imported at build time): what it lists is what the wheel ships, the digest covers and a build uses."""
+    spec = importlib.util.spec_from_file_location("_cranefmu_sources", HERE / "src" / "cranefmu" / "sources.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def _source_files() -> list[tuple[Path, str]]:
     """(file, path under cranefmu/_sources/) for every FMU script and scene source."""
-    files = [(f, f"fmus/{f.name}") for f in sorted((HERE / "fmus").glob("*.py"))]
-    for scene in sorted(d for d in (HERE / "ssp").iterdir() if (d / "SystemStructure.ssd").is_file()):
-        files += [(f, f"ssp/{scene.name}/{f.name}") for f in sorted(scene.iterdir())
-                  if f.is_file() and not f.name.startswith(".") and not f.name.endswith(".tmp")]
-    return files
+    src = _sources_module()
+    files = [(f, f"fmus/{f.name}") for f in src.fmu_scripts()]
+    return files + [(f, f"ssp/{d.name}/{f.name}") for d in src.scene_dirs() for f in src.scene_files(d)]
 
 
 class BuildWithSources(build_py):

@@ -127,8 +127,10 @@ def test_the_wheel_carries_the_sources_and_is_what_runs(installed):
     import zipfile
 
     names = set(zipfile.ZipFile(installed.wheel).namelist())
-    sources = [p.relative_to(CHECKOUT).as_posix() for p in [*CHECKOUT.glob("fmus/*.py"), *CHECKOUT.glob("ssp/*/*")]
-               if p.suffix in (".py", ".ssd", ".ssv")]
+    from cranefmu.sources import scene_dirs, scene_files
+
+    sources = [p.relative_to(CHECKOUT).as_posix() for p in
+               [*CHECKOUT.glob("fmus/*.py"), *(f for d in scene_dirs() for f in scene_files(d))]]
     assert sources and all(f"cranefmu/_sources/{s}" in names for s in sources)
     assert not any(n.endswith((".fmu", ".ssp")) for n in names)
     import tarfile
