@@ -186,6 +186,13 @@ def test_script_on_stdin_gives_the_checkout_rows(installed, checkout_rows):
     _same_rows(np.load(installed.work / "rows.npy"), checkout_rows[0])
 
 
+def test_python_c_gives_the_checkout_rows(installed, checkout_rows):
+    (installed.work / "rows.npy").unlink(missing_ok=True)
+    res = installed.run(str(installed.python), "-c", SCRIPT)
+    assert res.returncode == 0, res.stderr
+    _same_rows(np.load(installed.work / "rows.npy"), checkout_rows[0])
+
+
 def test_reference_solve_gives_the_checkout_solution(installed):
     from cranefmu.reference import solve
 
