@@ -27,8 +27,8 @@ from pathlib import Path
 
 from . import cache
 from .errors import CraneFmuError, SceneError
-from .sources import (BUNDLED, CHECKOUT, FMU_SOURCES, IN_CHECKOUT, PACKAGE_DIR, SSP_SOURCES,  # noqa: F401
-                      bundle_sources, fmu_scripts, scene_dirs, scene_files, source_digest)
+from .sources import (CHECKOUT, FMU_SOURCES, IN_CHECKOUT, PACKAGE_DIR, SSP_SOURCES, bundle_sources, fmu_scripts,
+                      scene_dirs, scene_files, source_digest)
 
 ROOT = CHECKOUT
 # where FMUs and .ssp files are built; the checkout's folders until _choose_build_dirs (end of module) decides
@@ -68,7 +68,8 @@ def _newest(paths: list[Path]) -> float:
     return max(p.stat().st_mtime for p in paths)
 
 
-def _in_cache() -> bool:
+def in_cache() -> bool:
+    """True if this process builds into the user cache (not beside the sources)."""
     return FMU_DIR != FMU_SOURCES
 
 
@@ -79,7 +80,7 @@ def fmu_is_stale(script: Path) -> bool:
     fmu = FMU_DIR / f"{script.stem}.fmu"
     if not fmu.exists():
         return True
-    return not _in_cache() and fmu.stat().st_mtime < _newest([script, *bundle_sources()])
+    return not in_cache() and fmu.stat().st_mtime < _newest([script, *bundle_sources()])
 
 
 def build_fmu(script: Path, dest: Path | None = None) -> Path:
@@ -149,7 +150,7 @@ def ssp_is_stale(scene_dir: Path) -> bool:
     fmus = scene_fmus(scene_dir)
     if any(not f.exists() for f in fmus):
         return True
-    return not _in_cache() and ssp.stat().st_mtime < _newest(scene_files(scene_dir) + fmus)
+    return not in_cache() and ssp.stat().st_mtime < _newest(scene_files(scene_dir) + fmus)
 
 
 def build_ssp(scene_dir: Path) -> Path:
@@ -192,7 +193,7 @@ def _staged(scene_src: Path) -> Path:
 
 
 def _staged_path(scene_src: Path) -> Path:
-    return SSP_DIR / scene_src.name if _in_cache() else scene_src
+    return SSP_DIR / scene_src.name if in_cache() else scene_src
 
 
 def _shown(path: Path) -> str:
@@ -215,14 +216,14 @@ def build(force: bool = False, verbose: bool = True, only: list[str] | None = No
     if not force and not is_stale(only):
         return []
     try:
-        if not _in_cache():
+        if not in_cache():
             return _build(force, verbose, only)
         with cache.locked(FMU_DIR.parent):
             return _build(force, verbose, only)
     except OSError as err:
         if err.filename is None:
             raise
-        hint = f"; set {cache.ENV} to a writable folder" if _in_cache() else ""
+        hint = f"; set {cache.ENV} to a writable folder" if in_cache() else ""
         raise CraneFmuError(f"cannot build the FMUs and scenes into {FMU_DIR.parent}: {err.strerror} "
                             f"({err.filename}){hint}") from None
 

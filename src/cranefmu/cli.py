@@ -19,7 +19,7 @@ def _cmd_build(args: argparse.Namespace) -> int:
         removed = clear()
         print("\n".join(f"removed {p}" for p in removed) or "the cache holds no builds")
         return 0
-    where = b.FMU_DIR.parent if b._in_cache() else f"{b.FMU_DIR} and {b.SSP_DIR}"
+    where = b.FMU_DIR.parent if b.in_cache() else f"{b.FMU_DIR} and {b.SSP_DIR}"
     done = b.build(force=args.force, only=args.only or None)
     print(f"{len(done)} file(s) built in {where}" if done else f"everything in {where} is up to date")
     return 0

@@ -19,7 +19,7 @@ import numpy as np
 from .acceleration import ACCELERATORS
 from .algorithms import GaussSeidel, Iterative, Jacobi
 from .divergence import Watch
-from ..errors import CraneFmuError, ParameterSetError, SceneError, SettingsError, SimulationError
+from ..errors import CraneFmuError, ParameterSetError, SettingsError, SimulationError
 from .initialization import initialize
 from .power_bonds import BondMonitor, read_bonds, resolve
 from .progress import Progress
