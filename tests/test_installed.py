@@ -45,14 +45,18 @@ def _tree(folder: Path) -> dict[str, tuple[int, int]]:
             for p in sorted(folder.rglob("*"))}
 
 
+def _must(cmd: list[str]) -> None:
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    assert res.returncode == 0, f"{' '.join(cmd)} failed:\n{res.stdout}\n{res.stderr}"
+
+
 class Installed:
     """A venv with the wheel installed; runs commands in ``work`` with the cache in ``cache``."""
 
     def __init__(self, root: Path):
         self.root = root
         dist = root / "dist"
-        subprocess.run([sys.executable, "-m", "build", "--no-isolation", "--outdir", str(dist), str(CHECKOUT)],
-                       check=True, capture_output=True)
+        _must([sys.executable, "-m", "build", "--no-isolation", "--outdir", str(dist), str(CHECKOUT)])
         (self.sdist,) = dist.glob("cranefmu-*.tar.gz")
         (self.wheel,) = dist.glob("cranefmu-*.whl")
         self.venv = root / "venv"
@@ -63,8 +67,8 @@ class Installed:
         deps = dict.fromkeys([sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]])
         (self.site / "_test_dependencies.pth").write_text("\n".join(deps) + "\n")
         # pip comes from the test venv through the .pth; --ignore-installed: never touch the editable install
-        subprocess.run([str(self.python), "-m", "pip", "install", "--quiet", "--no-deps", "--ignore-installed",
-                        "--disable-pip-version-check", str(self.wheel)], check=True, capture_output=True)
+        _must([str(self.python), "-m", "pip", "install", "--quiet", "--no-deps", "--ignore-installed",
+               "--disable-pip-version-check", str(self.wheel)])
         for path in [self.site, *self.site.rglob("*")]:
             path.chmod(path.stat().st_mode & ~(stat.S_IWUSR | stat.S_IWGRP | stat.S_IWOTH))
         self.files = _tree(self.site)
