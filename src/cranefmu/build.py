@@ -188,7 +188,12 @@ def _staged(scene_src: Path) -> Path:
         tmp.mkdir(parents=True)
         for f in scene_files(scene_src):
             shutil.copy2(f, tmp / f.name)
-        os.replace(tmp, dest)  # whole or not at all
+        try:
+            os.replace(tmp, dest)  # whole or not at all
+        except OSError:
+            if not (dest / "SystemStructure.ssd").exists():
+                raise
+            shutil.rmtree(tmp, ignore_errors=True)  # another process (unlocked, on Windows) was first
     return dest
 
 
