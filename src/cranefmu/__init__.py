@@ -1,19 +1,35 @@
 """cranefmu: crane dynamics as FMI co-simulation components, and a master to run them.
 
-Public API: :func:`simulate` (run a scene or an .ssp), :func:`build` (build FMUs and scenes).
+Public API: :func:`simulate` (run a scene or an .ssp, returns the rows), :func:`run` (the same, with
+statistics), :func:`build` (build FMUs and scenes).  Scene names resolve through
+:mod:`cranefmu.scene_catalog`, registered with the master here so the master imports nothing of it.
 """
 from __future__ import annotations
 
+from pathlib import Path
+
+from .master.scene_names import register_scene_resolver as _register_scene_resolver
+
 __version__ = "0.1.0"
 
-__all__ = ["simulate", "build", "__version__"]
+__all__ = ["simulate", "run", "build", "__version__"]
+
+
+def _resolve_scene_name(name: str) -> Path:
+    # imported on first use: `import cranefmu` stays light (the physics runs without fmpy or pythonfmu)
+    from .scene_catalog import resolve
+
+    return resolve(name)
+
+
+_register_scene_resolver(_resolve_scene_name)
 
 
 def __getattr__(name: str):
     # imported lazily so that the physics can be used without fmpy or pythonfmu loaded
-    if name == "simulate":
-        from .master.run import simulate
-        return simulate
+    if name in ("simulate", "run"):
+        from .master import run as master_run
+        return getattr(master_run, name)
     if name == "build":
         from .build import build
         return build

@@ -1,4 +1,4 @@
-"""Build ``fmus/<Name>.fmu`` from ``fmus/<Name>.py`` and ``ssp/<scene>.ssp`` from ``ssp/<scene>/``.
+"""Build the FMUs (``<Name>.fmu`` from ``fmus/<Name>.py``) and scenes (``<scene>.ssp`` from ``ssp/<scene>/``).
 
 Each FMU carries its own copy of the physics, the integrators and the FMI adapter in its
 resources, as a package with a build-unique name ``_cranefmu_<FMU>_<hash>`` (the hash of the
@@ -6,7 +6,13 @@ bundled sources).  All Python FMUs in a process share one interpreter; a unique 
 picks up an installed ``cranefmu`` (or another FMU's bundle) of a different version.  The FMU
 script imports ``cranefmu.…``; the build rewrites those imports to the bundle's name.
 
-Only what is older than its sources is rebuilt.
+Where the builds go (:data:`FMU_DIR`, :data:`SSP_DIR`): in a checkout, its ``fmus/`` and ``ssp/``
+as always; in an installed package, or a read-only checkout whose builds are stale, the per-user
+cache (:mod:`cranefmu.cache`), in a folder named by the package version and the source digest,
+never site-packages.  There the scene sources are copied next to their .ssp, so a cache folder
+looks like a checkout's ``fmus/`` and ``ssp/``.
+
+Only what is older than its sources (in the cache: missing) is rebuilt.
 """
 from __future__ import annotations
 
@@ -19,21 +25,16 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-PACKAGE_DIR = Path(__file__).resolve().parent
-BUNDLED = ("__init__.py", "fmi_adapter.py", "integrators.py", "units.py", "physics")
-ROOT = PACKAGE_DIR.parent.parent  # the checkout: src/cranefmu -> .
-FMU_DIR = ROOT / "fmus"
-SSP_DIR = ROOT / "ssp"
+from . import cache
+from .errors import CraneFmuError, SceneError
+from .sources import (CHECKOUT, FMU_SOURCES, IN_CHECKOUT, PACKAGE_DIR, SSP_SOURCES, bundle_sources, fmu_scripts,
+                      scene_dirs, scene_files, source_digest)
+
+ROOT = CHECKOUT
+# where FMUs and .ssp files are built; the checkout's folders until _choose_build_dirs (end of module) decides
+FMU_DIR = FMU_SOURCES
+SSP_DIR = SSP_SOURCES
 _IMPORT = re.compile(r"^(\s*from\s+)cranefmu(\.[\w.]+\s+import\s)", re.M)
-
-
-def bundle_sources() -> list[Path]:
-    """The source files bundled into every FMU (sorted)."""
-    files: list[Path] = []
-    for name in BUNDLED:
-        path = PACKAGE_DIR / name
-        files += sorted(path.rglob("*.py")) if path.is_dir() else [path]
-    return files
 
 
 def bundle_name(fmu_name: str) -> str:
@@ -63,24 +64,30 @@ def _stage_bundle(dest: Path, name: str) -> Path:
     return pkg
 
 
-def fmu_scripts() -> list[Path]:
-    return sorted(p for p in FMU_DIR.glob("*.py") if not p.name.startswith("_"))
-
-
 def _newest(paths: list[Path]) -> float:
     return max(p.stat().st_mtime for p in paths)
 
 
+def in_cache() -> bool:
+    """True if this process builds into the user cache (not beside the sources)."""
+    return FMU_DIR != FMU_SOURCES
+
+
 def fmu_is_stale(script: Path) -> bool:
-    fmu = script.with_suffix(".fmu")
-    return not fmu.exists() or fmu.stat().st_mtime < _newest([script, *bundle_sources()])
+    """True if the FMU of ``script`` is missing or (in a checkout) older than its script or the bundle.
+
+    In the cache a present FMU is current: its folder is named by the digest of all sources."""
+    fmu = FMU_DIR / f"{script.stem}.fmu"
+    if not fmu.exists():
+        return True
+    return not in_cache() and fmu.stat().st_mtime < _newest([script, *bundle_sources()])
 
 
 def build_fmu(script: Path, dest: Path | None = None) -> Path:
     """Build one FMU from its adapter script; returns the .fmu path."""
     from pythonfmu.builder import FmuBuilder
 
-    dest = dest or script.with_suffix(".fmu")
+    dest = dest or FMU_DIR / f"{script.stem}.fmu"
     name = bundle_name(script.stem)
     with tempfile.TemporaryDirectory(prefix="cranefmu_build_") as tmp:
         stage = Path(tmp)
@@ -127,10 +134,6 @@ def _ensure_binaries(fmu: Path, model_identifier: str) -> None:
             zf.write(lib, f"binaries/{lib.parent.name}/{model_identifier}{lib.suffix}")
 
 
-def scene_dirs() -> list[Path]:
-    return sorted(p for p in SSP_DIR.iterdir() if (p / "SystemStructure.ssd").exists()) if SSP_DIR.exists() else []
-
-
 def scene_fmus(scene_dir: Path) -> list[Path]:
     """FMUs a scene's SSD refers to (``source="resources/<Name>.fmu"``), as paths under fmus/."""
     text = (scene_dir / "SystemStructure.ssd").read_text()
@@ -139,12 +142,15 @@ def scene_fmus(scene_dir: Path) -> list[Path]:
 
 
 def ssp_is_stale(scene_dir: Path) -> bool:
+    """True if ``<scene>.ssp`` beside ``scene_dir`` or one of its FMUs is missing, or (in a checkout)
+    the .ssp is older than the scene's sources or FMUs."""
     ssp = scene_dir.with_suffix(".ssp")
-    sources = [p for p in scene_dir.iterdir() if p.is_file()]
-    fmus = scene_fmus(scene_dir)
-    if not ssp.exists() or any(not f.exists() for f in fmus):
+    if not ssp.exists():
         return True
-    return ssp.stat().st_mtime < _newest(sources + fmus)
+    fmus = scene_fmus(scene_dir)
+    if any(not f.exists() for f in fmus):
+        return True
+    return not in_cache() and ssp.stat().st_mtime < _newest(scene_files(scene_dir) + fmus)
 
 
 def build_ssp(scene_dir: Path) -> Path:
@@ -161,26 +167,111 @@ def build_ssp(scene_dir: Path) -> Path:
     return ssp
 
 
+def _selected(only: list[str] | None) -> tuple[list[Path], list[Path]]:
+    """The FMU scripts and scene source folders ``only`` names (a scene brings its FMUs); all without it."""
+    scripts, scenes = fmu_scripts(), scene_dirs()
+    if not only:
+        return scripts, scenes
+    scenes = [d for d in scenes if d.name in only]
+    needed = {f.stem for d in scenes for f in scene_fmus(d)}
+    return [s for s in scripts if s.stem in only or s.stem in needed], scenes
+
+
+def _staged(scene_src: Path) -> Path:
+    """The scene folder to build from: the source itself in a checkout; in the cache a copy beside its .ssp."""
+    dest = _staged_path(scene_src)
+    if dest == scene_src:
+        return dest
+    if not (dest / "SystemStructure.ssd").exists():
+        tmp = SSP_DIR / f".{scene_src.name}.{os.getpid()}.tmp"
+        shutil.rmtree(tmp, ignore_errors=True)
+        tmp.mkdir(parents=True)
+        for f in scene_files(scene_src):
+            shutil.copy2(f, tmp / f.name)
+        try:
+            os.replace(tmp, dest)  # whole or not at all
+        except OSError:
+            if not (dest / "SystemStructure.ssd").exists():
+                raise
+            shutil.rmtree(tmp, ignore_errors=True)  # another process (unlocked, on Windows) was first
+    return dest
+
+
+def _staged_path(scene_src: Path) -> Path:
+    return SSP_DIR / scene_src.name if in_cache() else scene_src
+
+
+def _shown(path: Path) -> str:
+    return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
+
+
+def is_stale(only: list[str] | None = None) -> bool:
+    """True if an FMU or scene (all, or those ``only`` names) needs building."""
+    scripts, scenes = _selected(only)
+    return any(fmu_is_stale(s) for s in scripts) or any(ssp_is_stale(_staged_path(d)) for d in scenes)
+
+
 def build(force: bool = False, verbose: bool = True, only: list[str] | None = None) -> list[Path]:
-    """Build every stale FMU and SSP (all with ``force``); ``only`` limits to FMU/scene names."""
+    """Build every stale FMU and SSP (all with ``force``) into :data:`FMU_DIR` and :data:`SSP_DIR`;
+    ``only`` limits to FMU/scene names.  Returns the files built.
+
+    In the cache the build holds the cache folder's lock: a concurrent first use waits, then finds
+    the files built.  A cache that cannot be written raises a :class:`CraneFmuError` saying what to do.
+    """
+    if not force and not is_stale(only):
+        return []
+    try:
+        if not in_cache():
+            return _build(force, verbose, only)
+        with cache.locked(FMU_DIR.parent):
+            return _build(force, verbose, only)
+    except OSError as err:
+        if err.filename is None:
+            raise
+        hint = f"; set {cache.ENV} to a writable folder" if in_cache() else ""
+        raise CraneFmuError(f"cannot build the FMUs and scenes into {FMU_DIR.parent}: {err.strerror} "
+                            f"({err.filename}){hint}") from None
+
+
+def _build(force: bool, verbose: bool, only: list[str] | None) -> list[Path]:
     done = []
-    for script in fmu_scripts():
-        if only and script.stem not in only and not any(
-                script.with_suffix(".fmu") in scene_fmus(SSP_DIR / o) for o in only if (SSP_DIR / o).is_dir()):
-            continue
+    scripts, scenes = _selected(only)
+    FMU_DIR.mkdir(parents=True, exist_ok=True)
+    for script in scripts:
         if force or fmu_is_stale(script):
             if verbose:
-                print(f"building {script.with_suffix('.fmu').relative_to(ROOT)}", flush=True)
+                print(f"building {_shown(FMU_DIR / (script.stem + '.fmu'))}", flush=True)
             done.append(build_fmu(script))
-    for scene in scene_dirs():
-        if only and scene.name not in only:
-            continue
+    for source in scenes:
+        scene = _staged(source)
         if force or ssp_is_stale(scene):
             missing = [f for f in scene_fmus(scene) if not f.exists()]
             if missing:
-                raise FileNotFoundError(f"scene {scene.name} needs {', '.join(str(m) for m in missing)}: "
-                                        f"no fmus/{missing[0].stem}.py to build it from")
+                raise SceneError(f"scene {scene.name} needs {', '.join(str(m) for m in missing)}: "
+                                 f"no fmus/{missing[0].stem}.py to build it from")
             if verbose:
-                print(f"building {scene.with_suffix('.ssp').relative_to(ROOT)}", flush=True)
+                print(f"building {_shown(scene.with_suffix('.ssp'))}", flush=True)
             done.append(build_ssp(scene))
     return done
+
+
+def set_build_dirs(fmu_dir: Path, ssp_dir: Path) -> None:
+    """Build into (and run from) these folders from now on (tests; a user's own build location)."""
+    global FMU_DIR, SSP_DIR
+    FMU_DIR, SSP_DIR = Path(fmu_dir), Path(ssp_dir)
+
+
+def _choose_build_dirs(checkout_writable: bool | None = None) -> tuple[Path, Path]:
+    """The checkout's fmus/ and ssp/ if they can be written, or if everything there is built and
+    current (a read-only checkout); otherwise this version's folder in the user cache."""
+    if IN_CHECKOUT:
+        if checkout_writable is None:
+            checkout_writable = cache.writable(FMU_SOURCES) and cache.writable(SSP_SOURCES)
+        set_build_dirs(FMU_SOURCES, SSP_SOURCES)
+        if checkout_writable or not is_stale():
+            return FMU_SOURCES, SSP_SOURCES
+    folder = cache.versioned_dir(source_digest())
+    return folder / "fmus", folder / "ssp"
+
+
+set_build_dirs(*_choose_build_dirs())

@@ -9,10 +9,19 @@ from .errors import CraneFmuError
 
 
 def _cmd_build(args: argparse.Namespace) -> int:
-    from .build import build
+    from . import build as b
+    from .cache import clear
 
-    done = build(force=args.force, only=args.only or None)
-    print(f"{len(done)} file(s) built" if done else "everything is up to date")
+    if args.where:
+        print(f"{b.FMU_DIR}\n{b.SSP_DIR}")
+        return 0
+    if args.clear_cache:
+        removed = clear()
+        print("\n".join(f"removed {p}" for p in removed) or "the cache holds no builds")
+        return 0
+    where = b.FMU_DIR.parent if b.in_cache() else f"{b.FMU_DIR} and {b.SSP_DIR}"
+    done = b.build(force=args.force, only=args.only or None)
+    print(f"{len(done)} file(s) built in {where}" if done else f"everything in {where} is up to date")
     return 0
 
 
@@ -126,15 +135,22 @@ def _cmd_fit_boucwen(args: argparse.Namespace) -> int:
 def _cmd_docs(args: argparse.Namespace) -> int:
     from .build import build
     from .fmu_docs import DOCS_DIR, stale_pages, write_docs
+    from .sources import IN_CHECKOUT
 
     build(verbose=False, only=args.only or None)  # pages describe the FMUs as built from the sources
-    output = Path(args.output) if args.output else DOCS_DIR
+    # the checkout's docs/fmus; an installed package never writes into itself: ./fmu_docs instead
+    output = Path(args.output) if args.output else DOCS_DIR if IN_CHECKOUT else Path("fmu_docs")
     if args.check:
         stale = stale_pages(output, args.only or None)
         for name in stale:
             print(f"{output / (name + '.md')} differs from fmus/{name}.fmu: run cranefmu docs")
         return 1 if stale else 0
-    for page in write_docs(output, args.only or None):
+    try:
+        pages = write_docs(output, args.only or None)
+    except OSError as err:
+        raise CraneFmuError(f"cannot write the FMU pages into {output}: {err.strerror} ({err.filename}); "
+                            "give --output DIR") from None
+    for page in pages:
         print(f"wrote {page}")
     return 0
 
@@ -155,11 +171,19 @@ def _cmd_build_fmi3(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from . import __version__
+
     p = argparse.ArgumentParser(prog="cranefmu", description="Crane dynamics as FMI co-simulation components.")
+    p.add_argument("--version", action="version", version=f"cranefmu {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
-    b = sub.add_parser("build", help="build fmus/*.fmu and ssp/*.ssp that are missing or older than their sources")
+    b = sub.add_parser("build", help="build the FMUs and .ssp scenes that are missing or older than their sources "
+                                     "(a checkout: into fmus/ and ssp/; installed: into the user cache)")
     b.add_argument("--force", action="store_true", help="rebuild everything")
+    b.add_argument("--where", action="store_true", help="print the folders the FMUs and the scenes are built in "
+                   "(two lines), build nothing")
+    b.add_argument("--clear-cache", action="store_true", help="remove every build in the user cache (all versions; "
+                   "a checkout's fmus/ and ssp/ are not touched), build nothing")
     b.add_argument("only", nargs="*", help="FMU or scene names to build (default: all)")
     b.set_defaults(func=_cmd_build)
 
@@ -237,7 +261,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     d = sub.add_parser("docs", help="write docs/fmus/<Name>.md for every FMU from its built modelDescription.xml "
                                     "and bundled sources (builds stale FMUs first)")
-    d.add_argument("--output", default=None, help="directory of the pages (default docs/fmus)")
+    d.add_argument("--output", default=None, help="directory of the pages (default: docs/fmus in a checkout, "
+                   "else ./fmu_docs)")
     d.add_argument("--check", action="store_true", help="write nothing; exit 1 if a page differs from its FMU")
     d.add_argument("only", nargs="*", help="FMU names (default: all)")
     d.set_defaults(func=_cmd_docs)

@@ -171,7 +171,7 @@ def build_fmi3(name: str, dest: Path | None = None) -> Path:
 
     from . import build as b
 
-    script = b.FMU_DIR / f"{name}.py"
+    script = b.FMU_SOURCES / f"{name}.py"
     dest = Path(dest) if dest else b.FMU_DIR / f"{name}3.fmu"
     bundle = b.bundle_name(name) + "_fmi3"
     with tempfile.TemporaryDirectory(prefix="cranefmu_build3_") as tmp:

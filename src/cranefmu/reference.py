@@ -27,8 +27,8 @@ from .physics.drive import DriveModel
 from .physics.girder import GirderModel
 from .physics.pendulum import PendulumModel
 from .physics.rope import RopeModel
+from .sources import SSP_SOURCES as SSP_DIR  # the checkout's ssp/ or the wheel's copy
 
-SSP_DIR = Path(__file__).resolve().parent.parent.parent / "ssp"
 MODELS: dict[str, type[Model]] = {"Rope": RopeModel, "Pendulum": PendulumModel, "Drive": DriveModel,
                                   "Girder": GirderModel, "Boom": BoomModel, "Chassis": ChassisModel}
 ADAPTER_PARAMETERS = ("solver", "rtol", "max_step")   # the FMU's own solver settings, not physics

@@ -19,12 +19,13 @@ import numpy as np
 from .acceleration import ACCELERATORS
 from .algorithms import GaussSeidel, Iterative, Jacobi
 from .divergence import Watch
-from ..errors import CraneFmuError, ParameterSetError, SceneError, SettingsError, SimulationError
+from ..errors import CraneFmuError, ParameterSetError, SettingsError, SimulationError
 from .initialization import initialize
 from .power_bonds import BondMonitor, read_bonds, resolve
 from .progress import Progress
 from .results import Recorder
 from .scene import Scene, load_scene
+from .scene_names import resolve_scene
 from .step_control import PIController, coupling_error, ecco_error
 from .stop_conditions import StopWatch, read_stop_conditions
 from .system import CoSystem, RunStats
@@ -126,22 +127,6 @@ class Settings:
     def h_max(self) -> float:
         span = self.stop_time - self.start_time
         return self.max_step if self.max_step is not None else min(span, 100 * self.step_size)
-
-
-def resolve_scene(scene: str | Path) -> Path:
-    """An .ssp path as given, or a scene name under ssp/ (built first if missing or stale)."""
-    path = Path(scene)
-    if path.suffix == ".ssp":
-        if not path.is_file():
-            raise SceneError(f"scene file {path} does not exist")
-        return path
-    from .. import build as b
-
-    names = [d.name for d in b.scene_dirs()]
-    if str(scene) not in names:
-        raise SceneError(f"scene {str(scene)!r} is unknown: one of {', '.join(names)} or a path to an .ssp file")
-    b.build(verbose=False, only=[str(scene)])
-    return b.SSP_DIR / f"{scene}.ssp"
 
 
 def _overrides(scene: Scene, parameter_set: str | None, parameters: dict | None) -> dict[tuple[str, str], object]:
