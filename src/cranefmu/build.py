@@ -133,9 +133,9 @@ def scene_dirs() -> list[Path]:
 
 def scene_fmus(scene_dir: Path) -> list[Path]:
     """FMUs a scene's SSD refers to (``source="resources/<Name>.fmu"``), as paths under fmus/."""
-    text = (scene_dir / "SystemStructure.ssd").read_text()
-    names = sorted(set(re.findall(r'source="resources/([\w\-]+)\.fmu"', text)))
-    return [FMU_DIR / f"{n}.fmu" for n in names]
+    from .master.scene import read_scene_folder
+
+    return sorted({c.fmu for c in read_scene_folder(scene_dir, FMU_DIR).components})
 
 
 def ssp_is_stale(scene_dir: Path) -> bool:

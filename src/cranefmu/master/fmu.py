@@ -90,8 +90,7 @@ class FmuComponent:
     def __init__(self, name: str, fmu_path: Path, unzipdir: Path):
         from fmpy import read_model_description
 
-        from .scene import safe_extract
-        from .xml_guard import check_xml
+        from .untrusted import check_xml, safe_extract
 
         self.name = name
         # fmpy.extract lets zipfile rewrite '../' entries silently; ours refuses the archive instead

@@ -1,0 +1,100 @@
+"""The one scene reader (cranefmu.master.scene): typed parameters, units to SI, component-level
+bindings, and the same refusal of a bad value in the master, the monolithic reference and the build."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from cranefmu import build as b
+from cranefmu.errors import ParameterSetError, SceneError
+from cranefmu.master.scene import load_scene, read_scene_folder, read_ssd
+from cranefmu.reference import Monolith
+
+SSD = """<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription"
+    xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0" name="t">
+  <ssd:System name="t">
+    <ssd:ParameterBindings><ssd:ParameterBinding source="resources/default.ssv"/></ssd:ParameterBindings>
+    <ssd:Elements>
+      <ssd:Component name="rope" source="resources/Rope.fmu">{component}</ssd:Component>
+    </ssd:Elements>
+  </ssd:System>
+</ssd:SystemStructureDescription>"""
+SSV = """<ssv:ParameterSet xmlns:ssv="http://ssp-standard.org/SSP1/SystemStructureParameterValues" version="1.0"
+    name="default"><ssv:Parameters>{}</ssv:Parameters></ssv:ParameterSet>"""
+
+
+def _param(name: str, kind: str, value: str, unit: str = "") -> str:
+    u = f' unit="{unit}"' if unit else ""
+    return f'<ssv:Parameter name="{name}"><ssv:{kind} value="{value}"{u}/></ssv:Parameter>'
+
+
+def _scene(tmp_path, params: str, component: str = ""):
+    (tmp_path / "SystemStructure.ssd").write_text(SSD.format(component=component))
+    (tmp_path / "default.ssv").write_text(SSV.format(params))
+    return read_ssd(tmp_path / "SystemStructure.ssd", tmp_path)
+
+
+def test_values_are_typed_and_units_converted_to_si(tmp_path):
+    s = _scene(tmp_path, _param("rope.length", "Real", "0.25", "m") + _param("rope.t_ramp", "Real", "2", "min") + _param("rope.n_lines", "Integer", "4")
+               + _param("rope.zeta", "Real", "0.07") + _param("rope.flag", "Boolean", "true")
+               + _param("rope.angle", "Real", "90", "deg") + _param("rope.F", "Real", "2", "kN"))
+    v = s.parameters
+    assert v["rope.n_lines"] == 4 and isinstance(v["rope.n_lines"], int)
+    assert v["rope.angle"] == pytest.approx(math.pi / 2, rel=1e-15) and v["rope.F"] == 2000.0
+    assert v["rope.flag"] is True and v["rope.zeta"] == 0.07 and v["rope.t_ramp"] == 120.0 and v["rope.length"] == 0.25
+
+
+@pytest.mark.parametrize("param, needle", [
+    (_param("rope.n_lines", "Integer", "1.5"), "parameter rope.n_lines = '1.5' is not a valid Integer value"),
+    (_param("rope.length", "Real", "12", "furlong"), "unknown symbol 'furlong'"),
+    (_param("rope.length", "Real", "long"), "rope.length = 'long' is not a valid Real value: allowed a finite"),
+    (_param("rope.on", "Boolean", "maybe"), "rope.on = 'maybe' is not a valid Boolean value: allowed true or false"),
+])
+def test_a_bad_value_is_refused_naming_file_parameter_and_value(tmp_path, param, needle):
+    with pytest.raises(ParameterSetError, match="resources/default.ssv") as err:
+        _scene(tmp_path, param)
+    assert needle in str(err.value)
+
+
+def test_component_bindings_with_bare_names_join_the_default_set(tmp_path):
+    inline = ('<ssd:ParameterBindings><ssd:ParameterBinding><ssd:ParameterValues><ssv:ParameterSet version="1.0" '
+              'name="p"><ssv:Parameters>{}</ssv:Parameters></ssv:ParameterSet></ssd:ParameterValues>'
+              '</ssd:ParameterBinding></ssd:ParameterBindings>')
+    s = _scene(tmp_path, _param("rope.length", "Real", "2"), inline.format(_param("zeta", "Real", "0.1")
+                                                                            + _param("length", "Real", "2")))
+    assert s.parameters == {"rope.length": 2.0, "rope.zeta": 0.1}
+    with pytest.raises(ParameterSetError, match="rope.length = 3.0 contradicts 2.0"):
+        _scene(tmp_path, _param("rope.length", "Real", "2"), inline.format(_param("length", "Real", "3")))
+
+
+def test_an_integer_of_1_5_is_refused_by_the_reference_as_by_the_reader():
+    with pytest.raises(ParameterSetError, match="parameter rope.n_lines = '1.5' is not a valid Integer value"):
+        Monolith("elastic_pendulum", parameters={"rope.n_lines": "1.5"})
+    assert Monolith("elastic_pendulum", parameters={"rope.n_lines": "2"}).models[0].p.n_lines == 2
+
+
+@pytest.mark.parametrize("scene", [d.name for d in b.scene_dirs()])
+def test_every_scene_reads_the_same_from_sources_and_from_its_ssp(built, tmp_path, scene):
+    """The build, the reference (sources) and the master (.ssp) see one scene; fmpy's schema
+    validation accepts every built SSD."""
+    from fmpy.ssp.ssd import read_ssd as fmpy_read_ssd
+
+    source = read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR)
+    packed = load_scene(b.SSP_DIR / f"{scene}.ssp", tmp_path)
+    assert packed.parameters == source.parameters and packed.parameter_sets == source.parameter_sets
+    assert packed.connections == source.connections and packed.bonds == source.bonds
+    assert [c.name for c in packed.components] == [c.name for c in source.components]
+    assert packed.stop_time == source.stop_time and packed.stop_conditions == source.stop_conditions
+    assert all(c.fmu.is_file() for c in packed.components)
+    assert fmpy_read_ssd(str(b.SSP_DIR / f"{scene}.ssp")).name == scene
+    assert b.scene_fmus(b.SSP_DIR / scene) == sorted({b.FMU_DIR / c.fmu.name for c in packed.components})
+
+
+def test_a_nested_system_is_refused(tmp_path):
+    (tmp_path / "SystemStructure.ssd").write_text(SSD.format(component="").replace(
+        '<ssd:Component name="rope" source="resources/Rope.fmu"></ssd:Component>', '<ssd:System name="inner"/>'))
+    (tmp_path / "default.ssv").write_text(SSV.format(""))
+    with pytest.raises(SceneError, match="element 'inner' is not an FMU component"):
+        read_ssd(tmp_path / "SystemStructure.ssd", tmp_path)
