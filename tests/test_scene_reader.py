@@ -98,3 +98,28 @@ def test_a_nested_system_is_refused(tmp_path):
     (tmp_path / "default.ssv").write_text(SSV.format(""))
     with pytest.raises(SceneError, match="element 'inner' is not an FMU component"):
         read_ssd(tmp_path / "SystemStructure.ssd", tmp_path)
+
+
+def test_an_unknown_name_in_a_component_binding_is_refused_naming_component_and_name(built, tmp_path):
+    """libcosim skips such a name with a log line; our tools refuse the scene."""
+    from cranefmu.master.run import run
+    from scene_edit import edit_ssp
+
+    first = '<ssv:Parameter name="length">'
+    ssp = edit_ssp(tmp_path / "unknown.ssp", ssd=lambda text: text.replace(
+        first, '<ssv:Parameter name="stiffnes"><ssv:Real value="1"/></ssv:Parameter>' + first, 1))
+    with pytest.raises(ParameterSetError, match=r"rope\.stiffnes does not exist in Rope"):
+        run(ssp, stop_time=0.01, step_size=1e-3)
+
+
+def test_switches_take_their_names_or_codes_in_the_master(built):
+    """rope.model as the FMU's Integer code or as its name (listed in the model description)."""
+    from cranefmu.master.run import run
+
+    by_name = run("elastic_pendulum", stop_time=0.02, step_size=1e-2, parameters={"rope.model": "bouc_wen"}).result
+    by_code = run("elastic_pendulum", stop_time=0.02, step_size=1e-2, parameters={"rope.model": 1}).result
+    kelvin = run("elastic_pendulum", stop_time=0.02, step_size=1e-2).result
+    assert by_name.tobytes() == by_code.tobytes() and kelvin.tobytes() != by_name.tobytes()
+    with pytest.raises(ParameterSetError, match="rope.model = 'maxwell' is not a valid Integer value: allowed "
+                                                r"kelvin_voigt \(= 0\), bouc_wen \(= 1\)"):
+        run("elastic_pendulum", stop_time=0.02, step_size=1e-2, parameters={"rope.model": "maxwell"})

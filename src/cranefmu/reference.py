@@ -70,8 +70,14 @@ def build_params(cls, component: str, values: dict) -> object:
 
 def field_value(key: str, value: object, default: object, meta: dict) -> object:
     """``value`` for a parameter field whose default is ``default``: numbers converted like the
-    scene reader does (an Integer must be whole)."""
-    if isinstance(default, bool) or isinstance(default, str):
+    scene reader does (an Integer must be whole), a switch's code (as the FMU takes it) turned into
+    its name."""
+    if isinstance(default, str):
+        choices = meta.get("choices") or ()
+        code = value if isinstance(value, int) and not isinstance(value, bool) else \
+            int(value) if isinstance(value, str) and value.isdigit() else None
+        return choices[code] if code is not None and code < len(choices) else value
+    if isinstance(default, bool):
         return value
     kind = "Integer" if isinstance(default, int) else "Real"
     return typed_value(str(value), kind, f"parameter {key}")

@@ -40,8 +40,9 @@ def parse_xml(path: Path):
     return etree.parse(str(path), _parser()).getroot()
 
 
-def check_xml(data: bytes, where: str) -> None:
-    """Raise :class:`SceneError` if ``data`` is not well-formed XML or declares a DTD or entities."""
+def check_xml(data: bytes, where: str):
+    """The root element of ``data``; raise :class:`SceneError` if it is not well-formed XML or
+    declares a DTD or entities."""
     from lxml import etree
 
     if _DOCTYPE.search(data):  # before parsing: an entity bomb is refused without being expanded
@@ -53,6 +54,7 @@ def check_xml(data: bytes, where: str) -> None:
     doc = root.getroottree().docinfo
     if doc.internalDTD is not None or doc.externalDTD is not None or doc.doctype:
         raise SceneError(_DTD_REFUSED.format(where))
+    return root
 
 
 def check_xml_files(directory: Path, label: str) -> None:
