@@ -43,8 +43,17 @@ def _plain_jacobi_available() -> bool:
     return "jacobi-plain" in ALGORITHMS
 
 
+# libcosim's initialization does not settle a loop through feedthrough outputs (measured at 0.11.2):
+# overhead_lift starts with a rope force of 145.9 N on the hook instead of the 294.3 N equilibrium
+# (rope top 11.00006 m, not 11.0000269 m), truck_telescope's sway angle is off by 1.1e-6 relative
+# after the first step (benchmarks/results/interop_difference.md).  Strict: a pass is news.
+_UNSETTLED_START = pytest.mark.xfail(strict=True, reason="libcosim starts from unsettled connection values")
+AGREEING = [s if s not in ("overhead_lift", "truck_telescope") else pytest.param(s, marks=_UNSETTLED_START)
+            for s in SCENE_NAMES]
+
+
 @pytest.mark.skipif(not _plain_jacobi_available(), reason="algorithm 'jacobi-plain' not merged yet")
-@pytest.mark.parametrize("scene", SCENE_NAMES)
+@pytest.mark.parametrize("scene", AGREEING)
 def test_libcosim_trajectories_equal_our_plain_jacobi(built, scene):
     """libcosim's fixed-step algorithm reads each output once, right after the step (no re-read
     of direct-feedthrough outputs after the inputs are set): our "jacobi-plain" does the same, so

@@ -123,3 +123,18 @@ def test_switches_take_their_names_or_codes_in_the_master(built):
     with pytest.raises(ParameterSetError, match="rope.model = 'maxwell' is not a valid Integer value: allowed "
                                                 r"kelvin_voigt \(= 0\), bouc_wen \(= 1\)"):
         run("elastic_pendulum", stop_time=0.02, step_size=1e-2, parameters={"rope.model": "maxwell"})
+
+
+def test_info_shows_units_and_each_set_as_its_changes_from_default(built, tmp_path):
+    from cranefmu.scene_info import describe
+
+    lines = describe(load_scene(b.SSP_DIR / "truck_telescope.ssp", tmp_path))
+    text = "\n".join(lines)
+    assert "    rope.E = 42293120638.08574 Pa" in lines and "    pendulum.start = 1 (below_top)" in lines
+    assert "    rope.n_lines = 2" in lines and "    boom.t_acc = 3.0 s" in lines
+    # luff30.ssv repeats 11 default values; only the two it changes are shown
+    i = lines.index("  parameter set luff30: 2 change(s) from default:")
+    assert lines[i + 1:i + 3] == ["    boom.luff_angle: 1.0471975511965976 rad -> 0.5235987755982988 rad",
+                                  "    drive.payout_speed: 1.212435565298214 m/s -> 0.6999999999999998 m/s"]
+    assert "parameter set load3500: 3 change(s)" in text
+
