@@ -138,3 +138,21 @@ def test_info_shows_units_and_each_set_as_its_changes_from_default(built, tmp_pa
                                   "    drive.payout_speed: 1.212435565298214 m/s -> 0.6999999999999998 m/s"]
     assert "parameter set load3500: 3 change(s)" in text
 
+
+
+@pytest.mark.parametrize("scene", [d.name for d in b.scene_dirs()])
+def test_every_ssv_unit_has_the_dimension_of_the_fmu_variable(built, scene):
+    """A value's .ssv unit is converted to SI by the reader; it must measure what the FMU's
+    variable measures (m for m, rad for rad ...), else the converted number means something else."""
+    from fmpy import read_model_description
+
+    from cranefmu.units import parse
+
+    source = read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR)
+    units = {f"{c.name}.{v.name}": v.unit or "" for c in source.components
+             for v in read_model_description(str(c.fmu), validate=False).modelVariables}
+    every = [p for ps in [source.bound, *source.sets.values()] for p in ps.values()]
+    checked = [p for p in every if p.unit]
+    assert checked
+    for p in checked:
+        assert parse(p.unit)[1] == parse(units[p.name])[1], (p.name, p.unit, units[p.name])

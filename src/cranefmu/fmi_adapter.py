@@ -16,7 +16,6 @@ internal state, and turns every failure into a logged error status instead of an
 from __future__ import annotations
 
 import ctypes
-import math
 import os
 import sys
 import threading

@@ -70,13 +70,12 @@ def render(fmu: Path) -> str:
     """The Markdown page of one built FMU."""
     from fmpy import read_model_description
 
-    from .master.fmu import ENUMERATIONS_TOOL, switch_names
-    from .master.untrusted import check_xml
+    from .master.fmu import ENUMERATIONS_TOOL, fmu_switch_names
 
     fmu = Path(fmu)
     md = read_model_description(str(fmu), validate=False)
+    names = fmu_switch_names(fmu)
     with zipfile.ZipFile(fmu) as zf:
-        names = switch_names(check_xml(zf.read("modelDescription.xml"), f"{fmu.name}/modelDescription.xml"))
         package, module, model_class = _bundle(zf)
         source = zf.read(f"resources/{package}/physics/{module}.py").decode()
         packages = _third_party_imports(zf, package)

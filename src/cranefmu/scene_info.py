@@ -8,19 +8,14 @@ from .master.scene import Scene
 def _fmu_facts(scene: Scene) -> tuple[dict[str, str], dict[str, dict[int, str]], dict[str, list[str]]]:
     """Units ("comp.var" -> unit), switch names ("comp.var" -> {code: name}) and output labels per
     component, from the FMUs' model descriptions."""
-    import zipfile
-
     from fmpy import read_model_description
 
-    from .master.fmu import switch_names
-    from .master.untrusted import check_xml
+    from .master.fmu import fmu_switch_names
 
     units, switches, outputs = {}, {}, {}
     for c in scene.components:
         md = read_model_description(str(c.fmu), validate=False)
-        with zipfile.ZipFile(c.fmu) as zf:
-            names = switch_names(check_xml(zf.read("modelDescription.xml"), f"{c.fmu.name}/modelDescription.xml"))
-        for var, items in names.items():
+        for var, items in fmu_switch_names(c.fmu).items():
             switches[f"{c.name}.{var}"] = {code: name for name, code in items.items()}
         outputs[c.name] = []
         for v in md.modelVariables:

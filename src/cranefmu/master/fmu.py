@@ -98,6 +98,16 @@ def switch_names(md_root) -> dict[str, dict[str, int]]:
     return out
 
 
+def fmu_switch_names(fmu: Path) -> dict[str, dict[str, int]]:
+    """:func:`switch_names` of an .fmu file (its modelDescription.xml read through the guard)."""
+    import zipfile
+
+    from .untrusted import check_xml
+
+    with zipfile.ZipFile(fmu) as zf:
+        return switch_names(check_xml(zf.read("modelDescription.xml"), f"{Path(fmu).name}/modelDescription.xml"))
+
+
 class FmuComponent:
     """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages."""
 
