@@ -69,10 +69,14 @@ def test_component_bindings_with_bare_names_join_the_default_set(tmp_path):
         _scene(tmp_path, _param("rope.length", "Real", "2"), inline.format(_param("length", "Real", "3")))
 
 
-def test_an_integer_of_1_5_is_refused_by_the_reference_as_by_the_reader():
+def test_an_integer_of_1_5_is_refused_by_the_reference_and_the_master_as_by_the_reader(built):
+    from cranefmu.master.run import run
+
     with pytest.raises(ParameterSetError, match="parameter rope.n_lines = '1.5' is not a valid Integer value"):
         Monolith("elastic_pendulum", parameters={"rope.n_lines": "1.5"})
     assert Monolith("elastic_pendulum", parameters={"rope.n_lines": "2"}).models[0].p.n_lines == 2
+    with pytest.raises(ParameterSetError, match="rope.n_lines = '1.5' is not a valid Integer value"):
+        run("elastic_pendulum", stop_time=0.01, step_size=1e-3, parameters={"rope.n_lines": "1.5"})
 
 
 @pytest.mark.parametrize("scene", [d.name for d in b.scene_dirs()])

@@ -114,14 +114,19 @@ class Scene:
 def typed_value(text: str, kind: str, where: str, unit: str = "") -> Value:
     """``text`` as a value of SSP type ``kind`` (a Real times its unit's factor to SI); raises
     :class:`ParameterSetError` naming ``where``, the value and what is allowed."""
+    if kind not in TYPES:
+        raise ParameterSetError(f"{where}: type {kind!r} is not allowed: one of {', '.join(TYPES)}")
+    factor = 1.0
+    if unit:
+        try:
+            factor = parse_unit(unit)[0]
+        except ValueError as err:
+            raise ParameterSetError(f"{where} = {text!r} {unit}: {err}") from None
     try:
         if kind == "Real":
-            value = float(text)
+            value = float(text) * factor
             if not math.isfinite(value):
                 raise ValueError
-            if unit:
-                factor, _ = parse_unit(unit)
-                value *= factor
             return value
         if kind == "Integer":
             number = float(text)
@@ -130,14 +135,10 @@ def typed_value(text: str, kind: str, where: str, unit: str = "") -> Value:
             return int(number)
         if kind == "Boolean":
             return _BOOLEAN[str(text).strip().lower()]
-        if kind in ("String", "Enumeration"):
-            return str(text)
-    except (ValueError, KeyError, TypeError) as err:
+        return str(text)
+    except (ValueError, KeyError, TypeError):
         allowed = {"Real": "a finite number", "Integer": "a whole number", "Boolean": "true or false"}[kind]
-        why = f": {err}" if "unit" in str(err) else f": allowed {allowed}"
-        raise ParameterSetError(f"{where} = {text!r}{f' {unit}' if unit else ''} is not a valid {kind} value{why}") \
-            from None
-    raise ParameterSetError(f"{where}: type {kind!r} is not allowed: one of {', '.join(TYPES)}")
+        raise ParameterSetError(f"{where} = {text!r} is not a valid {kind} value: allowed {allowed}") from None
 
 
 def _local(el) -> str:
