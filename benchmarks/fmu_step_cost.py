@@ -90,8 +90,13 @@ def scene_layout(scene: str, workdir: str) -> dict:
 def solver_settings(fmu_path: Path) -> dict[str, str]:
     from fmpy import read_model_description
 
+    from cranefmu.master.fmu import fmu_switch_names
+
     md = read_model_description(str(fmu_path), validate=False)
-    return {v.name: v.start for v in md.modelVariables if v.name in ("solver", "rtol", "max_step")}
+    settings = {v.name: v.start for v in md.modelVariables if v.name in ("solver", "rtol", "max_step")}
+    names = fmu_switch_names(fmu_path)["solver"]   # the solver is an Integer code: its name, as the physics takes it
+    settings["solver"] = {str(code): name for name, code in names.items()}[str(settings["solver"])]
+    return settings
 
 
 def input_series(model_cls, conns, columns, rows) -> np.ndarray:

@@ -42,8 +42,8 @@ class Fmu:
             var = self.vars[k]
             if var.type == "Real":
                 self.fmu.setReal([var.valueReference], [float(v)])
-            elif var.type == "Integer":
-                self.fmu.setInteger([var.valueReference], [int(v)])
+            elif var.type == "Integer":   # a switch's name is turned into its code
+                self.fmu.setInteger([var.valueReference], [int(self.comp.switches.get(k, {}).get(v, v))])
             else:
                 self.fmu.setString([var.valueReference], [str(v)])
 

@@ -3,10 +3,14 @@ import pytest
 
 from cranefmu.errors import SceneError
 from cranefmu.master.run import run
-from cranefmu.master.scene import default_stop_time
+from cranefmu.master.scene import read_ssd
 
-SSD = '<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription">{}' \
-      '</ssd:SystemStructureDescription>'
+SSD = '<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription">' \
+      '<ssd:System name="s"/>{}</ssd:SystemStructureDescription>'
+
+
+def default_stop_time(ssd):
+    return read_ssd(ssd, ssd.parent).stop_time
 
 
 @pytest.mark.parametrize("body, stop", [('<ssd:DefaultExperiment startTime="0" stopTime="40"/>', 40.0),

@@ -14,8 +14,8 @@ import pytest
 
 from cranefmu.errors import SceneError
 from cranefmu.master.run import run
-from cranefmu.master.scene import safe_extract
-from cranefmu.master.xml_guard import check_xml
+from cranefmu.master.untrusted import safe_extract
+from cranefmu.master.untrusted import check_xml
 
 from scene_edit import edit_fmu_in_ssp, edit_ssp, repack, scene_ssp, symlink_entry
 

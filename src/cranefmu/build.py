@@ -136,9 +136,9 @@ def _ensure_binaries(fmu: Path, model_identifier: str) -> None:
 
 def scene_fmus(scene_dir: Path) -> list[Path]:
     """FMUs a scene's SSD refers to (``source="resources/<Name>.fmu"``), as paths under fmus/."""
-    text = (scene_dir / "SystemStructure.ssd").read_text()
-    names = sorted(set(re.findall(r'source="resources/([\w\-]+)\.fmu"', text)))
-    return [FMU_DIR / f"{n}.fmu" for n in names]
+    from .master.scene import read_scene_folder
+
+    return sorted({c.fmu for c in read_scene_folder(scene_dir, FMU_DIR).components})
 
 
 def ssp_is_stale(scene_dir: Path) -> bool:
@@ -153,12 +153,49 @@ def ssp_is_stale(scene_dir: Path) -> bool:
     return not in_cache() and ssp.stat().st_mtime < _newest(scene_files(scene_dir) + fmus)
 
 
+def ssd_with_component_bindings(scene_dir: Path) -> bytes:
+    """The scene's SystemStructure.ssd with each component's values of the default set added as the
+    component's own inline ParameterBinding, with bare variable names: the form libcosim reads
+    (it ignores System-level bindings).  Generated from the .ssv files, so it cannot drift; the
+    reader refuses a component binding that contradicts the System's."""
+    from lxml import etree
+
+    from .master.scene import SSD_NS, SSV_NS, read_scene_folder
+    from .master.untrusted import parse_xml
+    from .units import parse as parse_unit
+
+    scene = read_scene_folder(scene_dir, FMU_DIR)
+    root = parse_xml(scene_dir / "SystemStructure.ssd")
+    for el in root.iter(f"{{{SSD_NS}}}Component"):
+        name = el.get("name")
+        own = [p for key, p in scene.bound.items() if key.partition(".")[0] == name]
+        if not own or el.find(f"{{{SSD_NS}}}ParameterBindings") is not None:
+            continue
+        before = [c for c in el if etree.QName(c).localname in ("Connectors", "ElementGeometry")]
+        bindings = etree.Element(f"{{{SSD_NS}}}ParameterBindings")
+        el.insert(el.index(before[-1]) + 1 if before else 0, bindings)
+        values = etree.SubElement(etree.SubElement(bindings, f"{{{SSD_NS}}}ParameterBinding"),
+                                  f"{{{SSD_NS}}}ParameterValues")
+        pset = etree.SubElement(values, f"{{{SSV_NS}}}ParameterSet", nsmap={"ssv": SSV_NS}, version="1.0",
+                                name="default")
+        params = etree.SubElement(pset, f"{{{SSV_NS}}}Parameters")
+        for p in own:
+            entry = etree.SubElement(params, f"{{{SSV_NS}}}Parameter", name=p.name.partition(".")[2])
+            text = {bool: lambda v: str(v).lower(), float: repr}.get(type(p.value), str)(p.value)
+            typed = etree.SubElement(entry, f"{{{SSV_NS}}}{p.type}", value=text)
+            if p.unit and parse_unit(p.unit)[0] == 1.0:   # the value is in SI: keep only an SI unit
+                typed.set("unit", p.unit)
+    etree.indent(root, space="  ")
+    return etree.tostring(root.getroottree(), xml_declaration=True, encoding="UTF-8")
+
+
 def build_ssp(scene_dir: Path) -> Path:
-    """Zip SystemStructure.ssd, its .ssv parameter sets and its FMUs into ``ssp/<scene>.ssp``."""
+    """Zip SystemStructure.ssd (with generated component bindings), its .ssv parameter sets and its
+    FMUs into ``ssp/<scene>.ssp``."""
     ssp = scene_dir.with_suffix(".ssp")
     tmp = ssp.with_suffix(f".ssp.{os.getpid()}.tmp")
     with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
-        zf.write(scene_dir / "SystemStructure.ssd", "SystemStructure.ssd")
+        zf.writestr("SystemStructure.ssd", ssd_with_component_bindings(scene_dir))
         for f in sorted(scene_dir.glob("*.ssv")):
             zf.write(f, f"resources/{f.name}")
         for fmu in scene_fmus(scene_dir):

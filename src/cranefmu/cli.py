@@ -103,7 +103,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
 
     from .master.run import resolve_scene
     from .master.scene import load_scene
-    from .scenes import describe
+    from .scene_info import describe
 
     ssp = resolve_scene(args.scene)
     with tempfile.TemporaryDirectory(prefix="cranefmu_info_") as tmp:

@@ -16,7 +16,6 @@ internal state, and turns every failure into a logged error status instead of an
 from __future__ import annotations
 
 import ctypes
-import math
 import os
 import sys
 import threading
@@ -31,9 +30,10 @@ from pythonfmu.enums import Fmi2Status
 from . import units
 from .integrators import EXACT, METHODS, integrate
 from .physics.component import Model
-from .physics.params import ParameterError, allowed_text, check_value
+from .physics.params import ParameterError, allowed_text, check_value, enumeration_text
 
 EXTRAPOLATION_SUFFIXES = ("_dt", "_dt2")  # d/dt and d2/dt2 of a coupling input
+ENUMERATIONS_TOOL = "org.cranefmu.enumerations"  # VendorAnnotations tool listing each switch's names
 
 
 class CraneSlave(Fmi2Slave):
@@ -64,6 +64,7 @@ class CraneSlave(Fmi2Slave):
         self._param_names: list[str] = []
         self._param_vrs: set[int] = set()
         self._param_meta: dict[str, dict] = {}
+        self._switches: dict[str, tuple] = {}   # switch parameter -> its names (the FMU holds the code)
         # solver settings first, then the model's parameters
         methods = METHODS + ((EXACT,) if cls.physics.exact_step is not Model.exact_step else ())
         self._add_param("solver", cls.physics.default_solver or cls.default_solver, "",
@@ -117,9 +118,16 @@ class CraneSlave(Fmi2Slave):
         self.register_variable(Real(name, causality=causality, variability=variability, description=description))
 
     def _add_param(self, name: str, default: Any, unit: str, description: str, meta: dict, kind: type) -> None:
+        """Register a parameter.  A text switch (choices) becomes an Integer: the position of the name
+        in its choices.  libcosim and fmpy's simulate_ssp set no String parameters, and libcosim
+        ignores FMI Enumeration variables; the names are listed in the description and in the
+        model description's VendorAnnotations (:data:`ENUMERATIONS_TOOL`), where hosts of ours map them."""
+        allowed = allowed_text(meta)
+        if kind is str and meta.get("choices"):
+            self._switches[name] = tuple(meta["choices"])
+            default, kind, allowed = self._switches[name].index(default), int, enumeration_text(meta["choices"])
         setattr(self, name, default)
         variability = Fmi2Variability.tunable if meta.get("tunable") else Fmi2Variability.fixed
-        allowed = allowed_text(meta)
         desc = f"{description} (allowed {allowed})" if description else f"allowed {allowed}"
         var_cls = {float: Real, int: Integer, str: String}[kind]
         self.register_variable(var_cls(name, causality=Fmi2Causality.parameter, variability=variability,
@@ -130,11 +138,23 @@ class CraneSlave(Fmi2Slave):
         self._param_meta[name] = meta
 
     # --- model and values ---------------------------------------------------------------------
+    def _named(self, name: str) -> Any:
+        """A parameter's value as the physics takes it: a switch's code turned into its name."""
+        value = getattr(self, name)
+        names = self._switches.get(name)
+        if names is None:
+            return value
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < len(names):
+            raise ParameterError(f"{self.physics.Params.component}.{name} = {value!r} is not allowed: "
+                                 f"{enumeration_text(names)}")
+        return names[value]
+
     def _build_model(self) -> Model:
         """Validated parameters -> model; raises ParameterError naming the parameter."""
         for name in ("solver", "rtol", "max_step"):
-            check_value(self.instance_name, name, getattr(self, name), self._param_meta[name])
-        fields = {n: getattr(self, n) for n, _, _ in self.physics.Params.field_specs()}
+            check_value(self.instance_name, name, self._named(name), self._param_meta[name])
+        self._solver = self._named("solver")
+        fields = {n: self._named(n) for n, _, _ in self.physics.Params.field_specs()}
         for n, default, _ in self.physics.Params.field_specs():
             if isinstance(default, float) and isinstance(fields[n], int) and not isinstance(fields[n], bool):
                 fields[n] = float(fields[n])
@@ -256,7 +276,7 @@ class CraneSlave(Fmi2Slave):
         try:
             r1, r2 = self._rates()
             self._x = advance(self._model, current_time, self._x, step_size, self._inputs(), r1, r2,
-                              self.solver, self.rtol, self.max_step)
+                              self._solver, self.rtol, self.max_step)
             self._t = current_time + step_size
             self._outputs_stale = True
             return True
@@ -297,6 +317,14 @@ class CraneSlave(Fmi2Slave):
             if real is not None and not units.dimensionless(unit):
                 real.set("unit", unit)
                 used[unit] = units.parse(unit)
+        if self._switches:
+            annotations = Element("VendorAnnotations")
+            listing = SubElement(SubElement(annotations, "Tool", name=ENUMERATIONS_TOOL), "Enumerations")
+            for name, names in self._switches.items():
+                var = SubElement(listing, "Variable", name=name)
+                for code, item in enumerate(names):
+                    SubElement(var, "Item", name=item, value=str(code))
+            root.insert(list(root).index(root.find("ModelVariables")), annotations)
         if used:
             defs = Element("UnitDefinitions")
             for name, (factor, exps) in sorted(used.items()):

@@ -70,8 +70,11 @@ def render(fmu: Path) -> str:
     """The Markdown page of one built FMU."""
     from fmpy import read_model_description
 
+    from .master.fmu import ENUMERATIONS_TOOL, fmu_switch_names
+
     fmu = Path(fmu)
     md = read_model_description(str(fmu), validate=False)
+    names = fmu_switch_names(fmu)
     with zipfile.ZipFile(fmu) as zf:
         package, module, model_class = _bundle(zf)
         source = zf.read(f"resources/{package}/physics/{module}.py").decode()
@@ -101,9 +104,17 @@ def render(fmu: Path) -> str:
            "Every FMU integrates its own states between communication points with the solver named by "
            "`solver`; `rtol` applies to the adaptive ones, `max_step` bounds the internal step (the sub-step "
            "of the fixed-step ones).", "",
+           "Switches are Integer parameters: the value is the position of a name in the list below (tools "
+           "without String parameters, such as libcosim and fmpy's `simulate_ssp`, set them as integers; "
+           "libcosim ignores FMI Enumeration variables). The names are listed in the model description too "
+           f"(`VendorAnnotations`, tool `{ENUMERATIONS_TOOL}`), so cranefmu's master, `--set` and `cranefmu info` "
+           "take and show them: `--set rope.model=bouc_wen` and `--set rope.model=1` are the same.", "",
            "| parameter | default | allowed | what it selects |", "|---|---|---|---|"]
     for v in switches + [v for v in params if v.name in ("rtol", "max_step")]:
-        out.append(f"| `{v.name}` | {_start(v)} | {_md_escape(_allowed(v.description))} | "
+        default = _start(v)
+        if v.name in names:
+            default += " (" + ", ".join(f"`{n}`" for n, c in names[v.name].items() if str(c) == str(v.start)) + ")"
+        out.append(f"| `{v.name}` | {default} | {_md_escape(_allowed(v.description))} | "
                    f"{_md_escape(_plain(v.description))} |")
     out += ["", "## Variables", ""]
     for title, group in (("Parameters", params), ("Inputs", coupling), ("Outputs", outputs)):

@@ -12,7 +12,6 @@ every state at ``initial_state(u)`` until they agree.
 from __future__ import annotations
 
 import math
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -20,6 +19,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .errors import ParameterSetError, SceneError, SimulationError
+from .master.scene import Scene, read_scene_folder, typed_value
 from .physics.boom import BoomModel
 from .physics.chassis import ChassisModel
 from .physics.component import Model
@@ -27,48 +27,60 @@ from .physics.drive import DriveModel
 from .physics.girder import GirderModel
 from .physics.pendulum import PendulumModel
 from .physics.rope import RopeModel
+from .sources import FMU_SOURCES as FMU_DIR  # the checkout's fmus/ or the wheel's copy
 from .sources import SSP_SOURCES as SSP_DIR  # the checkout's ssp/ or the wheel's copy
 
 MODELS: dict[str, type[Model]] = {"Rope": RopeModel, "Pendulum": PendulumModel, "Drive": DriveModel,
                                   "Girder": GirderModel, "Boom": BoomModel, "Chassis": ChassisModel}
 ADAPTER_PARAMETERS = ("solver", "rtol", "max_step")   # the FMU's own solver settings, not physics
-_SSD = "{http://ssp-standard.org/SSP1/SystemStructureDescription}"
 INIT_MAX_SWEEPS = 400
 INIT_RELAXATION = 0.5
 
 
-def scene_parameters(scene: str, parameter_set: str = "default") -> dict[str, str]:
-    """The 'comp.var' -> value text of a scene's parameter set (default.ssv, then the named set over it)."""
-    from fmpy.ssp.ssd import read_ssv
-
+def source_scene(scene: str) -> Scene:
+    """Scene ``scene`` read from its sources under ssp/ (the one scene reader)."""
     folder = SSP_DIR / scene
     if not (folder / "SystemStructure.ssd").is_file():
         known = sorted(p.name for p in SSP_DIR.iterdir() if (p / "SystemStructure.ssd").is_file())
         raise SceneError(f"scene {scene!r} is unknown: one of {', '.join(known)}")
-    values = {p.name: p.value for p in read_ssv(str(folder / "default.ssv")).parameters}
-    if parameter_set != "default":
-        path = folder / f"{parameter_set}.ssv"
-        if not path.is_file():
-            sets = ["default", *sorted(p.stem for p in folder.glob("*.ssv") if p.stem != "default")]
-            raise ParameterSetError(f"parameter set {parameter_set!r} is not in scene {scene}: one of {', '.join(sets)}")
-        values.update({p.name: p.value for p in read_ssv(str(path)).parameters})
-    return values
+    return read_scene_folder(folder, FMU_DIR)
+
+
+def scene_parameters(scene: str, parameter_set: str = "default") -> dict[str, object]:
+    """The 'comp.var' -> value of a scene's parameter set (the default set, then the named set over it)."""
+    return source_scene(scene).values(parameter_set)
 
 
 def build_params(cls, component: str, values: dict) -> object:
-    """The validated parameter dataclass ``cls`` of ``component`` from 'comp.var' -> value entries."""
-    kinds = {name: type(default) for name, default, _ in cls.field_specs()}
+    """The validated parameter dataclass ``cls`` of ``component`` from 'comp.var' -> value entries
+    (values typed, or text converted as the scene reader converts it)."""
+    specs = {name: (default, meta) for name, default, meta in cls.field_specs()}
     kw = {}
-    for key, text in values.items():
+    for key, value in values.items():
         comp, _, var = key.partition(".")
         if comp != component or var in ADAPTER_PARAMETERS:
             continue
-        if var not in kinds:
+        if var not in specs:
             raise ParameterSetError(f"parameter {key!r}: {component} has no parameter {var!r}; allowed "
-                                    f"{', '.join(kinds)}")
-        kind = kinds[var]
-        kw[var] = kind(float(text)) if kind in (int, float) else str(text)
+                                    f"{', '.join(specs)}")
+        default, meta = specs[var]
+        kw[var] = field_value(key, value, default, meta)
     return cls(**kw)
+
+
+def field_value(key: str, value: object, default: object, meta: dict) -> object:
+    """``value`` for a parameter field whose default is ``default``: numbers converted like the
+    scene reader does (an Integer must be whole), a switch's code (as the FMU takes it) turned into
+    its name."""
+    if isinstance(default, str):
+        choices = meta.get("choices") or ()
+        code = value if isinstance(value, int) and not isinstance(value, bool) else \
+            int(value) if isinstance(value, str) and value.isdigit() else None
+        return choices[code] if code is not None and code < len(choices) else value
+    if isinstance(default, bool):
+        return value
+    kind = "Integer" if isinstance(default, int) else "Real"
+    return typed_value(str(value), kind, f"parameter {key}")
 
 
 @dataclass(frozen=True)
@@ -86,29 +98,32 @@ class Monolith:
 
     def __init__(self, scene: str, parameter_set: str = "default", parameters: dict | None = None):
         self.scene = scene
-        root = ET.parse(SSP_DIR / scene / "SystemStructure.ssd").getroot()
-        values = {**scene_parameters(scene, parameter_set), **(parameters or {})}
+        source = source_scene(scene)
+        values = {**source.values(parameter_set), **(parameters or {})}
         self.names: list[str] = []
         self.models: list[Model] = []
-        for el in root.iter(f"{_SSD}Component"):
-            fmu = Path(el.get("source")).stem
+        for comp in source.components:
+            fmu = comp.fmu.stem
             if fmu not in MODELS:
-                raise SceneError(f"scene {scene}: component {el.get('name')!r} uses {fmu}.fmu, which has no "
+                raise SceneError(f"scene {scene}: component {comp.name!r} uses {fmu}.fmu, which has no "
                                  f"physics model here (known: {', '.join(MODELS)})")
             cls = MODELS[fmu]
-            self.names.append(el.get("name"))
-            self.models.append(cls(build_params(cls.Params, el.get("name"), values)))
+            self.names.append(comp.name)
+            self.models.append(cls(build_params(cls.Params, comp.name, values)))
         unknown = {k.partition(".")[0] for k in values} - set(self.names)
         if unknown:
             raise ParameterSetError(f"parameters for {', '.join(sorted(unknown))}: no such component in {scene} "
                                     f"({', '.join(self.names)})")
         index = {n: i for i, n in enumerate(self.names)}
         self.links: list[Link] = []
-        for c in root.iter(f"{_SSD}Connection"):
-            s, d = index[c.get("startElement")], index[c.get("endElement")]
+        for c in source.connections:
+            if (c.factor, c.offset) != (1.0, 0.0):
+                raise SceneError(f"scene {scene}: connection {c} has a LinearTransformation, which the monolith "
+                                 "does not apply")
+            s, d = index[c.src], index[c.dst]
             outs = [sig.name for sig in self.models[s].outputs]
             ins = [sig.name for sig in self.models[d].inputs]
-            self.links.append(Link(s, outs.index(c.get("startConnector")), d, ins.index(c.get("endConnector"))))
+            self.links.append(Link(s, outs.index(c.src_var), d, ins.index(c.dst_var)))
         self.incoming = [[lk for lk in self.links if lk.dst == i] for i in range(len(self.models))]
         # per component and source: (source, source output indices, input indices) for one fancy-index copy
         self.feeds = [self._feeds(lks) for lks in self.incoming]

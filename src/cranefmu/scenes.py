@@ -290,44 +290,6 @@ def hook_sway_parameters(m_hook: float = 3.0, hook_length: float = 0.4, L_sling:
     return values
 
 
-def describe(scene) -> list[str]:
-    """Lines for ``cranefmu info``: question, components with their role, fidelity switches, parameter
-    sets and values, outputs per component (with units), connections.  ``scene`` is a loaded
-    :class:`cranefmu.master.scene.Scene`."""
-    from fmpy import read_model_description
-
-    info = SCENES.get(scene.name)
-    roles = {c[0]: c[2] for c in info.components} if info else {}
-    lines = [f"scene {scene.name} ({scene.path})"]
-    if info:
-        lines.append(f"  question: {info.question}")
-        if info.paper:
-            lines.append(f"  source: {info.paper}")
-    lines.append("  components:")
-    for c in scene.components:
-        lines.append(f"    {c.name} ({c.fmu.name})" + (f": {roles[c.name]}" if c.name in roles else ""))
-    if info and info.fidelity:
-        lines.append("  fidelity switches (--set comp.var=value):")
-        lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
-    lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
-    lines.append("  parameters (default set):")
-    lines += [f"    {k} = {v}" for k, v in scene.parameters.items()]
-    for name, values in scene.parameter_sets.items():
-        lines.append(f"  parameter set {name} (over default):")
-        lines += [f"    {k} = {v}" for k, v in values.items()]
-    if info:
-        lines.append("  key outputs: " + ", ".join(info.key_outputs))
-    lines.append("  outputs (columns of a run):")
-    for c in scene.components:
-        md = read_model_description(str(c.fmu), validate=False)
-        outs = [f"{v.name} [{v.unit}]" if getattr(v, "unit", None) else v.name
-                for v in md.modelVariables if v.causality == "output"]
-        lines.append(f"    {c.name}: " + ", ".join(outs))
-    lines.append("  connections:")
-    lines += [f"    {c}" for c in scene.connections]
-    return lines
-
-
 def static_outrigger_loads(boom_length: float, angle_deg: float, load: float) -> tuple[float, float]:
     """(N_front, N_rear) [N] of the truck crane at rest with the boom at ``boom_length`` [m] and
     ``angle_deg``, hook load ``load`` [kg] hanging from the tip, statically determinate (negative:

@@ -84,14 +84,37 @@ def _slave_class():
     return _SLAVE
 
 
+ENUMERATIONS_TOOL = "org.cranefmu.enumerations"   # written by cranefmu.fmi_adapter (bundled, cannot import this)
+
+
+def switch_names(md_root) -> dict[str, dict[str, int]]:
+    """variable -> {name: code} of the Integer switches an FMU lists in its model description's
+    ``VendorAnnotations/Tool name="org.cranefmu.enumerations"`` (none for other FMUs)."""
+    out: dict[str, dict[str, int]] = {}
+    for tool in md_root.iter("Tool"):
+        if tool.get("name") == ENUMERATIONS_TOOL:
+            for var in tool.iter("Variable"):
+                out[var.get("name")] = {item.get("name"): int(item.get("value")) for item in var.iter("Item")}
+    return out
+
+
+def fmu_switch_names(fmu: Path) -> dict[str, dict[str, int]]:
+    """:func:`switch_names` of an .fmu file (its modelDescription.xml read through the guard)."""
+    import zipfile
+
+    from .untrusted import check_xml
+
+    with zipfile.ZipFile(fmu) as zf:
+        return switch_names(check_xml(zf.read("modelDescription.xml"), f"{Path(fmu).name}/modelDescription.xml"))
+
+
 class FmuComponent:
     """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages."""
 
     def __init__(self, name: str, fmu_path: Path, unzipdir: Path):
         from fmpy import read_model_description
 
-        from .scene import safe_extract
-        from .xml_guard import check_xml
+        from .untrusted import check_xml, safe_extract
 
         self.name = name
         # fmpy.extract lets zipfile rewrite '../' entries silently; ours refuses the archive instead
@@ -103,7 +126,8 @@ class FmuComponent:
             raise SceneError(f"component {name!r}: {err}") from None
         except Exception as err:
             raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
-        check_xml(md_xml, f"component {name!r}: {fmu_path.name}/modelDescription.xml")
+        md_root = check_xml(md_xml, f"component {name!r}: {fmu_path.name}/modelDescription.xml")
+        self.switches = switch_names(md_root)
         try:
             self.md = read_model_description(str(self.unzipdir), validate=False)
         except Exception as err:
@@ -189,7 +213,8 @@ class FmuComponent:
                 value = float(text)
                 self.fmu.setReal([v.valueReference], [value])
             elif v.type in ("Integer", "Enumeration"):
-                f = float(text)
+                names = self.switches.get(name, {})
+                f = names[text.strip()] if isinstance(text, str) and text.strip() in names else float(text)
                 if f != int(f):
                     raise ValueError
                 self.fmu.setInteger([v.valueReference], [int(f)])
@@ -199,7 +224,9 @@ class FmuComponent:
             else:
                 self.fmu.setString([v.valueReference], [str(text)])
         except (ValueError, KeyError, TypeError):
-            raise ParameterSetError(f"{where} = {text!r} is not a valid {v.type} value") from None
+            names = self.switches.get(name)
+            allowed = f": allowed {', '.join(f'{n} (= {c})' for n, c in names.items())}" if names else ""
+            raise ParameterSetError(f"{where} = {text!r} is not a valid {v.type} value{allowed}") from None
         except Exception as err:
             raise ParameterSetError(f"{where} = {text!r} was refused by the FMU: {self.last_error() or err}") from None
         finally:

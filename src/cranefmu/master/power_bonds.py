@@ -9,14 +9,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from .divergence import Growth, GrowthAlarm
 from ..errors import SceneError
 from .system import CoSystem
-from .xml_guard import parse_xml
 
 ANNOTATION = "org.cranefmu.powerbonds"
 
@@ -68,22 +66,22 @@ class Bond:
     b: _Side
 
 
-def read_bonds(ssd: Path) -> list[tuple[str, list[dict]]]:
-    """(bond name, [side attributes a, b]) from the SSD's power-bond annotation (none if absent)."""
+def read_bonds(system, label: str) -> list[tuple[str, list[dict]]]:
+    """(bond name, [side attributes a, b]) from the power-bond annotation of an SSD's parsed
+    ``System`` element (none if absent); ``label`` names the file in messages."""
     from lxml import etree
 
-    root = parse_xml(ssd)
     out = []
-    for ann in root.iter("{*}Annotation"):
+    for ann in system.iter("{*}Annotation"):
         if ann.get("type") != ANNOTATION:
             continue
         for bond in ann.iter("{*}Bond"):
             name = bond.get("name")
             sides = [dict(s.attrib) for s in bond if isinstance(s.tag, str) and etree.QName(s).localname == "Side"]
             if not name:
-                raise SceneError(f"{ssd.name}: a power bond has no name")
+                raise SceneError(f"{label}: a power bond has no name")
             if len(sides) != 2:
-                raise SceneError(f"{ssd.name}: power bond {name!r} has {len(sides)} Side elements; exactly 2 allowed")
+                raise SceneError(f"{label}: power bond {name!r} has {len(sides)} Side elements; exactly 2 allowed")
             out.append((name, sides))
     return out
 

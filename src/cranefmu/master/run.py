@@ -21,13 +21,13 @@ from .algorithms import GaussSeidel, Iterative, Jacobi
 from .divergence import Watch
 from ..errors import CraneFmuError, ParameterSetError, SettingsError, SimulationError
 from .initialization import initialize
-from .power_bonds import BondMonitor, read_bonds, resolve
+from .power_bonds import BondMonitor, resolve
 from .progress import Progress
 from .results import Recorder
 from .scene import Scene, load_scene
 from .scene_names import resolve_scene
 from .step_control import PIController, coupling_error, ecco_error
-from .stop_conditions import StopWatch, read_stop_conditions
+from .stop_conditions import StopWatch
 from .system import CoSystem, RunStats
 from .waveform import WaveformIterative
 
@@ -130,12 +130,7 @@ class Settings:
 
 
 def _overrides(scene: Scene, parameter_set: str | None, parameters: dict | None) -> dict[tuple[str, str], object]:
-    values: dict[str, object] = dict(scene.parameters)
-    if parameter_set is not None and parameter_set != "default":
-        if parameter_set not in scene.parameter_sets:
-            raise ParameterSetError(f"parameter set {parameter_set!r} is not in scene {scene.name}: one of "
-                                    f"{', '.join(['default', *scene.parameter_sets])}")
-        values.update(scene.parameter_sets[parameter_set])
+    values: dict[str, object] = scene.values(parameter_set)
     values.update(parameters or {})
     names = {c.name for c in scene.components}
     out = {}
@@ -216,11 +211,11 @@ def _run_here(ssp: Path, settings: Settings, parameter_set: str | None, paramete
         settings.check()
         overrides = _overrides(loaded, parameter_set, parameters)
         system = CoSystem(loaded, workdir, settings.extrapolation)
-        bonds = BondMonitor(system, resolve(system, read_bonds(workdir / "SystemStructure.ssd")))
+        bonds = BondMonitor(system, resolve(system, loaded.bonds))
         _check_capabilities(system, settings, bonds)
         watch = Watch(system, bonds, settings.adaptive) if settings.instability_alarm else None
         recorder = Recorder(system.columns + bonds.columns, Path(output) if output else None, keep=keep)
-        conditions = read_stop_conditions(workdir / "SystemStructure.ssd") if settings.stop_when is None \
+        conditions = loaded.stop_conditions if settings.stop_when is None \
             else {v: "" for v in settings.stop_when}
         stopper = StopWatch(system.columns + bonds.columns, conditions) if conditions else None
         system.stats.init_iterations = initialize(system, settings.start_time, overrides, settings.init_tolerance)

@@ -1,18 +1,58 @@
-"""Read a scene: an .ssp archive (SSD + SSV parameter sets + FMUs), safely extracted."""
+"""The one scene reader: an SSD and its .ssv parameter sets, parsed once into a :class:`Scene`.
+
+Everything that uses a scene reads it here: the master (from an extracted .ssp), the monolithic
+reference, the build and ``cranefmu info`` (from the source folder ``ssp/<scene>/``).  Every XML
+file goes through the guarded parser of :mod:`.untrusted`.  What is read (SSP 1.0):
+
+- elements (FMU components only; nested systems are refused), their connectors;
+- connections, with their ``ssc:LinearTransformation`` (factor, offset);
+- parameters, typed as in the .ssv (Real, Integer, Boolean, String, Enumeration); a Real's
+  ``unit=`` is converted to SI (:mod:`cranefmu.units`) or refused; an Integer must be a whole
+  number.  The System's bindings and every Component's own bindings (bare variable names, as
+  libcosim reads them) form the default set; a parameter bound twice with two values is refused.
+  Other .ssv files in ``resources/`` are named parameter sets;
+- the DefaultExperiment, the power bonds (:mod:`.power_bonds`) and the stop conditions
+  (:mod:`.stop_conditions`) from their annotations.
+
+fmpy's ``read_ssd`` is not used: it extracts the archive a second time, parses without the guard
+and reports problems as bare exceptions.  The SSP schema is checked on the built files by the
+tests instead (tests/test_scene_reader.py).
+"""
 from __future__ import annotations
 
-import zipfile
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Union
 
 from ..errors import ParameterSetError, SceneError
-from .xml_guard import check_xml_files, parse_xml
+from ..units import parse as parse_unit
+from .stop_conditions import read_stop_conditions
+from .untrusted import check_xml_files, parse_xml, safe_extract
+
+SSD_NS = "http://ssp-standard.org/SSP1/SystemStructureDescription"
+SSV_NS = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
+SSC_NS = "http://ssp-standard.org/SSP1/SystemStructureCommon"
+TYPES = ("Real", "Integer", "Boolean", "String", "Enumeration")
+_BOOLEAN = {"true": True, "1": True, "false": False, "0": False}
+
+Value = Union[float, int, bool, str]
+
+
+@dataclass(frozen=True)
+class Connector:
+    name: str
+    kind: str        # input, output, parameter, ...
+    type: str = ""   # Real, Integer, ... (empty: not given)
+    unit: str = ""
 
 
 @dataclass
 class ComponentSpec:
     name: str
-    fmu: Path  # extracted .fmu file
+    fmu: Path        # the FMU file (in an extracted .ssp: resolved from ``source``)
+    source: str = ""  # as written in the SSD, e.g. "resources/Rope.fmu"
+    connectors: list[Connector] = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -28,122 +68,251 @@ class ConnectionSpec:
         return f"{self.src}.{self.src_var} -> {self.dst}.{self.dst_var}"
 
 
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter value: ``name`` "component.variable", ``value`` in SI (a Real's .ssv unit applied)."""
+
+    name: str
+    type: str
+    value: Value
+    unit: str = ""   # as written in the .ssv ("" if none)
+
+
 @dataclass
 class Scene:
     name: str
     path: Path
     components: list[ComponentSpec]
     connections: list[ConnectionSpec]
-    parameters: dict[str, str]  # the parameter set bound in the SSD: "comp.var" -> value text
-    parameter_sets: dict[str, dict[str, str]] = field(default_factory=dict)  # other .ssv in resources/
+    bound: dict[str, Parameter] = field(default_factory=dict)              # the default set
+    sets: dict[str, dict[str, Parameter]] = field(default_factory=dict)   # named sets (over the default)
+    start_time: float | None = None
     stop_time: float | None = None
+    bonds: list[tuple[str, list[dict]]] = field(default_factory=list)
+    stop_conditions: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def parameters(self) -> dict[str, Value]:
+        """"component.variable" -> value of the default set."""
+        return {k: p.value for k, p in self.bound.items()}
+
+    @property
+    def parameter_sets(self) -> dict[str, dict[str, Value]]:
+        return {name: {k: p.value for k, p in ps.items()} for name, ps in self.sets.items()}
+
+    def values(self, parameter_set: str | None = None) -> dict[str, Value]:
+        """The default set with the named set over it."""
+        out = self.parameters
+        if parameter_set not in (None, "default"):
+            if parameter_set not in self.sets:
+                raise ParameterSetError(f"parameter set {parameter_set!r} is not in scene {self.name}: one of "
+                                        f"{', '.join(['default', *self.sets])}")
+            out.update(self.parameter_sets[parameter_set])
+        return out
 
 
-def safe_extract(archive: Path, target: Path) -> None:
-    """Extract a zip, refusing members that would land outside ``target`` (absolute, ``..``, links)."""
-    target = target.resolve()
-    with zipfile.ZipFile(archive) as zf:
-        for info in zf.infolist():
-            dest = (target / info.filename).resolve()
-            if dest != target and target not in dest.parents:
-                raise SceneError(f"{archive.name}: entry {info.filename!r} would be extracted outside "
-                                 f"{target}; refusing the archive")
-            if (info.external_attr >> 16) & 0o170000 == 0o120000:
-                raise SceneError(f"{archive.name}: entry {info.filename!r} is a symbolic link; refusing the archive")
-        zf.extractall(target)
+def typed_value(text: str, kind: str, where: str, unit: str = "") -> Value:
+    """``text`` as a value of SSP type ``kind`` (a Real times its unit's factor to SI); raises
+    :class:`ParameterSetError` naming ``where``, the value and what is allowed."""
+    if kind not in TYPES:
+        raise ParameterSetError(f"{where}: type {kind!r} is not allowed: one of {', '.join(TYPES)}")
+    factor = 1.0
+    if unit:
+        try:
+            factor = parse_unit(unit)[0]
+        except ValueError as err:
+            raise ParameterSetError(f"{where} = {text!r} {unit}: {err}") from None
+    try:
+        if kind == "Real":
+            value = float(text) * factor
+            if not math.isfinite(value):
+                raise ValueError
+            return value
+        if kind == "Integer":
+            number = float(text)
+            if not math.isfinite(number) or number != int(number):
+                raise ValueError
+            return int(number)
+        if kind == "Boolean":
+            return _BOOLEAN[str(text).strip().lower()]
+        return str(text)
+    except (ValueError, KeyError, TypeError):
+        allowed = {"Real": "a finite number", "Integer": "a whole number", "Boolean": "true or false"}[kind]
+        raise ParameterSetError(f"{where} = {text!r} is not a valid {kind} value: allowed {allowed}") from None
 
 
-def _parameter_dict(parameter_set) -> dict[str, str]:
-    return {p.name: p.value for p in parameter_set.parameters}
+def _local(el) -> str:
+    tag = el.tag
+    return tag.rpartition("}")[2] if isinstance(tag, str) else ""
 
 
-def linear_transformations(ssd: Path) -> dict[tuple[str, str, str, str], tuple[float, float]]:
-    """(start element, start connector, end element, end connector) -> (factor, offset) of each
-    connection's ``LinearTransformation``.  Read here because fmpy 0.3 looks for it in the ssd
-    namespace, while the SSP schema (which fmpy validates against) puts it in ssc."""
-    root = parse_xml(ssd)
-    out = {}
-    for conn in root.iter("{*}Connection"):
-        for lt in conn.iter("{*}LinearTransformation"):
-            key = (conn.get("startElement"), conn.get("startConnector"), conn.get("endElement"), conn.get("endConnector"))
-            try:
-                out[key] = (float(lt.get("factor", 1.0)), float(lt.get("offset", 0.0)))
-            except ValueError:
-                raise SceneError(f"{ssd.name}: connection {key[0]}.{key[1]} -> {key[2]}.{key[3]}: LinearTransformation "
-                                 f"factor={lt.get('factor')!r} offset={lt.get('offset')!r} are not numbers") from None
+def _children(el, name: str) -> list:
+    return [c for c in el if _local(c) == name]
+
+
+def _first(el, name: str):
+    found = _children(el, name)
+    return found[0] if found else None
+
+
+def read_parameter_set(root, label: str, prefix: str = "") -> dict[str, Parameter]:
+    """The parameters of an ``ssv:ParameterSet`` element (``prefix`` + name, e.g. "rope." for a
+    component's own binding with bare names)."""
+    out: dict[str, Parameter] = {}
+    params = _first(root, "Parameters")
+    for p in _children(params, "Parameter") if params is not None else []:
+        name = p.get("name")
+        if not name:
+            raise ParameterSetError(f"{label}: a Parameter has no name")
+        typed = [c for c in p if _local(c) in TYPES]
+        if len(typed) != 1:
+            raise ParameterSetError(f"{label}: parameter {name!r} needs exactly one of {', '.join(TYPES)}")
+        kind, text, unit = _local(typed[0]), typed[0].get("value"), typed[0].get("unit", "")
+        if text is None:
+            raise ParameterSetError(f"{label}: parameter {name!r} has no value")
+        full = prefix + name
+        out[full] = Parameter(full, kind, typed_value(text, kind, f"{label}: parameter {full}", unit), unit)
     return out
 
 
-def load_scene(ssp: Path, workdir: Path) -> Scene:
-    """Extract ``ssp`` into ``workdir`` and read its structure with fmpy's SSD reader."""
-    from fmpy.ssp.ssd import Component, read_ssd, read_ssv
+def _bindings(element, label: str, resources: Path, prefix: str) -> dict[str, Parameter]:
+    """The parameters bound on a System or Component: ``source=`` .ssv files and inline sets."""
+    out: dict[str, Parameter] = {}
+    holder = _first(element, "ParameterBindings")
+    for binding in _children(holder, "ParameterBinding") if holder is not None else []:
+        if binding.get("prefix"):
+            raise SceneError(f"{label}: ParameterBinding prefix={binding.get('prefix')!r} is not supported "
+                             "(libcosim ignores it): use full names")
+        source = binding.get("source")
+        if source:
+            path = resources / Path(source).name
+            if not path.is_file():
+                raise SceneError(f"{label}: ParameterBinding source {source!r} is not in the scene")
+            sets = [parse_xml(path)]
+            where = f"{label}: {source}"
+        else:
+            values = _first(binding, "ParameterValues")
+            sets = _children(values, "ParameterSet") if values is not None else []
+            where = f"{label}: inline parameters"
+        for ps in sets:
+            _merge(out, read_parameter_set(ps, where, prefix), where)
+    return out
 
+
+def _merge(into: dict[str, Parameter], new: dict[str, Parameter], where: str) -> None:
+    for key, p in new.items():
+        old = into.get(key)
+        if old is not None and old.value != p.value:
+            raise ParameterSetError(f"{where}: parameter {key} = {p.value!r} contradicts {old.value!r} bound "
+                                    "elsewhere in the scene: bind each parameter once (or with the same value)")
+        into[key] = p
+
+
+def _connectors(el) -> list[Connector]:
+    holder = _first(el, "Connectors")
+    out = []
+    for c in _children(holder, "Connector") if holder is not None else []:
+        typed = [t for t in c if _local(t) in TYPES]
+        kind = _local(typed[0]) if typed else ""
+        out.append(Connector(c.get("name", ""), c.get("kind", ""), kind, typed[0].get("unit", "") if typed else ""))
+    return out
+
+
+def _number(text: str | None, what: str, label: str) -> float | None:
+    if text is None:
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        raise SceneError(f"{label}: {what}={text!r} is not a number") from None
+
+
+def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str | None = None) -> Scene:
+    """The scene of ``ssd``; its ``resources/…`` files are looked up in ``resources`` (the extracted
+    archive's resources/ folder, or the scene's source folder).  A component's FMU is
+    ``fmu_dir / <file name>`` (default: next to the resources)."""
+    ssd = Path(ssd)
+    label = label or ssd.name
+    root = parse_xml(ssd)
+    if _local(root) != "SystemStructureDescription":
+        raise SceneError(f"{label}: the root element is {_local(root)!r}, not SystemStructureDescription")
+    system = _first(root, "System")
+    if system is None:
+        raise SceneError(f"{label}: SystemStructure.ssd has no System")
+    fmu_dir = fmu_dir or resources
+    components: list[ComponentSpec] = []
+    bound = _bindings(system, label, resources, "")
+    elements = _first(system, "Elements")
+    for el in [e for e in elements if _local(e)] if elements is not None else []:
+        name = el.get("name", "")
+        if _local(el) != "Component":
+            raise SceneError(f"{label}: element {name!r} is not an FMU component (nested systems are not supported)")
+        source = el.get("source")
+        if not source:
+            raise SceneError(f"{label}: component {name!r} has no source FMU")
+        components.append(ComponentSpec(name, fmu_dir / Path(source).name, source, _connectors(el)))
+        _merge(bound, _bindings(el, f"{label}: component {name!r}", resources, f"{name}."),
+               f"{label}: component {name!r}")
+    names = {c.name for c in components}
+    connections = []
+    holder = _first(system, "Connections")
+    for c in _children(holder, "Connection") if holder is not None else []:
+        ends = (c.get("startElement"), c.get("startConnector"), c.get("endElement"), c.get("endConnector"))
+        text = f"{ends[0]}.{ends[1]} -> {ends[2]}.{ends[3]}"
+        for role, comp in (("start", ends[0]), ("end", ends[2])):
+            if comp not in names:
+                raise SceneError(f"{label}: connection {text}: {role} element {comp!r} is not a component "
+                                 f"(components: {', '.join(sorted(names))})")
+        factor, offset = 1.0, 0.0
+        for lt in c.iter("{*}LinearTransformation"):
+            factor = _number(lt.get("factor", "1"), f"connection {text}: LinearTransformation factor", label)
+            offset = _number(lt.get("offset", "0"), f"connection {text}: LinearTransformation offset", label)
+        connections.append(ConnectionSpec(*ends, factor, offset))
+    from .power_bonds import read_bonds   # here: power_bonds imports the system, which imports this module
+
+    start = stop = None
+    for de in _children(root, "DefaultExperiment"):
+        start = _number(de.get("startTime"), "DefaultExperiment startTime", label)
+        stop = _number(de.get("stopTime"), "DefaultExperiment stopTime", label)
+    bound_files = {Path(b.get("source")).name for b in system.iter("{*}ParameterBinding") if b.get("source")}
+    sets = {}
+    for ssv in sorted(resources.glob("*.ssv")):
+        if ssv.name not in bound_files:
+            sets[ssv.stem] = read_parameter_set(parse_xml(ssv), f"{label}: parameter set {ssv.name}")
+    return Scene(root.get("name") or system.get("name") or ssd.parent.name, ssd, components, connections, bound,
+                 sets, start, stop, read_bonds(system, label), read_stop_conditions(system, label))
+
+
+def load_scene(ssp: Path, workdir: Path) -> Scene:
+    """Extract ``ssp`` safely into ``workdir`` and read it; every FMU it names must be in the archive."""
     ssp = Path(ssp)
     if not ssp.is_file():
         raise SceneError(f"scene file {ssp} does not exist")
-    try:
-        safe_extract(ssp, workdir)
-        check_xml_files(workdir, ssp.name)  # no DTD/entities before fmpy's parser sees them
-        ssd = read_ssd(str(ssp))
-    except SceneError:
-        raise
-    except Exception as err:  # fmpy raises bare Exceptions for schema problems
-        raise SceneError(f"{ssp.name}: cannot read SystemStructure.ssd: {err}") from None
-    system = ssd.system
-    components = []
-    for el in system.elements:
-        if not isinstance(el, Component):
-            raise SceneError(f"{ssp.name}: element {el.name!r} is not an FMU component (nested systems are "
-                             "not supported)")
-        if not el.source:
-            raise SceneError(f"{ssp.name}: component {el.name!r} has no source FMU")
-        fmu = (workdir / el.source).resolve()
-        if not fmu.is_file():
-            raise SceneError(f"{ssp.name}: component {el.name!r} refers to {el.source}, which is not in the archive")
-        components.append(ComponentSpec(el.name, fmu))
-    names = {c.name for c in components}
-    connections = []
-    transforms = linear_transformations(workdir / "SystemStructure.ssd")
-    for c in system.connections:
-        for role, comp in (("start", c.startElement), ("end", c.endElement)):
-            if comp not in names:
-                raise SceneError(f"{ssp.name}: connection {c.startElement}.{c.startConnector} -> "
-                                 f"{c.endElement}.{c.endConnector}: {role} element {comp!r} is not a component "
-                                 f"(components: {', '.join(sorted(names))})")
-        factor, offset = transforms.get((c.startElement, c.startConnector, c.endElement, c.endConnector), (1.0, 0.0))
-        connections.append(ConnectionSpec(c.startElement, c.startConnector, c.endElement, c.endConnector,
-                                          factor, offset))
-    bound: dict[str, str] = {}
-    for binding in system.parameterBindings:
-        for pset in binding.parameterValues:
-            bound.update(_parameter_dict(pset))
-    bound_sources = {b.source for b in system.parameterBindings if b.source}
-    sets = {}
-    for ssv in sorted((workdir / "resources").glob("*.ssv")):
-        if f"resources/{ssv.name}" in bound_sources:
-            continue
-        try:
-            sets[ssv.stem] = _parameter_dict(read_ssv(str(ssv)))
-        except Exception as err:
-            raise ParameterSetError(f"{ssp.name}: parameter set {ssv.name} cannot be read: {err}") from None
-    stop = default_stop_time(workdir / "SystemStructure.ssd")
-    return Scene(ssd.name or ssp.stem, ssp, components, connections, bound, sets, stop)
+    safe_extract(ssp, workdir)
+    check_xml_files(workdir, ssp.name)
+    ssd = workdir / "SystemStructure.ssd"
+    if not ssd.is_file():
+        raise SceneError(f"{ssp.name}: cannot read SystemStructure.ssd: not in the archive")
+    scene = read_ssd(ssd, workdir / "resources", label=ssp.name)
+    for c in scene.components:
+        c.fmu = (workdir / c.source).resolve()
+        if not c.fmu.is_file():
+            raise SceneError(f"{ssp.name}: component {c.name!r} refers to {c.source}, which is not in the archive")
+    scene.path = ssp
+    if scene.name == "SystemStructure":
+        scene.name = ssp.stem
+    return scene
 
 
-def default_stop_time(ssd: Path) -> float | None:
-    """stopTime [s] of the SSD's DefaultExperiment (read here: fmpy 0.3's SSD reader leaves
-    ``defaultExperiment`` empty), or None."""
-    root = parse_xml(ssd)
-    for de in root.iter("{*}DefaultExperiment"):
-        text = de.get("stopTime")
-        if text is None:
-            return None
-        try:
-            stop = float(text)
-        except ValueError:
-            raise SceneError(f"{ssd.name}: DefaultExperiment stopTime={text!r} is not a number") from None
-        return stop
-    return None
+def read_scene_folder(folder: Path, fmu_dir: Path) -> Scene:
+    """A scene's sources: ``folder``/SystemStructure.ssd with its .ssv files next to it (the
+    SSD's ``resources/x.ssv`` is ``folder/x.ssv``), FMUs in ``fmu_dir``."""
+    folder = Path(folder)
+    ssd = folder / "SystemStructure.ssd"
+    if not ssd.is_file():
+        raise SceneError(f"scene folder {folder} has no SystemStructure.ssd")
+    check_xml_files(folder, folder.name)
+    return read_ssd(ssd, folder, fmu_dir, label=f"{folder.name}/SystemStructure.ssd")
 
 
 def output_units(scene: Scene) -> dict[str, str]:

@@ -16,25 +16,23 @@ the scene's list; an empty list runs on.
 """
 from __future__ import annotations
 
-from pathlib import Path
 
 from ..errors import SceneError, SettingsError
-from .xml_guard import parse_xml
 
 ANNOTATION = "org.cranefmu.stopwhen"
 
 
-def read_stop_conditions(ssd: Path) -> dict[str, str]:
-    """variable ("component.output") -> reason, from the SSD's stop annotation (empty if absent)."""
-    root = parse_xml(ssd)
+def read_stop_conditions(system, label: str) -> dict[str, str]:
+    """variable ("component.output") -> reason, from the stop annotation of an SSD's parsed
+    ``System`` element (empty if absent); ``label`` names the file in messages."""
     out = {}
-    for ann in root.iter("{*}Annotation"):
+    for ann in system.iter("{*}Annotation"):
         if ann.get("type") != ANNOTATION:
             continue
         for el in ann.iter("{*}Output"):
             variable = el.get("variable")
             if not variable:
-                raise SceneError(f"{ssd.name}: a stop condition ({ANNOTATION}) has no variable")
+                raise SceneError(f"{label}: a stop condition ({ANNOTATION}) has no variable")
             out[variable] = el.get("reason", "")
     return out
 

@@ -21,12 +21,21 @@ def param(default: Any, unit: str = "", description: str = "", *, min: float | N
           choices: tuple | None = None, tunable: bool = False) -> Any:
     """A dataclass field with unit, description and the allowed values.
 
+    A text field with ``choices`` is a switch: the physics sees the name, the FMU exposes an
+    Integer whose value is the name's position in ``choices`` (:func:`enumeration_text`), so
+    tools without String parameters can set it (numbering fixed: append new choices at the end).
+
     ``min_open``/``max_open`` make the bound exclusive (``min=0, min_open=True`` means > 0).
     ``tunable`` marks parameters that may change between communication points in an FMU.
     """
     meta = dict(unit=unit, description=description, min=min, max=max, min_open=min_open,
                 max_open=max_open, choices=choices, tunable=tunable)
     return dataclasses.field(default=default, metadata=meta)
+
+
+def enumeration_text(choices: tuple) -> str:
+    """The codes of a switch as an FMU exposes it, e.g. ``0 = kelvin_voigt, 1 = bouc_wen``."""
+    return ", ".join(f"{i} = {c}" for i, c in enumerate(choices))
 
 
 def allowed_text(meta: dict) -> str:

@@ -1,0 +1,72 @@
+"""``cranefmu info SCENE``: what a scene is, its parameters with units, and each named parameter set
+as its differences from the default set."""
+from __future__ import annotations
+
+from .master.scene import Scene
+
+
+def _fmu_facts(scene: Scene) -> tuple[dict[str, str], dict[str, dict[int, str]], dict[str, list[str]]]:
+    """Units ("comp.var" -> unit), switch names ("comp.var" -> {code: name}) and output labels per
+    component, from the FMUs' model descriptions."""
+    from fmpy import read_model_description
+
+    from .master.fmu import fmu_switch_names
+
+    units, switches, outputs = {}, {}, {}
+    for c in scene.components:
+        md = read_model_description(str(c.fmu), validate=False)
+        for var, items in fmu_switch_names(c.fmu).items():
+            switches[f"{c.name}.{var}"] = {code: name for name, code in items.items()}
+        outputs[c.name] = []
+        for v in md.modelVariables:
+            unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None) or ""
+            units[f"{c.name}.{v.name}"] = unit
+            if v.causality == "output":
+                outputs[c.name].append(f"{v.name} [{unit}]" if unit else v.name)
+    return units, switches, outputs
+
+
+def _value(key: str, value, units: dict[str, str], switches: dict[str, dict[int, str]]) -> str:
+    if key in switches and value in switches[key]:
+        return f"{value} ({switches[key][value]})"
+    unit = units.get(key, "")
+    return f"{value!r} {unit}".rstrip() if isinstance(value, float) else f"{value} {unit}".rstrip()
+
+
+def describe(scene: Scene) -> list[str]:
+    """Lines for ``cranefmu info``: question, components with their role, fidelity switches, the
+    default parameters with units (SI, as the FMUs take them), each named set as its changes
+    from the default, outputs per component with units, connections."""
+    from .scenes import SCENES
+
+    info = SCENES.get(scene.name)
+    roles = {c[0]: c[2] for c in info.components} if info else {}
+    units, switches, outputs = _fmu_facts(scene)
+    lines = [f"scene {scene.name} ({scene.path})"]
+    if info:
+        lines.append(f"  question: {info.question}")
+        if info.paper:
+            lines.append(f"  source: {info.paper}")
+    lines.append("  components:")
+    lines += [f"    {c.name} ({c.fmu.name})" + (f": {roles[c.name]}" if c.name in roles else "")
+              for c in scene.components]
+    if info and info.fidelity:
+        lines.append("  fidelity switches (--set comp.var=name or code):")
+        lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
+    default = scene.parameters
+    lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
+    lines.append("  parameters (default set):")
+    lines += [f"    {k} = {_value(k, v, units, switches)}" for k, v in default.items()]
+    for name, values in scene.parameter_sets.items():
+        changed = {k: v for k, v in values.items() if k not in default or default[k] != v}
+        lines.append(f"  parameter set {name}: {len(changed)} change(s) from default" + (":" if changed else ""))
+        for k, v in changed.items():
+            was = _value(k, default[k], units, switches) if k in default else "(not set)"
+            lines.append(f"    {k}: {was} -> {_value(k, v, units, switches)}")
+    if info:
+        lines.append("  key outputs: " + ", ".join(info.key_outputs))
+    lines.append("  outputs (columns of a run):")
+    lines += [f"    {c.name}: " + ", ".join(outputs[c.name]) for c in scene.components]
+    lines.append("  connections:")
+    lines += [f"    {c}" for c in scene.connections]
+    return lines
