@@ -150,7 +150,13 @@ def ssp_is_stale(scene_dir: Path) -> bool:
     fmus = scene_fmus(scene_dir)
     if any(not f.exists() for f in fmus):
         return True
-    return not in_cache() and ssp.stat().st_mtime < _newest(scene_files(scene_dir) + fmus)
+    return not in_cache() and ssp.stat().st_mtime < _newest(scene_files(scene_dir) + fmus + ssp_generators())
+
+
+def ssp_generators() -> list[Path]:
+    """The package files that write an .ssp (the component bindings are generated): a change to them
+    makes every .ssp stale."""
+    return [PACKAGE_DIR / "build.py", PACKAGE_DIR / "master" / "scene.py"]
 
 
 def ssd_with_component_bindings(scene_dir: Path) -> bytes:
