@@ -189,7 +189,8 @@ class PendulumModel(Model):
         *(Signal(n, "N", f"{n[1]} component of the rope force on the hook", coupling=True) for n in _FORCE),
         *(Signal(n, "m", f"{n[0]} of the suspension point (for the sway angles)", coupling=True) for n in _TOP),
         Signal("drop", "m", "start = 'below_top': distance suspension point -> hook at rest (Rope hang_length: "
-               "rope length + static stretch under rest_tension)", start=10.0),
+               "rope length + static stretch under rest_tension)", start=10.0,
+               coupling=True),   # constant; coupling so that the group rope -> pendulum keeps its rates
     )
     # resting on the ground / the sling's share of the rope force; with start = 'below_top' the hook
     # is placed from the suspension point (declared for every start: the FMU's ModelStructure cannot

@@ -200,10 +200,11 @@ class RopeModel(Model):
     inputs = tuple(Signal(n, s.unit, s.description, s.start, s.depends_on, s.coupling)
                    for n, s in zip(_KINEMATIC_INPUTS, inputs)) + (
         Signal("m_load", "kg", "mass hanging on the rope, for the damping law of seed 001 eq. 9 (the hook's "
-               "FMU owns it: Pendulum suspended_mass)", start=1000.0),
+               "FMU owns it: Pendulum suspended_mass)", start=1000.0, coupling=True),
         Signal("load", "N", "force the rope carries at rest at the start (Pendulum rest_tension): sets "
-               "hang_length and, with start = 'taut', the length taken up"),
-    )
+               "hang_length and, with start = 'taut', the length taken up", coupling=True),
+    )   # coupling (constant, extrapolated to itself): a master extrapolates a connection group only if
+        # every input in it takes rates, and these share the group pendulum -> rope
     # Bouc-Wen z0, and the taken-up length of start = 'taut'
     initial_state_inputs = _KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9] + ("payout", "load")
     outputs = (
