@@ -71,12 +71,13 @@ def pendulum_cases() -> list[tuple[str, dict, float]]:
     from cranefmu.stability import stability_limit
 
     mass, length = 1000.0, 10.0
-    p = RopeParams(length=length, E=1e11, A=5.655e-5, zeta=0.07, m_load=mass)
+    p = RopeParams(length=length, E=1e11, A=5.655e-5, zeta=0.07)
     c = stiffness(p, length)
-    omega, z = math.sqrt(c / mass), damping(p, c, length) / (2.0 * math.sqrt(c * mass))
+    omega, z = math.sqrt(c / mass), damping(p, c, length, mass) / (2.0 * math.sqrt(c * mass))
     h_lim = stability_limit(z, 0) / omega
     stretch = mass * G / c
-    one_d = {"pendulum.dimension": 1, "pendulum.x0": 0.0, "pendulum.y0": -(length + 1.3 * stretch)}
+    one_d = {"pendulum.dimension": 1, "pendulum.start": "position", "pendulum.theta0": 0.0, "pendulum.x0": 0.0,
+             "pendulum.y0": -(length + 1.3 * stretch)}
     cases = [(f"1-D, H = {f:g} x limit", {"stop_time": 20.0, "step_size": f * h_lim, "parameters": one_d}, mass * G)
              for f in FACTORS]
     cases.append(("2-D (5 deg swing), H = 2 x limit", {"stop_time": 20.0, "step_size": 2.0 * h_lim}, mass * G))

@@ -41,7 +41,7 @@ from cranefmu.stability import stability_limit
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "benchmarks" / "results"
 G = 9.81
-MASS = 1000.0   # pendulum.mass and rope.m_load of the scene [kg]
+MASS = 1000.0   # pendulum.mass of the scene (the rope's m_load input) [kg]
 LENGTH = 10.0   # rope.length [m]
 AREA = 5.655e-5  # rope.A [m2]
 ZETA = 0.07     # rope.zeta
@@ -50,9 +50,9 @@ AMPLITUDE = 0.3  # initial axial offset, fraction of the static stretch (keeps t
 
 def axial(E: float) -> tuple[float, float, float]:
     """omega [rad/s], z (damping ratio on the load's mass) and static stretch [m] of the rope at E."""
-    p = RopeParams(length=LENGTH, E=E, A=AREA, zeta=ZETA, m_load=MASS)
+    p = RopeParams(length=LENGTH, E=E, A=AREA, zeta=ZETA)
     c = stiffness(p, LENGTH)
-    b = damping(p, c, LENGTH)
+    b = damping(p, c, LENGTH, MASS)
     return math.sqrt(c / MASS), b / (2.0 * math.sqrt(c * MASS)), MASS * G / c
 
 
@@ -64,7 +64,8 @@ def one_run(E: float, h: float, algorithm: str, order: int) -> tuple[bool, float
     omega, _, stretch = axial(E)
     period = 2.0 * math.pi / omega
     stop = max(20.0 * period, 200.0 * h)
-    params = {"rope.E": E, "rope.zeta": ZETA, "pendulum.dimension": 1, "pendulum.x0": 0.0,
+    params = {"rope.E": E, "rope.zeta": ZETA, "pendulum.dimension": 1, "pendulum.start": "position",
+              "pendulum.theta0": 0.0, "pendulum.x0": 0.0,
               "pendulum.y0": -(LENGTH + stretch * (1.0 + AMPLITUDE))}
     try:
         res = run("elastic_pendulum", stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=order,

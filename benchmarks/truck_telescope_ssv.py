@@ -6,6 +6,7 @@ import math
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+from cranefmu.reference import MODELS
 from cranefmu.scenes import truck_telescope_parameters
 
 HEAD = '''<?xml version="1.0" encoding="UTF-8"?>
@@ -20,17 +21,26 @@ TAIL = '''  </ssv:Parameters>
 '''
 UNITS = {"boom.luff_angle": "rad", "boom.telescope_speed": "m/s", "boom.boom_length_start": "m", "boom.boom_length_end": "m",
          "boom.t_acc": "s", "drive.payout_speed": "m/s", "drive.duration": "s", "drive.t_acc": "s", "rope.length": "m",
-         "rope.m_load": "kg", "pendulum.mass": "kg", "pendulum.drop": "m", "rope.E": "Pa", "rope.A": "m2",
+         "pendulum.mass": "kg", "rope.E": "Pa", "rope.A": "m2",
          "rope.zeta": "", "drive.R_3": "m"}
 def param(k, v, comment=None):
     c = f"    <!-- {comment} -->\n" if comment else ""
-    if isinstance(v, str):
-        return c + f'    <ssv:Parameter name="{k}"><ssv:String value="{v}"/></ssv:Parameter>\n'
+    if isinstance(v, str):  # a switch: its Integer code (position in the choices), the name beside it
+        return c + f'    <ssv:Parameter name="{k}"><ssv:Integer value="{switch_code(k, v)}"/></ssv:Parameter>  <!-- {v} -->\n'
     if isinstance(v, int):
         return c + f'    <ssv:Parameter name="{k}"><ssv:Integer value="{v}"/></ssv:Parameter>\n'
     u = UNITS.get(k, "")
     ua = f' unit="{u}"' if u else ""
     return c + f'    <ssv:Parameter name="{k}"><ssv:Real value="{v!r}"{ua}/></ssv:Parameter>\n'
+
+COMPONENT_MODEL = {"drive": "Drive", "rope": "Rope", "boom": "Boom", "chassis": "Chassis", "pendulum": "Pendulum"}
+
+
+def switch_code(key, name):
+    comp, _, var = key.partition(".")
+    choices = {n: m.get("choices") for n, _, m in MODELS[COMPONENT_MODEL[comp]].Params.field_specs()}[var]
+    return list(choices).index(name)
+
 
 E, d = 1.4e11, 0.020
 A = math.pi * d * d / 4
@@ -38,8 +48,7 @@ ratio = (9.09 / 2) / (10.5 + 9.09 / 2)
 COMMENT = {
  "drive.payout_speed": "n_lines (L_end - L_start) sin(phi1) / T2: the hanging rope grows with the tip height (load height held, seed 000)",
  "drive.duration": "T3 = T2 + T1 with T2 = (L_end - L_start) / (V10 + V20) (seed 000 telescoping law)",
- "pendulum.start": "hook at rest straight below the tip wherever chassis and boom settle (no initialization loop through the stiff rope)",
- "pendulum.drop": "rope length s0 + static stretch m_1 g / c, c = n_p E_eff F / s0 (cranefmu.scenes.hanging_drop)",
+ "pendulum.start": "hook at rest straight below the tip wherever chassis and boom settle, by the rope's hang length s0 + m_1 g / c (derived at initialization, docs/equilibrium.md)",
  "boom.luff_angle": "phi1 (seed 000: 60 deg; the angle study takes 30, 45, 60 deg)",
  "boom.telescope_speed": "V10 = V20 (seed 000: 0.35 m/s; speed study 0.2, 0.35, 0.55 m/s)",
  "pendulum.mass": "hook + load m_1: 2.5 t, not the 3.5 t of the text, see the header",

@@ -51,12 +51,14 @@ CASES = [
     Case("drive-motor", DriveModel, dict(ramp_time=0.3), dict(drum_force=5e3), 0.5),
     Case("drive-kinematic", DriveModel, dict(mode="kinematic", t_acc=0.3), dict(drum_force=5e3), 0.5),
     Case("rope-kelvin-voigt", RopeModel, dict(n_lines=2), _HOOK_3D, 0.5),
+    Case("rope-taut-start", RopeModel, dict(model="bouc_wen", start="taut", start_slack=0.001),  # length taken up
+         {**_HOOK_3D, "y_hook": -9.794, "payout": 0.0, "load": 2e4, "vy_hook": -0.05}, 0.5),  # 5 mm stretched
     Case("rope-bouc-wen", RopeModel, dict(model="bouc_wen", n_lines=2),
          {**_HOOK_3D, "y_hook": -9.944, "vy_hook": -0.05}, 0.5),  # 5 mm stretched: z not yet saturated
     Case("pendulum-hook-3d", PendulumModel, dict(dimension=3, x0=1.0, y0=-9.9, vz0=0.3, drag_coefficient=1.0),
          dict(Fx_rope=-500.0, Fy_rope=9000.0, Fz_rope=100.0, x_top=0.1), 1.0),
-    Case("pendulum-below-top", PendulumModel, dict(dimension=2, start="below_top", drop=9.1, mass=2500.0),
-         dict(Fx_rope=40.0, Fy_rope=24000.0, x_top=5.2, y_top=3.0, z_top=0.1), 1.0),
+    Case("pendulum-below-top", PendulumModel, dict(dimension=2, start="below_top", mass=2500.0),
+         dict(Fx_rope=40.0, Fy_rope=24000.0, x_top=5.2, y_top=3.0, z_top=0.1, drop=9.1), 1.0),
     Case("pendulum-rigid-sling", PendulumModel, dict(dimension=3, payload="rigid", m_payload=800.0, x0=0.5,
                                                      theta_payload0=0.2, phi_payload0=0.1),
          dict(Fx_rope=-300.0, Fy_rope=17000.0, Fz_rope=50.0), 1.0),

@@ -60,7 +60,8 @@ def test_jacobi_zero_order_hold_gains_energy_by_the_predicted_factor(built, h):
     per step on average.  The fitted growth rate must match it within 3 %."""
     a = 1e-3  # initial axial offset [m], small enough that the rope never goes slack
     res = run("elastic_pendulum", stop_time=5.0, step_size=h, parameters={
-        "rope.zeta": 0.0, "pendulum.x0": 0.0, "pendulum.y0": -(L + DELTA + a)}).result
+        "rope.zeta": 0.0, "pendulum.start": "position", "pendulum.theta0": 0.0, "pendulum.x0": 0.0,
+        "pendulum.y0": -(L + DELTA + a)}).result
     e = axial_energy(res)
     n = np.arange(len(e))
     slope = np.polyfit(n, np.log(e), 1)[0]  # log-energy per step (the 2-step ripple averages out)

@@ -20,6 +20,11 @@ extrapolation=0``.  Hosts:
 - a C host (tests/c_host/host.c) compiled with gcc, loading the FMUs' binaries with dlopen and the
   FMI 2.0 C API; libpython preloaded (pythonfmu leaves it unresolved).  Agrees to 1e-9.
 
+None of these hosts exchanges values in initialization mode, and the C host sets no String
+parameter, so none can derive the scene's start from the rope (pendulum.start = below_top,
+docs/equilibrium.md): every host, and the master beside it, gets the start the master derives handed
+over as coordinates (pendulum.x0, y0 with the default start = position).
+
 Every host runs in a child process (pythonfmu FMUs cannot be instantiated again in a process
 where an instance was freed) and must terminate and free every instance.
 """
@@ -53,19 +58,33 @@ def in_child(fn, *args, timeout: float = 300.0):
         return pool.apply_async(fn, args).get(timeout=timeout)
 
 
+def hand_placed_start() -> dict[str, str]:
+    """The scene's derived start as coordinates for the default start = 'position' (module docstring)."""
+    from cranefmu.reference import Monolith
+
+    mono = Monolith(SCENE)
+    row = dict(zip(mono.columns, mono.output_row(0.0, mono.initial_state(0.0))))
+    return {"pendulum.x0": repr(float(row["pendulum.x"])), "pendulum.y0": repr(float(row["pendulum.y"]))}
+
+
 @pytest.fixture(scope="module")
 def scene(built, tmp_path_factory):
     from cranefmu.master.run import resolve_scene
-    from cranefmu.master.scene import load_scene
+    from cranefmu.master.scene import Parameter, load_scene
 
-    return load_scene(resolve_scene(SCENE), tmp_path_factory.mktemp("scene"))
+    loaded = load_scene(resolve_scene(SCENE), tmp_path_factory.mktemp("scene"))
+    derived = ("pendulum.start", "pendulum.theta0")
+    loaded.bound = {k: p for k, p in loaded.bound.items() if k not in derived}
+    loaded.bound.update({k: Parameter(k, "Real", float(v), "m") for k, v in hand_placed_start().items()})
+    return loaded
 
 
 @pytest.fixture(scope="module")
 def master(scene):
     from cranefmu.master.run import run
 
-    return run(SCENE, stop_time=STOP, step_size=H, algorithm="jacobi", extrapolation=0).result
+    return run(SCENE, stop_time=STOP, step_size=H, algorithm="jacobi", extrapolation=0,
+               parameters={"pendulum.start": "position", "pendulum.theta0": 0.0, **hand_placed_start()}).result
 
 
 def real_outputs(scene) -> list[tuple[str, str]]:

@@ -18,8 +18,8 @@ def _model(**kw) -> PendulumModel:
     return PendulumModel(PendulumParams(**kw))
 
 
-def _u(fx=0.0, fy=0.0, fz=0.0, top=(0.0, 0.0, 0.0)) -> np.ndarray:
-    return np.array([fx, fy, fz, *top])
+def _u(fx=0.0, fy=0.0, fz=0.0, top=(0.0, 0.0, 0.0), drop=10.0) -> np.ndarray:
+    return np.array([fx, fy, fz, *top, drop])
 
 
 def _rope_u(x: np.ndarray, k: float, length: float) -> np.ndarray:
@@ -115,10 +115,10 @@ def test_below_top_start_hangs_drop_below_the_suspension_point(payload, dimensio
     """start = 'below_top': the hook starts drop straight below the top it is given, follows it, and
     hangs at rest when the rope carries the weight (the position parameters play no part)."""
     extra = dict(m_payload=1800.0, L_sling=1.2) if payload != "none" else {}
-    m = _model(dimension=dimension, payload=payload, mass=30.0, start="below_top", drop=7.25, **extra)
+    m = _model(dimension=dimension, payload=payload, mass=30.0, start="below_top", **extra)
     weight = (30.0 + extra.get("m_payload", 0.0)) * G
     for top in ((5.2, 3.1, 0.0), (5.3, 2.9, 0.0 if dimension == 2 else 0.4)):
-        u = _u(fy=weight, top=top)
+        u = _u(fy=weight, top=top, drop=7.25)
         x0 = m.initial_state(u)
         assert x0[:3].tolist() == [top[0], top[1] - 7.25, top[2]]
         assert np.max(np.abs(m.derivatives(0.0, x0, u))) < 1e-9
@@ -132,14 +132,14 @@ def test_position_start_ignores_the_top_and_below_top_ignores_the_position():
     fixed = _model(dimension=3, x0=0.5, y0=-8.0, z0=0.25)
     assert np.array_equal(fixed.initial_state(u_a), fixed.initial_state(u_b))
     assert fixed.initial_state(u_a)[:3].tolist() == [0.5, -8.0, 0.25]
-    hung = _model(dimension=3, start="below_top", drop=2.0)
-    assert hung.initial_state(u_b)[:3].tolist() == [-4.0, 3.0, 6.0]
+    hung = _model(dimension=3, start="below_top")
+    assert hung.initial_state(_u(fy=1000.0, top=(-4.0, 5.0, 6.0), drop=2.0))[:3].tolist() == [-4.0, 3.0, 6.0]
 
 
 def test_below_top_start_on_the_ground_sinks_in_by_the_unsupported_weight():
-    m = _model(dimension=2, mass=1000.0, start="below_top", drop=10.5, ground="spring_damper",
+    m = _model(dimension=2, mass=1000.0, start="below_top", ground="spring_damper",
                ground_height=-10.0, c_ground=2e8)
-    u = _u(fy=400.0 * G, top=(1.0, 0.0, 0.0))
+    u = _u(fy=400.0 * G, top=(1.0, 0.0, 0.0), drop=10.5)
     x0 = m.initial_state(u)
     assert x0[1] == pytest.approx(-10.0 - 600.0 * G / 2e8, rel=1e-12)
     assert np.max(np.abs(m.derivatives(0.0, x0, u))) < 1e-9
@@ -370,10 +370,16 @@ def test_payload_mass_must_match_the_payload_switch():
 
 
 @pytest.mark.parametrize("kw, text", [
-    (dict(start="under_tip"), "pendulum.start = 'under_tip' is not allowed: one of 'position', 'below_top'"),
-    (dict(start="below_top", drop=0.0), "pendulum.drop = 0.0 is out of range: allowed (0, inf) m"),
-    (dict(start="below_top", drop=-2.0), "pendulum.drop = -2.0 is out of range"),
-    (dict(drop=math.nan), "pendulum.drop = nan is not finite"),
+    (dict(start="under_tip"), "pendulum.start = 'under_tip' is not allowed: one of 'position', 'below_top', "
+                              "'on_ground'"),
+    (dict(start="below_top", theta0=2.0), "pendulum.theta0 = 2.0 is out of range"),
+    (dict(theta0=math.nan), "pendulum.theta0 = nan is not finite"),
+    (dict(theta0=0.1), "pendulum.theta0 = 0.1 is not used with pendulum.start = 'position'"),
+    (dict(start="below_top", dimension=1, theta0=0.1), "pendulum.theta0 = 0.1 needs dimension >= 2"),
+    (dict(start="below_top", dimension=2, phi0=0.1), "pendulum.phi0 = 0.1 needs dimension >= 3"),
+    (dict(start="on_ground"), "pendulum.start = 'on_ground' needs a ground"),
+    (dict(start="on_ground", ground="spring_damper", y0=1.0), "pendulum.y0 = 1.0 is not used with pendulum.start "
+                                                              "= 'on_ground'"),
     (dict(start="below_top", x0=3.0), "pendulum.x0 = 3.0 is not used with pendulum.start = 'below_top'"),
     (dict(start="below_top", y0=-9.0), "pendulum.y0 = -9.0 is not used with pendulum.start = 'below_top'"),
 ])

@@ -46,7 +46,7 @@ def test_no_force_when_slack_and_no_compression_from_damping():
 
 
 def test_damping_coefficient_of_seed_001_eq_9():
-    p = RopeParams(length=10.0, zeta=0.07, m_load=1000.0)
+    p = RopeParams(length=10.0, zeta=0.07)   # input m_load at its start value 1000 kg
     m = RopeModel(p)
     c = p.E * p.A / 10.0
     b = 2 * 0.07 * math.sqrt(c * (0.5 * 1000.0 + p.rho * p.A * 10.0))

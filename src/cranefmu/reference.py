@@ -35,6 +35,7 @@ MODELS: dict[str, type[Model]] = {"Rope": RopeModel, "Pendulum": PendulumModel, 
 ADAPTER_PARAMETERS = ("solver", "rtol", "max_step")   # the FMU's own solver settings, not physics
 INIT_MAX_SWEEPS = 400
 INIT_RELAXATION = 0.5
+INIT_TOLERANCE = 1e-14   # largest relative input change of the last initialization sweep
 
 
 def source_scene(scene: str) -> Scene:
@@ -207,7 +208,10 @@ class Monolith:
                         change = math.inf
                         self.y[i] = self.models[i].output_values(t, xs[i], self.u[i])
                         continue
-                    diff = float(np.max(np.abs(self.u[i] - old)))
+                    # relative to each input's own size: newtons and metres side by side, and an
+                    # equilibrium start needs every position to round-off (a stiff rope turns 1e-9 m
+                    # into a visible force)
+                    diff = float(np.max(np.abs(self.u[i] - old) / (1.0 + np.abs(old))))
                     change = max(change, diff) if math.isfinite(diff) else math.inf
                     if initial:
                         # under-relaxed: a stiff rope on soft supports makes the plain exchange
@@ -217,8 +221,7 @@ class Monolith:
                     self.y[i] = self.models[i].output_values(t, xs[i], self.u[i])
             if not initial and change == 0.0:
                 return self.y
-            scale = max(float(np.max(np.abs(u), initial=0.0)) for u in self.u) if initial else 0.0
-            if initial and change <= 1e-9 * (1.0 + scale):
+            if initial and change <= INIT_TOLERANCE:
                 return self.y
         if initial:
             raise SimulationError(f"reference {self.scene}: initialization did not converge "

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Mapping
+from typing import Callable
 
 import numpy as np
 
@@ -243,51 +243,29 @@ def truck_telescope_parameters(speed: float = 0.35, angle_deg: float = 60.0, loa
     - both segments at ``speed``: T2 = (L_end - L_start) / (2 speed), T3 = T2 + t_acc;
     - the hook keeps its height: the hanging length grows with the tip height, (L_end - L_start)
       sin(angle), so the drum pays out n_lines times that on the same trapezoid (duration T3);
-    - the hook starts at rest straight below the tip, hung by the rope stretched by the static load
-      (pendulum.start = 'below_top', pendulum.drop from :func:`hanging_drop`): wherever chassis and
-      boom settle, the rope carries the weight, so every start (30, 45, 60 deg) is in equilibrium.
+    - the hook starts at rest straight below the tip (pendulum.start = 'below_top'), hung by the rope
+      stretched by the static load: the FMUs derive the drop at initialization (Rope ``hang_length``
+      from the Pendulum's ``rest_tension``), so wherever chassis and boom settle the rope carries the
+      weight and every start (30, 45, 60 deg, any load) is in equilibrium.
     """
     rise = (boom_end - boom_start) * math.sin(math.radians(angle_deg))
     t2 = (boom_end - boom_start) / (2.0 * speed)
     values = {"boom.luff_angle": math.radians(angle_deg), "boom.telescope_speed": speed,
               "boom.boom_length_start": boom_start, "boom.boom_length_end": boom_end, "boom.t_acc": t_acc,
               "drive.payout_speed": n_lines * rise / t2, "drive.duration": t2 + t_acc, "drive.t_acc": t_acc,
-              "rope.length": rope_length, "rope.n_lines": n_lines, "rope.m_load": load, "pendulum.mass": load,
+              "rope.length": rope_length, "rope.n_lines": n_lines, "pendulum.mass": load,
               "pendulum.start": "below_top"}
-    values["pendulum.drop"] = hanging_drop("truck_telescope", values)
     return values
-
-
-def hanging_drop(scene: str, values: Mapping[str, object]) -> float:
-    """Distance [m] from the suspension point down to a hook hanging at rest in ``scene`` with
-    ``values`` ('comp.var' over the scene's default set): the rope's unstretched length plus its
-    static stretch under the hanging weight (hook and payload), :func:`.physics.rope.static_elongation`."""
-    from .physics.pendulum import PendulumParams
-    from .physics.rope import RopeParams, static_elongation
-    from .reference import build_params, scene_parameters
-
-    given = {**scene_parameters(scene), **{k: str(v) for k, v in values.items()}}
-    rope, hook = build_params(RopeParams, "rope", given), build_params(PendulumParams, "pendulum", given)
-    return rope.length + static_elongation(rope, (hook.mass + hook.m_payload) * hook.g)
 
 
 def hook_sway_parameters(m_hook: float = 3.0, hook_length: float = 0.4, L_sling: float = 0.5,
                          m_payload: float = 10.0) -> dict[str, float]:
     """'comp.var' values of hook_sway for seed 002's hook mass m_h [kg] (pendulum.mass, the issue's
-    ``pendulum.m_hook``), hook length L_h [m] (rope.length), link L_p [m] and payload [kg]: the hook
-    starts at rest under the tip with the rope stretched by the hanging weight (see default.ssv)."""
-    from .reference import Monolith
-    from .physics.rope import stiffness
-
-    values = {"pendulum.mass": m_hook, "rope.length": hook_length, "pendulum.L_sling": L_sling,
-              "pendulum.m_payload": m_payload, "rope.m_load": m_hook + m_payload}
-    mono = Monolith("hook_sway", "default", values)
-    boom = mono.models[mono.names.index("boom")]
-    tip = boom.output_values(0.0, np.zeros(3), boom.default_inputs())
-    rope = mono.models[mono.names.index("rope")].p
-    values["pendulum.x0"] = float(tip[0])
-    values["pendulum.y0"] = float(tip[1] - hook_length - (m_hook + m_payload) * G / stiffness(rope, hook_length))
-    return values
+    ``pendulum.m_hook``), hook length L_h [m] (rope.length), link L_p [m] and payload [kg].  The hook
+    starts at rest under the tip with the rope stretched by the hanging weight: derived by the FMUs at
+    initialization (docs/equilibrium.md), nothing to compute here."""
+    return {"pendulum.mass": m_hook, "rope.length": hook_length, "pendulum.L_sling": L_sling,
+            "pendulum.m_payload": m_payload}
 
 
 def static_outrigger_loads(boom_length: float, angle_deg: float, load: float) -> tuple[float, float]:

@@ -44,11 +44,18 @@ theta/phi about the suspension point: theta in the x-y plane, phi out of it):
   (seed 001 has no damper on c_2, so zeta_sling defaults to 0; the damping law is the one of the
   rope, seed 001 eq. 9, with the reduced mass of the two-mass mode.)
 
-Start (``start``): the hook starts at rest at (x0, y0, z0) ("position"), or ``drop`` straight
-below the suspension point it receives as inputs ("below_top"; the payload hangs below it as
-usual).  A scene at rest under a stiff rope on soft supports uses "below_top" with drop = hanging
-rope length + static stretch: the rope force is then the weight wherever the supports settle, and
-the initialization does not iterate the tilt through the rope's stiffness (derived; a fixed start
+Start (``start``): the hook starts at rest at (x0, y0, z0) ("position"); or ("below_top") the
+input ``drop`` away from the suspension point it receives as inputs, straight below it or released
+at the angles ``theta0``, ``phi0`` (hook = top + drop e(theta0, phi0)); or ("on_ground") with the
+load resting on the ground at (x0, z0), the hook above it by the sling (the height derived, not
+typed).  ``drop`` comes from the rope (Rope ``hang_length``: unstretched length + static stretch
+under the input ``load``), and the rope learns that load from this FMU's outputs:
+``rest_tension`` is the rope force that holds the start at rest (hanging: the weight M g, times
+cos(theta0) cos(phi0), its radial part, when released at an angle; load on the ground: the hook's
+weight m_h g with a payload, 0 without), ``suspended_mass`` the mass on the rope (its damping law).
+So the start is the static equilibrium of the parameters in force, and no coordinate is typed.
+Placed from the top, the rope force is the weight wherever the supports settle, and the
+initialization does not iterate the tilt through the rope's stiffness (derived; a fixed start
 gives a loop gain about -(x_tip / x_outrigger)^2 c_rope / c_soil, -1.3 for the truck crane at 30 deg).
 That holds only if the rope sees the point the hook was placed from: feed the rope's top from the
 outputs x/y/z_suspension (the inputs x/y/z_top handed on), else an iteration sweep can pair a new
@@ -90,12 +97,15 @@ class PendulumParams(Params):
     vx0: float = param(0.0, "m/s", "initial x velocity of the hook")
     vy0: float = param(0.0, "m/s", "initial y velocity of the hook")
     vz0: float = param(0.0, "m/s", "initial z velocity of the hook")
-    start: str = param("position", "", "where the hook starts: position (x0, y0, z0), or below_top (drop straight "
-                       "below the suspension point x_top, y_top, z_top the rope hangs from)",
-                       choices=("position", "below_top"))
-    drop: float = param(10.0, "m", "start = 'below_top': distance from the suspension point straight down to the "
-                        "hook (hanging rope length + static stretch, cranefmu.scenes.hanging_drop)",
-                        min=0, min_open=True)
+    start: str = param("position", "", "where the hook starts: position (x0, y0, z0); below_top (the input drop "
+                       "from the suspension point x_top, y_top, z_top, released at theta0, phi0); on_ground (the "
+                       "load resting on the ground at x0, z0, the hook above it)",
+                       choices=("position", "below_top", "on_ground"))
+    theta0: float = param(0.0, "rad", "start = 'below_top': release angle of the hook about the suspension point "
+                          "in the x-y plane (dimension >= 2; 0: hanging at rest)", min=-_HALF_PI, max=_HALF_PI,
+                          min_open=True, max_open=True)
+    phi0: float = param(0.0, "rad", "start = 'below_top': lateral release angle of the hook out of the x-y plane "
+                        "(dimension 3)", min=-_HALF_PI, max=_HALF_PI, min_open=True, max_open=True)
     # --- payload on a sling below the hook (seed 002; seed 001 hook stiffness c_2) ---
     payload: str = param("none", "", "payload below the hook: none (hook carries the load), rigid sling "
                          "(spherical pendulum about the hook), elastic sling (spring-damper, seed 001 c_2)",
@@ -126,15 +136,21 @@ class PendulumParams(Params):
     rho_air: float = param(1.225, "kg/m3", "air density", min=0)
 
     def check(self) -> None:
-        if self.start == "below_top":
-            defaults = {f.name: f.default for f in fields(self)}
-            for name in ("x0", "y0", "z0"):
-                default = defaults[name]
-                if getattr(self, name) != default:
-                    raise ParameterError(
-                        f"pendulum.{name} = {getattr(self, name)!r} is not used with pendulum.start = 'below_top' "
-                        f"(the hook starts pendulum.drop below the suspension point): allowed {default!r} here, "
-                        f"or set start = 'position'")
+        defaults = {f.name: f.default for f in fields(self)}
+        unused = {"below_top": ("x0", "y0", "z0"), "on_ground": ("y0", "theta0", "phi0"),
+                  "position": ("theta0", "phi0")}[self.start]
+        for name in unused:
+            if getattr(self, name) != defaults[name]:
+                raise ParameterError(
+                    f"pendulum.{name} = {getattr(self, name)!r} is not used with pendulum.start = {self.start!r} "
+                    f"(the start is derived there): allowed {defaults[name]!r} here, or choose another start")
+        for name, dims in (("theta0", 2), ("phi0", 3)):
+            if getattr(self, name) != 0.0 and self.dimension < dims:
+                raise ParameterError(f"pendulum.{name} = {getattr(self, name)!r} needs dimension >= {dims} "
+                                     f"(it is {self.dimension}): allowed 0 here")
+        if self.start == "on_ground" and self.ground == "none":
+            raise ParameterError("pendulum.start = 'on_ground' needs a ground: allowed with ground = "
+                                 "'spring_damper', or choose another start")
         if self.payload == "none" and self.m_payload != 0.0:
             raise ParameterError(
                 f"pendulum.m_payload = {self.m_payload!r} needs payload = 'rigid' or 'elastic' "
@@ -172,12 +188,15 @@ class PendulumModel(Model):
     inputs = (
         *(Signal(n, "N", f"{n[1]} component of the rope force on the hook", coupling=True) for n in _FORCE),
         *(Signal(n, "m", f"{n[0]} of the suspension point (for the sway angles)", coupling=True) for n in _TOP),
+        Signal("drop", "m", "start = 'below_top': distance suspension point -> hook at rest (Rope hang_length: "
+               "rope length + static stretch under rest_tension)", start=10.0,
+               coupling=True),   # constant; coupling so that the group rope -> pendulum keeps its rates
     )
     # resting on the ground / the sling's share of the rope force; with start = 'below_top' the hook
     # is placed from the suspension point (declared for every start: the FMU's ModelStructure cannot
     # depend on a parameter value)
     default_solver = "exact"   # the lone hook's closed-form step; rk4 at max_step otherwise
-    initial_state_inputs = _FORCE + _TOP
+    initial_state_inputs = _FORCE + _TOP + ("drop",)
     outputs = (
         *(Signal(n, "m", f"{n} coordinate of the hook") for n in ("x", "y", "z")),
         *(Signal(n, "m/s", f"{n[1]} velocity of the hook") for n in ("vx", "vy", "vz")),
@@ -196,6 +215,10 @@ class PendulumModel(Model):
         # Gauss-Seidel sweep may pair the new tip with the hook placed from the old one
         *(Signal(f"{c}_suspension", "m", f"{c} of the suspension point the hook hangs from (input {c}_top "
                  "passed on)", depends_on=(f"{c}_top",)) for c in "xyz"),
+        # what the rope needs to know of the load, stated once here (module docstring)
+        Signal("suspended_mass", "kg", "mass hanging on the rope: hook + payload (the rope's m_load)"),
+        Signal("rest_tension", "N", "rope force that holds the start at rest (the rope's load): weight, radial "
+               "part at a release angle, hook weight with the load on the ground"),
     )
 
     def __init__(self, params: PendulumParams):
@@ -209,6 +232,7 @@ class PendulumModel(Model):
         self._k_load = half * p.drag_area
         self._k_hook = half * p.drag_area_hook if p.payload != "none" else 0.0
         self._has_ground = p.ground != "none"
+        self._rest_tension = self._start_tension()
 
     # --- helpers ---------------------------------------------------------------------------
     def _mask(self) -> np.ndarray:
@@ -286,13 +310,24 @@ class PendulumModel(Model):
         ap = ((fp[0] - s * e[0] / mp) * m[0], (fp[1] - s * e[1] / mp) * m[1], (fp[2] - s * e[2] / mp) * m[2])
         return ah, ap, s, n, e
 
+    def _start_tension(self) -> float:
+        """Rope force [N] that holds the start at rest (module docstring)."""
+        p = self.p
+        if p.start == "on_ground":
+            return p.mass * p.g if p.payload != "none" else 0.0
+        return self._total * p.g * math.cos(p.theta0) * math.cos(p.phi0)
+
     def _hook_start(self, u: np.ndarray) -> list[float]:
-        """Nominal start of the hook [m]: the parameters, or ``drop`` below the suspension point.
+        """Nominal start of the hook [m]: the parameters, or ``drop`` from the suspension point at
+        the release angles (on_ground: below the ground, placed on it by :meth:`initial_state`).
         Placed from the top, the rope's stretch does not depend on where the supports settle, so
         the initialization of a soft-supported crane does not loop through the stiff rope."""
         p = self.p
         if p.start == "below_top":
-            return [float(u[3]), float(u[4]) - p.drop, float(u[5])]
+            e, drop = _unit(p.theta0, p.phi0), float(u[6])
+            return [float(u[3]) + drop * e[0], float(u[4]) + drop * e[1], float(u[5]) + drop * e[2]]
+        if p.start == "on_ground":
+            return [p.x0, -math.inf, p.z0]
         return [p.x0, p.y0, p.z0]
 
     # --- interface -------------------------------------------------------------------------
@@ -322,6 +357,8 @@ class PendulumModel(Model):
             if self._has_ground and hook[1] <= p.ground_height:
                 hook[1] = p.ground_height - max(0.0, p.mass * p.g - F[1]) / p.c_ground
             return np.array([*hook, *v])
+        if p.start == "on_ground":
+            hook[1] = p.ground_height
         th = p.theta_payload0 if p.dimension >= 2 else 0.0
         ph = p.phi_payload0 if p.dimension == 3 else 0.0
         e = _unit(th, ph)
@@ -398,4 +435,5 @@ class PendulumModel(Model):
             pp, vp = x[6:9], x[9:12]
             th_p, ph_p = _angles(e[0], -e[1], e[2])
         lifted = 1.0 if n == 0.0 else 0.0
-        return np.array([*x[:6], theta, phi, n, *pp, *vp, th_p, ph_p, s, lifted, *u[3:6]])
+        return np.array([*x[:6], theta, phi, n, *pp, *vp, th_p, ph_p, s, lifted, *u[3:6], self._total,
+                         self._rest_tension])

@@ -9,9 +9,11 @@ eq. 25-28): the reeving of ``n_lines`` parallel lines acts as one spring-damper
     b     = 2 * zeta * sqrt(c * m_eff)                 damping                          [N s/m]
     T     = max(0, c * delta + b * delta_dot)   if delta > 0 else 0
 
-with delta = |p_hook - p_top| - L_u.  A rope cannot push: no compression when slack, and the
-damping force cannot turn the total negative while taut (it would pull the load through a rope
-that is contracting faster than it can relax).  The drum sees one line: T / n_lines.
+with delta = |p_hook - p_top| - L_u.  ``m_load`` is an input (the mass hanging on the rope, which
+the hook's own FMU owns: Pendulum ``suspended_mass``), not a parameter.  A rope cannot push: no
+compression when slack, and the damping force cannot turn the total negative while taut (it would
+pull the load through a rope that is contracting faster than it can relax).  The drum sees one
+line: T / n_lines.
 
 Modified Bouc-Wen (``model = "bouc_wen"``, seed 001 eq. 1-3, physics in :mod:`.boucwen`): the
 reeving is one Bouc-Wen element with x = delta (elongation) and x' = delta_dot from the geometry,
@@ -22,14 +24,24 @@ with the nine parameters ``k1 .. n`` given for ONE line of 1 m (the convention o
 ``cranefmu fit-boucwen``) and scaled to ``n_lines`` lines of the current unstretched length L_u
 by :func:`.boucwen.for_length`.  The hysteresis state z [N] (all lines) is the FMU's internal
 state, integrated by its solver; ``after_step`` projects it onto its admissible set (z = 0 while
-slack, no compression).  In this mode ``E``, ``A``, ``zeta``, ``m_load`` and ``rho`` are not used:
+slack, no compression).  In this mode ``E``, ``A``, ``zeta``, ``rho`` and the input ``m_load`` are not used:
 the elastic law and the dissipation come from the nine parameters (eq. 2 has no viscous term).
 The default set (module docstring of :mod:`.boucwen`) is constructed for the 12 mm rope of
 seed 001 with alpha + k1 = E A / 1 m for the default E and A, so both models have the same
 small-amplitude stiffness.  Initial state: the rope was loaded monotonically from slack to the
 initial elongation (virgin curve, :func:`.boucwen.virgin_z`), so a rope at rest under the load
-that this elongation carries is in equilibrium (z' = 0 when delta' = 0).  Scene authors place
-the hook with :func:`static_elongation`.
+that this elongation carries is in equilibrium (z' = 0 when delta' = 0).
+
+Static start (derived, so that no scene types a stretch by hand).  The input ``load`` [N] is the
+force the rope carries at rest at the start (the hook's FMU gives it: Pendulum ``rest_tension``).
+Both laws stretch a reeving of unstretched length L_u by L_u eps(load), eps the strain of a 1 m
+reeving (Kelvin-Voigt eps = load / (n E A); Bouc-Wen the virgin curve, same strain at every length,
+:func:`.boucwen.for_length`).  Hence
+  * output ``hang_length`` = L_u (1 + eps(load)): how far below the top the hook hangs at rest (a
+    Pendulum with start = 'below_top' is placed from it);
+  * ``start = "taut"``: the hoist has taken the rope up until it carries ``load`` between the end
+    points it has at initialization, then paid out ``start_slack``:  L_u(0) = chord / (1 + eps(load)) + start_slack.
+    The unstretched length at zero payout is then a state (constant, derivative 0), not ``length``.
 
 Regimes (for a solver that locates events, :mod:`cranefmu.reference`)
 ---------------------------------------------------------------------
@@ -59,7 +71,7 @@ import numpy as np
 from . import boucwen
 from .boucwen import BoucWenParams
 from .component import Model, Signal
-from .params import Params, param
+from .params import ParameterError, Params, param
 
 
 def _bouc_wen_param(name: str):
@@ -87,7 +99,10 @@ class RopeParams(Params):
                          min=1, max=64)
     zeta: float = param(0.07, "1", "dimensionless damping ratio of steel wire rope (seed 001 eq. 9)",
                         min=0, max=10, tunable=True)
-    m_load: float = param(1000.0, "kg", "suspended mass used in the damping law of eq. 9", min=0)
+    start: str = param("length", "", "unstretched length at the start: length (the parameter), or taut (taken up "
+                       "at initialization until the rope carries its input load between its end points, then "
+                       "start_slack paid out)", choices=("length", "taut"))
+    start_slack: float = param(0.0, "m", "start = 'taut': rope paid out beyond taut at the start, per line", min=0)
     rho: float = param(7850.0, "kg/m3", "density of the rope metal", min=0)
 
     # modified Bouc-Wen (seed 001 eq. 1-3) of one 1 m line, names as in the paper's vector Y (eq. 3)
@@ -102,6 +117,12 @@ class RopeParams(Params):
     n: float = _bouc_wen_param("n")
 
     def check(self) -> None:
+        default = next(d for n, d, _ in self.field_specs() if n == "length")
+        if self.start == "taut" and self.length != default:
+            raise ParameterError(f"rope.length = {self.length!r} is not used with rope.start = 'taut' (the length "
+                                 f"is taken up at initialization): allowed {default!r} here, or set start = 'length'")
+        if self.start == "length" and self.start_slack != 0.0:
+            raise ParameterError(f"rope.start_slack = {self.start_slack!r} needs rope.start = 'taut': allowed 0 here")
         if self.model == "bouc_wen":
             self.bouc_wen()  # refuses an inadmissible set (unbounded or energy-generating loops)
 
@@ -122,6 +143,8 @@ def _vec_signals(prefix: str, what: str, unit: str, coupling: bool) -> tuple[Sig
 
 _KINEMATIC_INPUTS = ("x_top", "y_top", "z_top", "vx_top", "vy_top", "vz_top",
                      "x_hook", "y_hook", "z_hook", "vx_hook", "vy_hook", "vz_hook", "payout", "payout_rate")
+_M_LOAD, _LOAD = 14, 15   # input indices of the hanging mass and the static load
+_FORCE_DEPS = _KINEMATIC_INPUTS + ("m_load",)   # the damping law of eq. 9 takes the hanging mass
 
 
 def kelvin_voigt_tension(delta: float, delta_dot: float, c: float, b: float) -> float:
@@ -136,21 +159,24 @@ def stiffness(p: RopeParams, l_u: float) -> float:
     return p.n_lines * p.E * p.A / l_u
 
 
-def damping(p: RopeParams, c: float, l_u: float) -> float:
-    """Damping coefficient b = 2 zeta sqrt(c m_eff) [N s/m] (seed 001 eq. 9, i_w = n_lines)."""
-    m_eff = 0.5 * p.m_load + p.rho * p.A * l_u
+def damping(p: RopeParams, c: float, l_u: float, m_load: float) -> float:
+    """Damping coefficient b = 2 zeta sqrt(c m_eff) [N s/m] (seed 001 eq. 9, i_w = n_lines), m_load the
+    suspended mass [kg]."""
+    m_eff = 0.5 * m_load + p.rho * p.A * l_u
     return 2.0 * p.zeta * math.sqrt(c * m_eff)
 
 
-def geometry(u: np.ndarray, p: RopeParams) -> tuple[tuple[float, float, float], float, float, float]:
-    """Unit vector top->hook, chord length L [m], unstretched length L_u [m], dL/dt - dL_u/dt [m/s].
+def geometry(u: np.ndarray, p: RopeParams, length0: float | None = None
+             ) -> tuple[tuple[float, float, float], float, float, float]:
+    """Unit vector top->hook, chord length L [m], unstretched length L_u [m], dL/dt - dL_u/dt [m/s];
+    ``length0`` [m]: unstretched length at zero payout (default ``p.length``).
 
     Scalar arithmetic: called several times per right-hand side, where numpy's per-call cost on
     3-vectors dominated."""
     xt, yt, zt, vxt, vyt, vzt, xh, yh, zh, vxh, vyh, vzh, payout, rate = u[:14].tolist()
     dx, dy, dz = xh - xt, yh - yt, zh - zt
     length = math.sqrt(dx * dx + dy * dy + dz * dz)
-    l_u = p.length + payout / p.n_lines
+    l_u = (p.length if length0 is None else length0) + payout / p.n_lines
     if l_u <= 0.0:
         raise FloatingPointError(f"rope.payout = {payout:.6g} m leaves no rope: unstretched length "
                                  f"{l_u:.6g} m must stay > 0")
@@ -172,29 +198,61 @@ class RopeModel(Model):
     )
     # velocity inputs are named vx_top etc.; fix the names produced by _vec_signals
     inputs = tuple(Signal(n, s.unit, s.description, s.start, s.depends_on, s.coupling)
-                   for n, s in zip(_KINEMATIC_INPUTS, inputs))
-    initial_state_inputs = _KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9] + ("payout",)  # Bouc-Wen z0
+                   for n, s in zip(_KINEMATIC_INPUTS, inputs)) + (
+        Signal("m_load", "kg", "mass hanging on the rope, for the damping law of seed 001 eq. 9 (the hook's "
+               "FMU owns it: Pendulum suspended_mass)", start=1000.0, coupling=True),
+        Signal("load", "N", "force the rope carries at rest at the start (Pendulum rest_tension): sets "
+               "hang_length and, with start = 'taut', the length taken up", coupling=True),
+    )   # coupling (constant, extrapolated to itself): a master extrapolates a connection group only if
+        # every input in it takes rates, and these share the group pendulum -> rope
+    # Bouc-Wen z0, and the taken-up length of start = 'taut'
+    initial_state_inputs = _KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9] + ("payout", "load")
     outputs = (
-        Signal("tension", "N", "total rope force on the hook (all lines)", depends_on=_KINEMATIC_INPUTS),
-        Signal("drum_force", "N", "force of one line at the drum (tension / n_lines)", depends_on=_KINEMATIC_INPUTS),
-        *(Signal(f"F{c}_hook", "N", f"{c} component of the rope force on the hook", depends_on=_KINEMATIC_INPUTS)
+        Signal("tension", "N", "total rope force on the hook (all lines)", depends_on=_FORCE_DEPS),
+        Signal("drum_force", "N", "force of one line at the drum (tension / n_lines)", depends_on=_FORCE_DEPS),
+        *(Signal(f"F{c}_hook", "N", f"{c} component of the rope force on the hook", depends_on=_FORCE_DEPS)
           for c in "xyz"),
         *(Signal(f"F{c}_top", "N", f"{c} component of the rope force on the suspension point",
-                 depends_on=_KINEMATIC_INPUTS) for c in "xyz"),
+                 depends_on=_FORCE_DEPS) for c in "xyz"),
         Signal("rope_length", "m", "chord length between suspension point and hook",
                depends_on=_KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9]),
         Signal("elongation", "m", "chord length minus unstretched length (negative when slack)",
                depends_on=_KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9] + ("payout",)),
-        Signal("slack", "1", "1 when the rope carries no force, else 0", depends_on=_KINEMATIC_INPUTS),
+        Signal("slack", "1", "1 when the rope carries no force, else 0", depends_on=_FORCE_DEPS),
         Signal("z_hysteresis", "N", "Bouc-Wen hysteresis state z of the reeving (seed 001 eq. 1; 0 for "
                "kelvin_voigt)"),
+        Signal("hang_length", "m", "distance top -> hook of the reeving at rest carrying the input load: "
+               "unstretched length + static elongation (where a hook hangs at rest)", depends_on=("payout", "load")),
     )
 
     def __init__(self, params: RopeParams):
         super().__init__(params)
         self._bw = params.bouc_wen() if params.model == "bouc_wen" else None
         self._scaled: tuple[float, BoucWenParams | None] = (math.nan, None)
+        self._strain: tuple[float, float] = (math.nan, 0.0)
         self.pinned: str | None = None
+        # state layout: [z (Bouc-Wen)] + [length0 (start = 'taut')]
+        self._nz = 1 if self._bw is not None else 0
+        self._taut = params.start == "taut"
+
+    @property
+    def frozen(self) -> bool:
+        return self._bw is None   # Kelvin-Voigt: no state, or only the constant taken-up length
+
+    def _length0(self, x: np.ndarray) -> float | None:
+        """Unstretched length at zero payout [m]: the taken-up state, or None for ``p.length``."""
+        return float(x[self._nz]) if self._taut else None
+
+    def _with_z(self, z: float, x: np.ndarray) -> np.ndarray:
+        """State vector with hysteresis state z and x's other entries."""
+        return np.array([z, *x[1:]]) if self._taut else np.array([z])
+
+    def strain(self, load: float) -> float:
+        """Static strain eps of the reeving at rest under ``load`` [N] (module docstring; cached:
+        the load is constant in a run)."""
+        if self._strain[0] != load:
+            self._strain = (load, static_strain(self.p, load))
+        return self._strain[1]
 
     def bouc_wen_at(self, l_u: float) -> BoucWenParams:
         """Bouc-Wen set of the whole reeving at unstretched line length ``l_u`` [m] (cached:
@@ -204,27 +262,39 @@ class RopeModel(Model):
         return self._scaled[1]
 
     def state_names(self) -> tuple[str, ...]:
-        return ("z_hysteresis",) if self._bw is not None else ()
+        return (("z_hysteresis",) if self._bw is not None else ()) + (("length0",) if self._taut else ())
 
     def initial_state(self, u: np.ndarray) -> np.ndarray:
-        """Bouc-Wen: z on the virgin curve at the initial elongation (static equilibrium at rest)."""
-        if self._bw is None:
-            return np.zeros(0)
-        _, length, l_u, _ = geometry(u, self.p)
-        return np.array([boucwen.virgin_z(length - l_u, self.bouc_wen_at(l_u))])
+        """Bouc-Wen: z on the virgin curve at the initial elongation (static equilibrium at rest);
+        start = 'taut': the length taken up (module docstring)."""
+        p, x = self.p, []
+        length0 = None
+        if self._taut:
+            _, chord, _, _ = geometry(u, p)
+            length0 = chord / (1.0 + self.strain(float(u[_LOAD]))) + p.start_slack - float(u[12]) / p.n_lines
+            if chord == 0.0 or not length0 > 0.0:   # end points not known yet (inputs at their start values)
+                length0 = p.length
+        if self._bw is not None:
+            _, length, l_u, _ = geometry(u, p, length0)
+            x.append(boucwen.virgin_z(length - l_u, self.bouc_wen_at(l_u)))
+        if self._taut:
+            x.append(length0)
+        return np.array(x)
 
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         if self._bw is None:
-            return np.zeros(0)
-        _, length, l_u, delta_dot = geometry(u, self.p)
+            return np.zeros(len(x))
+        _, length, l_u, delta_dot = geometry(u, self.p, self._length0(x))
         delta, z, bw = length - l_u, float(x[0]), self.bouc_wen_at(l_u)
         if self.pinned is None:
-            return np.array([boucwen.rope_z_rate(delta, delta_dot, z, bw)])
-        if self.pinned == SLACK:
-            return np.zeros(1)
-        if self.pinned == ON_LINE:
-            return np.array([-boucwen.elastic_slope(delta, bw) * delta_dot])
-        return np.array([boucwen.z_rate(delta_dot, z, bw)])
+            rate = boucwen.rope_z_rate(delta, delta_dot, z, bw)
+        elif self.pinned == SLACK:
+            rate = 0.0
+        elif self.pinned == ON_LINE:
+            rate = -boucwen.elastic_slope(delta, bw) * delta_dot
+        else:
+            rate = boucwen.z_rate(delta_dot, z, bw)
+        return np.array([rate, 0.0]) if self._taut else np.array([rate])
 
     # --- regimes (module docstring) -----------------------------------------------------------
     def pin(self, regime: str | None) -> None:
@@ -237,7 +307,7 @@ class RopeModel(Model):
 
     def regime(self, x: np.ndarray, u: np.ndarray) -> str:
         """The regime the unpinned law is in at state ``x`` and inputs ``u``."""
-        _, length, l_u, delta_dot = geometry(u, self.p)
+        _, length, l_u, delta_dot = geometry(u, self.p, self._length0(x))
         delta = length - l_u
         if delta < 0.0:
             return SLACK
@@ -249,7 +319,7 @@ class RopeModel(Model):
     def regime_events(self, x: np.ndarray, u: np.ndarray) -> list[tuple[float, int, str]]:
         """(g, direction, next regime) for each way out of the pinned regime: the regime ends when g
         crosses 0 in ``direction`` (+1 upward, -1 downward)."""
-        _, length, l_u, delta_dot = geometry(u, self.p)
+        _, length, l_u, delta_dot = geometry(u, self.p, self._length0(x))
         delta = length - l_u
         if self.pinned == SLACK:
             return [(delta, 1, TAUT)]
@@ -265,43 +335,51 @@ class RopeModel(Model):
         if self._bw is None or regime == TAUT:
             return x
         if regime == SLACK:
-            return np.zeros(1)
-        _, length, l_u, _ = geometry(u, self.p)
-        return np.array([-boucwen.elastic_force(length - l_u, self.bouc_wen_at(l_u))])
+            return self._with_z(0.0, x)
+        _, length, l_u, _ = geometry(u, self.p, self._length0(x))
+        return self._with_z(-boucwen.elastic_force(length - l_u, self.bouc_wen_at(l_u)), x)
 
     def after_step(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         if self._bw is None:
             return x
-        _, length, l_u, _ = geometry(u, self.p)
-        return np.array([boucwen.project_state(length - l_u, float(x[0]), self.bouc_wen_at(l_u))])
+        _, length, l_u, _ = geometry(u, self.p, self._length0(x))
+        return self._with_z(boucwen.project_state(length - l_u, float(x[0]), self.bouc_wen_at(l_u)), x)
 
     def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         p = self.p
-        e, length, l_u, delta_dot = geometry(u, p)
+        e, length, l_u, delta_dot = geometry(u, p, self._length0(x))
         z = float(x[0]) if self._bw is not None else 0.0
+        m_load = float(u[_M_LOAD])
         if self.pinned == TAUT:
             if self._bw is None:
                 c = stiffness(p, l_u)
-                tension = max(0.0, c * (length - l_u) + damping(p, c, l_u) * delta_dot)
+                tension = max(0.0, c * (length - l_u) + damping(p, c, l_u, m_load) * delta_dot)
             else:
                 tension = boucwen.force(length - l_u, delta_dot, z, self.bouc_wen_at(l_u))
         elif self.pinned is not None:
             tension = 0.0
         elif self._bw is None:
             c = stiffness(p, l_u)
-            tension = kelvin_voigt_tension(length - l_u, delta_dot, c, damping(p, c, l_u))
+            tension = kelvin_voigt_tension(length - l_u, delta_dot, c, damping(p, c, l_u, m_load))
         else:
             tension = boucwen.tension(length - l_u, delta_dot, z, self.bouc_wen_at(l_u))
         fx, fy, fz = -tension * e[0], -tension * e[1], -tension * e[2]
+        hang = l_u * (1.0 + self.strain(float(u[_LOAD])))
         return np.array([tension, tension / p.n_lines, fx, fy, fz, -fx, -fy, -fz, length, length - l_u,
-                         1.0 if tension == 0.0 else 0.0, z])
+                         1.0 if tension == 0.0 else 0.0, z, hang])
+
+
+def static_strain(p: RopeParams, load: float) -> float:
+    """Strain [1] of the reeving at rest carrying ``load`` [N] (all lines): load / (n E A) for
+    Kelvin-Voigt, the virgin loading curve of a 1 m reeving for Bouc-Wen (the state ``initial_state``
+    assumes; the same strain at every length, :func:`.boucwen.for_length`)."""
+    if p.model == "bouc_wen":
+        return boucwen.virgin_elongation(load, boucwen.for_length(p.bouc_wen(), 1.0, p.n_lines))
+    return max(0.0, load) / (p.n_lines * p.E * p.A)
 
 
 def static_elongation(p: RopeParams, load: float, payout: float = 0.0) -> float:
-    """Elongation [m] of the reeving at rest carrying ``load`` [N] (all lines) after ``payout`` [m]:
-    load / c for Kelvin-Voigt, the virgin loading curve for Bouc-Wen (the state ``initial_state``
-    assumes).  The hook of a scene at rest hangs ``length + payout / n_lines + this`` below the top."""
-    l_u = p.length + payout / p.n_lines
-    if p.model == "bouc_wen":
-        return boucwen.virgin_elongation(load, boucwen.for_length(p.bouc_wen(), l_u, p.n_lines))
-    return max(0.0, load) / stiffness(p, l_u)
+    """Elongation [m] of the reeving at rest carrying ``load`` [N] (all lines) after ``payout`` [m]
+    (start = 'length'): L_u times :func:`static_strain`.  The hook of a scene at rest hangs
+    ``length + payout / n_lines + this`` below the top (the FMU's output ``hang_length``)."""
+    return (p.length + payout / p.n_lines) * static_strain(p, load)
