@@ -94,9 +94,9 @@ class Model:
 
     def check_state(self, t: float, x: np.ndarray) -> None:
         """Raise ``FloatingPointError`` naming the state if ``x`` is not finite."""
-        total = float(x.sum())
-        if total - total == 0.0:  # finite sum: every state finite (one reduction, no temporary array)
-            return
+        total = sum(x.tolist())
+        if total - total == 0.0:  # finite sum: every state finite (on plain floats: a numpy
+            return                # reduction costs more than the whole sum of a few states)
         if not np.all(np.isfinite(x)):
             names = self.state_names()
             bad = [names[i] if i < len(names) else str(i) for i in np.flatnonzero(~np.isfinite(x))]

@@ -350,14 +350,15 @@ class PendulumModel(Model):
             return None
         h2, h3 = h * h, h * h * h
         inv_m = 1.0 / p.mass
+        u0, r1, r2, x = u0.tolist(), r1.tolist(), r2.tolist(), x.tolist()   # plain floats: cheaper
         out = [0.0] * 6
         for i in range(3):
             mi = self._m[i]
-            a0, a1, a2 = float(u0[i]) * inv_m, float(r1[i]) * inv_m, float(r2[i]) * inv_m
+            a0, a1, a2 = u0[i] * inv_m, r1[i] * inv_m, r2[i] * inv_m
             if i == 1:
                 a0 -= p.g
-            v0 = float(x[3 + i])
-            out[i] = float(x[i]) + v0 * h + mi * (a0 * h2 / 2.0 + a1 * h3 / 6.0 + a2 * h3 * h / 24.0)
+            v0 = x[3 + i]
+            out[i] = x[i] + v0 * h + mi * (a0 * h2 / 2.0 + a1 * h3 / 6.0 + a2 * h3 * h / 24.0)
             out[3 + i] = v0 + mi * (a0 * h + a1 * h2 / 2.0 + a2 * h3 / 6.0)
         return np.array(out)
 
