@@ -14,7 +14,7 @@ For every component of every scene (its FMU configured by the scene's default pa
 4. where our extra time goes: the adapter stepped in-process without FMI (the same class, the
    scene's parameters, the same inputs): Python-side ``set_real``, ``do_step``, ``get_real``
    (which computes the outputs lazily); inside ``do_step`` the right-hand side calls, the solver's
-   own work and the adapter's; inside ``get_real`` the model's ``output_values`` and the adapter's.
+   own work and the adapter's; inside ``get_real`` the model's ``output_list`` and the adapter's.
    What the FMI call costs beyond its Python side (pythonfmu's C++ wrapper building lists, fmpy's
    ctypes call) is the difference.
 
@@ -316,7 +316,7 @@ def breakdown(row: dict, n: int = 1500) -> None:
 
     def outputs():
         k[0] ^= 1
-        return model.output_values(times[k[0]], x, ua)
+        return model.output_list(times[k[0]], x, ua)
 
     row["outputs_us"] = _median_call(outputs, n)
     row["get_adapter_us"] = row["py_get_us"] - row["outputs_us"]
@@ -379,7 +379,7 @@ def write_report(labels: list[str], notes: dict[str, str]) -> None:
              "Where ours goes (in-process, no FMI, medians of separate loops, so the parts need not add up exactly):",
              "py set / doStep / get = the adapter's Python methods (get computes the outputs lazily); RHS = right-hand",
              "side calls x the median call; solver = `fmi_adapter.advance` (integration or closed-form step, end-of-step",
-             "update, finite check) minus RHS; adapter in doStep = do_step minus advance; outputs = the model's output_values; adapter in get = get_real minus",
+             "update, finite check) minus RHS; adapter in doStep = do_step minus advance; outputs = the model's output_list (its outputs as floats); adapter in get = get_real minus",
              "outputs; FMI wrapper = the FMI time minus the Python side (pythonfmu's C++ wrapper and fmpy's ctypes).", ""]
     tables = {lab: read_rows(lab) for lab in labels}
     for lab, rows in tables.items():

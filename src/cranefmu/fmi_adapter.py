@@ -179,11 +179,10 @@ class CraneSlave(Fmi2Slave):
             if self._model is None or not self._initialized:
                 self._model = self._build_model()
                 self._x = self._model.initial_state(self._inputs())
-            y = self._model.output_values(self._t, self._x, self._inputs())
+            values = self._model.output_list(self._t, self._x, self._inputs())
         except Exception as err:
             self._fail("cannot compute the outputs", err)
             raise
-        values = np.asarray(y, dtype=float).tolist()
         for i in self._discrete_outputs:
             values[i] = int(round(values[i]))
         self.__dict__.update(zip(self._output_names, values))

@@ -356,7 +356,7 @@ class BoomModel(Model):
         ms = self._mass_state(t)
         return np.array([x[1], self._psi_acc(t, x, u, ms), 0.0])
 
-    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         y_base, _, vy_base, _ = self._base(u)
         psi, psi_rate, psi_acc, phi1 = self._angles(t, x, u)
@@ -371,8 +371,8 @@ class BoomModel(Model):
             force, _ = self._cylinder_force(t, psi, psi_rate, float(x[2]), float(u[_G]), float(u[_GR]))
         else:
             force = -mb / lever   # the cylinder carries the whole moment about the pivot O2
-        return np.array([tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3,
-                         constraint_residual(phi1, phi2, s3, p)])
+        return [tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3,
+                constraint_residual(phi1, phi2, s3, p)]
 
     def energy(self, t: float, x: np.ndarray, u: np.ndarray) -> float:
         """Mechanical energy [J] of the elastic boom with the constant tip force as a potential:

@@ -252,10 +252,10 @@ class ChassisModel(Model):
             return None
         return end @ z
 
-    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         q1, q2, n1, n2 = self._pads(x)
         tipping = 1.0 if (n1 == 0.0 or n2 == 0.0) else 0.0
-        return np.array([*x.tolist(), q1, q2, n1, n2, tipping])
+        return [*x.tolist(), q1, q2, n1, n2, tipping]
 
     def energy(self, x: np.ndarray, u: np.ndarray) -> float:
         """Kinetic + soil spring energy [J] minus the work of the constant loads (derived; conserved

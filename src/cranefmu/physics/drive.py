@@ -338,7 +338,7 @@ class DriveModel(Model):
         dx[_OMEGA] = acc
         return dx
 
-    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         k = p.n_drum_lines * p.R_3
         if p.mode == "kinematic":
@@ -347,8 +347,8 @@ class DriveModel(Model):
             # rigid drivetrain: inertia on the motor side turns at i_p * w3
             j_fast = p.J_w + p.J_sp + gear_inertia(p)
             torque = j_fast * p.i_p * alpha3 + (p.J_3 * alpha3 + self.load_torque(u)) / p.i_p
-            return np.array([s, v, torque, p.i_p * w3, -s / k, w3, 0.0])
+            return [s, v, torque, p.i_p * w3, -s / k, w3, 0.0]
         omega_s = supply_frequency(t, p)
         w1 = x[_OMEGA][0]
         slip = 1.0 - p.pole_pairs * w1 / omega_s if omega_s > 0.0 else 0.0
-        return np.array([-k * x[5], -k * x[9], x[_ME], w1, x[5], x[9], slip])
+        return [-k * x[5], -k * x[9], x[_ME], w1, x[5], x[9], slip]

@@ -382,7 +382,7 @@ class PendulumModel(Model):
         ah, ap, _, _, _ = self._elastic(x, u)
         return np.array([x[3], x[4], x[5], *ah, x[9], x[10], x[11], *ap])
 
-    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         x, u = _floats(x), _floats(u)
         theta, phi = _angles(x[0] - u[3], u[4] - x[1], x[2] - u[5])
@@ -399,4 +399,4 @@ class PendulumModel(Model):
             pp, vp = x[6:9], x[9:12]
             th_p, ph_p = _angles(e[0], -e[1], e[2])
         lifted = 1.0 if n == 0.0 else 0.0
-        return np.array([*x[:6], theta, phi, n, *pp, *vp, th_p, ph_p, s, lifted, *u[3:6]])
+        return [*x[:6], theta, phi, n, *pp, *vp, th_p, ph_p, s, lifted, *u[3:6]]

@@ -275,7 +275,7 @@ class RopeModel(Model):
         _, length, l_u, _ = geometry(u, self.p)
         return np.array([boucwen.project_state(length - l_u, float(x[0]), self.bouc_wen_at(l_u))])
 
-    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         e, length, l_u, delta_dot = geometry(u, p)
         z = float(x[0]) if self._bw is not None else 0.0
@@ -293,8 +293,8 @@ class RopeModel(Model):
         else:
             tension = boucwen.tension(length - l_u, delta_dot, z, self.bouc_wen_at(l_u))
         fx, fy, fz = -tension * e[0], -tension * e[1], -tension * e[2]
-        return np.array([tension, tension / p.n_lines, fx, fy, fz, -fx, -fy, -fz, length, length - l_u,
-                         1.0 if tension == 0.0 else 0.0, z])
+        return [tension, tension / p.n_lines, fx, fy, fz, -fx, -fy, -fz, length, length - l_u,
+                1.0 if tension == 0.0 else 0.0, z]
 
 
 def static_elongation(p: RopeParams, load: float, payout: float = 0.0) -> float:
