@@ -291,7 +291,9 @@ def breakdown(row: dict, n: int = 1500) -> None:
     model, x, t = s._model, s._x.copy(), s._t
     ua = np.array(u)
     calls = [0]
-    deriv = model.derivatives
+    # the right-hand side the integration calls: on lists where the model has one (rk4), else on arrays
+    name, xr = ("derivatives_list", x.tolist()) if model.list_rhs else ("derivatives", x)
+    deriv = getattr(model, name)
 
     def counting(ti, xi, ui):
         calls[0] += 1
@@ -300,12 +302,12 @@ def breakdown(row: dict, n: int = 1500) -> None:
     def step():
         return advance(model, t, x, h, ua, None, None, s.solver, s.rtol, s.max_step)
 
-    model.derivatives = counting
+    setattr(model, name, counting)
     step()
-    model.derivatives = deriv
+    delattr(model, name)   # back to the class's method
     count = calls[0]
     t_adv = _median_call(step, n)
-    t_rhs = _median_call(lambda: model.derivatives(t, x, ua), n) if count else 0.0
+    t_rhs = _median_call(lambda: deriv(t, xr, ua), n) if count else 0.0
     row["rhs_calls"] = count
     row["rhs_us"] = count * t_rhs
     row["solver_us"] = max(0.0, t_adv - row["rhs_us"])

@@ -29,7 +29,7 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from . import units
-from .integrators import EXACT, METHODS, integrate
+from .integrators import EXACT, METHODS, integrate, rk4_list
 from .physics.component import Model
 from .physics.params import ParameterError, allowed_text, check_value
 
@@ -367,6 +367,8 @@ def advance(model: Model, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1:
         if solver == EXACT:
             x1 = model.exact_step(t, x, h, u0, r1, r2, max_step)
             solver = "rk4"
+        if x1 is None and solver == "rk4" and not moving and model.list_rhs:   # rk4 on plain floats
+            x1 = np.array(rk4_list(lambda ti, xi: model.derivatives_list(ti, xi, u0), t, x.tolist(), h, max_step))
         if x1 is None:
             if moving:
                 def rhs(ti: float, xi: np.ndarray) -> np.ndarray:

@@ -78,6 +78,17 @@ class Model:
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return np.zeros(0)
 
+    def derivatives_list(self, t: float, x: list[float], u: np.ndarray) -> list[float]:
+        """:meth:`derivatives` on a list of floats.  A model whose right-hand side works on plain floats
+        overrides this one (and derives ``derivatives`` from it): the FMU's rk4 then steps lists and
+        builds no array per stage (:func:`cranefmu.integrators.rk4_list`)."""
+        return self.derivatives(t, np.array(x), u).tolist()
+
+    @property
+    def list_rhs(self) -> bool:
+        """True when the model has its own :meth:`derivatives_list`."""
+        return type(self).derivatives_list is not Model.derivatives_list
+
     def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         """The outputs at (t, x, u) as an array, in the order of ``outputs``.  A model overrides this
         or :meth:`output_list`."""

@@ -297,15 +297,20 @@ class DriveModel(Model):
                 p.n_drum_lines * p.R_3, p.start_time, p.start_time + p.brake_delay)
 
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        if self.p.mode == "kinematic":
+            return np.zeros_like(x)
+        return np.array(self.derivatives_list(t, x.tolist(), u))
+
+    def derivatives_list(self, t: float, x: list[float], u: np.ndarray) -> list[float]:
         """Eq. 4 (motor_rhs) and eq. 5 (drivetrain_accelerations) written out on plain floats: the
         same equations, 4-5x cheaper than on arrays (rk4 calls this 40 times per millisecond)."""
         if self.p.mode == "kinematic":
-            return np.zeros_like(x)
+            return [0.0] * len(x)
         if self._c is None:
             self._c = self._constants()
         inv_t, forcing, poles, c1, b1, c2, b2, c3, b3, inv_i, inv_jw, inv_jsp, inv_jg, inv_j3, arm, start, \
             release = self._c
-        m_e, theta, f_motor, f_clutch, f_gear, f_drum, w_motor, w_clutch, w_gear, w_drum = x.tolist()
+        m_e, theta, f_motor, f_clutch, f_gear, f_drum, w_motor, w_clutch, w_gear, w_drum = x
         slip_freq = supply_frequency(t, self.p) - poles * w_motor
         d_me = slip_freq * theta - m_e * inv_t
         d_theta = -slip_freq * m_e + (forcing if t >= start else 0.0) - theta * inv_t
@@ -316,8 +321,8 @@ class DriveModel(Model):
             d_motor = a_motor = 0.0
         else:
             d_motor, a_motor = w_motor, (m_e + tau1) * inv_jw
-        return np.array([d_me, d_theta, d_motor, w_clutch, w_gear, w_drum, a_motor, (tau2 - tau1) * inv_jsp,
-                         (tau3 * inv_i - tau2) * inv_jg, (-tau3 - arm * float(u[0])) * inv_j3])
+        return [d_me, d_theta, d_motor, w_clutch, w_gear, w_drum, a_motor, (tau2 - tau1) * inv_jsp,
+                (tau3 * inv_i - tau2) * inv_jg, (-tau3 - arm * float(u[0])) * inv_j3]
 
     def derivatives_from_helpers(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         """:meth:`derivatives` assembled from motor_rhs and drivetrain_accelerations (the reference

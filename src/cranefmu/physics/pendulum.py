@@ -156,6 +156,8 @@ def _angles(dx: float, dy_down: float, dz: float) -> tuple[float, float]:
 
 def _floats(a) -> list:
     """Plain Python floats: scalar arithmetic on them is several times cheaper than on numpy scalars."""
+    if type(a) is list:
+        return a
     return a.tolist() if hasattr(a, "tolist") else [float(v) for v in a]
 
 
@@ -363,24 +365,27 @@ class PendulumModel(Model):
         return np.array(out)
 
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.array(self.derivatives_list(t, x.tolist(), u))
+
+    def derivatives_list(self, t: float, x: list[float], u: np.ndarray) -> list[float]:
         p, m = self.p, self._m
         if p.payload == "none":
-            fx, fy, fz = u[0], u[1], u[2]
+            fx, fy, fz = _floats(u)[:3]
             if self._has_ground:
                 fy = fy + self._ground_force(x[1], x[4])
             if self._k_load != 0.0:
                 dx, dy, dz = self._drag(self._k_load, x[3], x[4], x[5])
                 fx, fy, fz = fx + dx, fy + dy, fz + dz
             mass = p.mass
-            return np.array([x[3], x[4], x[5], fx / mass * m[0], (fy / mass - p.g) * m[1], fz / mass * m[2]])
+            return [x[3], x[4], x[5], fx / mass * m[0], (fy / mass - p.g) * m[1], fz / mass * m[2]]
         x, u = _floats(x), _floats(u)
         if p.payload == "rigid":
             ah, ddth, ddph, _, _, _, _ = self._rigid(x, u)
             dth = x[8] if p.dimension >= 2 else 0.0
             dph = x[9] if p.dimension == 3 else 0.0
-            return np.array([x[3], x[4], x[5], *ah, dth, dph, ddth, ddph])
+            return [x[3], x[4], x[5], *ah, dth, dph, ddth, ddph]
         ah, ap, _, _, _ = self._elastic(x, u)
-        return np.array([x[3], x[4], x[5], *ah, x[9], x[10], x[11], *ap])
+        return [x[3], x[4], x[5], *ah, x[9], x[10], x[11], *ap]
 
     def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
