@@ -359,7 +359,7 @@ def advance(model: Model, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1:
     if x.size == 0 and solver != EXACT:   # no state (a stateless spring): nothing to integrate
         x1 = x
     elif model.frozen:  # derivatives identically 0: sub-stepping would only cost time
-        x1 = x.copy()
+        x1 = x          # (the state arrays are never changed in place)
     else:
         if r1 is None or r2 is None:
             r1 = r2 = _zeros(u0.size)

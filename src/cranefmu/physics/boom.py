@@ -304,7 +304,8 @@ class BoomModel(Model):
     def _base(self, u: np.ndarray) -> tuple[float, float, float, float]:
         if self.p.tip == "kinematic":
             return 0.0, 0.0, 0.0, 0.0
-        return float(u[_Y]), float(u[_G]), float(u[_VY]), float(u[_GR])
+        y, gamma, vy, rate = u[:4].tolist()
+        return y, gamma, vy, rate
 
     def _cylinder_force(self, t: float, psi: float, psi_rate: float, offset: float, gamma: float,
                         gamma_rate: float) -> tuple[float, float]:
@@ -365,7 +366,8 @@ class BoomModel(Model):
         L, Ld = ms.length, ms.length_rate
         tip = (p.x_foot + L * c, p.y_foot + y_base + L * s)
         vtip = (Ld * c - L * psi_rate * s, vy_base + Ld * s + L * psi_rate * c)
-        fbx, fby, mb = base_reactions(ms, psi, psi_rate, psi_acc, float(u[_FX]), float(u[_FY]), p.g)
+        fx, fy = u[_FX:_FY + 1].tolist()
+        fbx, fby, mb = base_reactions(ms, psi, psi_rate, psi_acc, fx, fy, p.g)
         s3, lever, phi2 = cylinder_geometry(phi1, p)
         if self.elastic:
             force, _ = self._cylinder_force(t, psi, psi_rate, float(x[2]), float(u[_G]), float(u[_GR]))
