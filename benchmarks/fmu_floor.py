@@ -184,16 +184,12 @@ class Stepper:
         self.comp.free()
 
 
-def configuration(row: dict) -> str:
-    """The FMU's solver settings and string/integer switches as the scene sets them."""
+def configuration(row: dict, slave) -> str:
+    """The FMU's solver settings (as the instance has them) and its string switches as the scene sets them."""
     cls = physics_class(row["fmu"])
-    switches = [n for n, d, _ in cls.Params.field_specs() if isinstance(d, str)]
     p = row["params"]
-    defaults = {n: d for n, d, _ in cls.Params.field_specs()}
-    parts = [f"{n}={p.get(n, defaults[n])}" for n in switches]
-    if "solver" in p or "max_step" in p:
-        parts.insert(0, f"solver={p.get('solver', 'default')} max_step={p.get('max_step', 'default')}")
-    return " ".join(parts)
+    switches = [f"{n}={p.get(n, d)}" for n, d, _ in cls.Params.field_specs() if isinstance(d, str)]
+    return " ".join([f"solver={slave.solver} max_step={slave.max_step:g}"] + switches)
 
 
 def measure_fmi(rows: list[dict], trivial: dict[tuple[int, int], Path], workdir: Path, rounds: int, batch: int,
@@ -292,7 +288,7 @@ def breakdown(row: dict, n: int = 1500) -> None:
     ua = np.array(u)
     calls = [0]
     # the right-hand side the integration calls: on lists where the model has one (rk4), else on arrays
-    name, xr = ("derivatives_list", x.tolist()) if model.list_rhs else ("derivatives", x)
+    name, xr = ("derivatives_list", x.tolist()) if getattr(model, "list_rhs", False) else ("derivatives", x)
     deriv = getattr(model, name)
 
     def counting(ti, xi, ui):
@@ -314,15 +310,17 @@ def breakdown(row: dict, n: int = 1500) -> None:
     row["step_adapter_us"] = row["py_step_us"] - t_adv
     # at a new instant each call, as after a step (a model may remember what it computed for one t)
     times = [t, t + h]
+    out = getattr(model, "output_list", model.output_values)   # (output_values before it existed)
     k = [0]
 
     def outputs():
         k[0] ^= 1
-        return model.output_list(times[k[0]], x, ua)
+        return out(times[k[0]], x, ua)
 
     row["outputs_us"] = _median_call(outputs, n)
     row["get_adapter_us"] = row["py_get_us"] - row["outputs_us"]
     row["wrapper_us"] = row["ours_us"] - row["py_set_us"] - row["py_step_us"] - row["py_get_us"]
+    row["config"] = configuration(row, s)
 
 
 def trivial_breakdown(row: dict, trivial_py: Path, n: int = 1500) -> None:
@@ -388,12 +386,15 @@ def write_report(labels: list[str], notes: dict[str, str]) -> None:
         if not rows:
             continue
         lines += [f"## {lab}", "", notes.get(lab, ""), ""] + table(rows) + [""]
-    if tables.get("before") and tables.get("after"):
-        before = {(r["scene"], r["component"], r["H"]): r for r in tables["before"]}
-        lines += ["## before / after (ratio to the trivial FMU of the same run)", "",
+    pairs = [(lab, "before" + lab[len("after"):]) for lab in tables if lab.startswith("after")]
+    for after_lab, before_lab in pairs:
+        if not (tables.get(before_lab) and tables.get(after_lab)):
+            continue
+        before = {(r["scene"], r["component"], r["H"]): r for r in tables[before_lab]}
+        lines += [f"## {before_lab} / {after_lab} (ratio to the trivial FMU of the same run)", "",
                   "| scene | component | H [s] | ours before [us] | ratio before | ours after [us] | ratio after |",
                   "| --- | --- | --- | --- | --- | --- | --- |"]
-        for r in tables["after"]:
+        for r in tables[after_lab]:
             b = before.get((r["scene"], r["component"], r["H"]))
             if b is not None:
                 lines.append(f"| {r['scene']} | {r['component']} | {float(r['H']):g} | {float(b['ours_us']):.1f} | "
@@ -438,7 +439,6 @@ def main(argv: list[str] | None = None) -> int:
         for r in rows:
             breakdown(r)
             trivial_breakdown(r, trivial_py[(len(r["inputs"]), len(r["outputs"]))])
-            r["config"] = configuration(r)
             r["n_in"], r["n_out"] = len(r["inputs"]), len(r["outputs"])
             say(f"  {r['scene']:16s} {r['component']:9s} ours {r['ours_us']:6.1f} us  trivial {r['trivial_us']:5.1f} us"
                 f"  ratio {r['ratio']:.2f}  (py {r['py_set_us']:.1f}/{r['py_step_us']:.1f}/{r['py_get_us']:.1f}, "
