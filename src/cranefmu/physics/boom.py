@@ -205,7 +205,12 @@ class MassState(NamedTuple):
 
 def mass_state(t: float, p: BoomParams) -> MassState:
     """Mass properties for the telescoping law at time t."""
-    (s1, s2), (sd1, sd2), (sdd1, sdd2) = _telescope_floats(t, p)
+    return _mass_state_at(_telescope_floats(t, p), p)
+
+
+def _mass_state_at(telescope: tuple[tuple[float, float], ...], p: BoomParams) -> MassState:
+    """Mass properties for the extensions, rates and accelerations ``telescope`` of :func:`_telescope_floats`."""
+    (s1, s2), (sd1, sd2), (sdd1, sdd2) = telescope
     # per body: mass m, centre distance r from O2, its rate rd and acceleration rdd, own inertia j
     # about the centre; the sums are written out in body order (segment 5, 4, 3, head)
     m5, m4, m3, mh = p.m_seg5, p.m_seg4, p.m_seg3, p.m_head
@@ -291,11 +296,23 @@ class BoomModel(Model):
 
     def _mass_state(self, t: float) -> MassState:
         """:func:`mass_state` at ``t`` [s], remembered for the last ``t`` (the outputs and rk4's two
-        middle stages ask for the same instant)."""
+        middle stages ask for the same instant) and for the last state of the telescoping law (the
+        same mass properties while the boom does not telescope)."""
         cached = getattr(self, "_ms_cache", None)
         if cached is None or cached[0] != t:
-            cached = self._ms_cache = (t, mass_state(t, self.p))
-        return cached[1]
+            telescope = _telescope_floats(t, self.p)
+            ms = cached[2] if cached is not None and cached[1] == telescope else _mass_state_at(telescope, self.p)
+            cached = self._ms_cache = (t, telescope, ms)
+        return cached[2]
+
+    def _cylinder_at(self, phi1: float) -> tuple[float, float, float, float]:
+        """Cylinder length, lever, direction (:func:`cylinder_geometry`) and the loop residual at the
+        luffing angle ``phi1`` [rad], remembered for the last angle (constant while the boom does not luff)."""
+        cached = getattr(self, "_cyl_cache", None)
+        if cached is None or cached[0] != phi1:
+            s3, lever, phi2 = cylinder_geometry(phi1, self.p)
+            cached = self._cyl_cache = (phi1, s3, lever, phi2, constraint_residual(phi1, phi2, s3, self.p))
+        return cached[1:]
 
     @property
     def frozen(self) -> bool:
@@ -368,13 +385,12 @@ class BoomModel(Model):
         vtip = (Ld * c - L * psi_rate * s, vy_base + Ld * s + L * psi_rate * c)
         fx, fy = u[_FX:_FY + 1].tolist()
         fbx, fby, mb = base_reactions(ms, psi, psi_rate, psi_acc, fx, fy, p.g)
-        s3, lever, phi2 = cylinder_geometry(phi1, p)
+        s3, lever, _, residual = self._cylinder_at(phi1)
         if self.elastic:
             force, _ = self._cylinder_force(t, psi, psi_rate, float(x[2]), float(u[_G]), float(u[_GR]))
         else:
             force = -mb / lever   # the cylinder carries the whole moment about the pivot O2
-        return [tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3,
-                constraint_residual(phi1, phi2, s3, p)]
+        return [tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3, residual]
 
     def energy(self, t: float, x: np.ndarray, u: np.ndarray) -> float:
         """Mechanical energy [J] of the elastic boom with the constant tip force as a potential:
