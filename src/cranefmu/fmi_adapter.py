@@ -18,7 +18,8 @@ from __future__ import annotations
 import ctypes
 import os
 import sys
-import threading
+from operator import itemgetter
+from threading import get_ident
 from typing import Any, ClassVar
 from xml.etree.ElementTree import Element, SubElement
 
@@ -28,7 +29,7 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from . import units
-from .integrators import EXACT, METHODS, integrate
+from .integrators import EXACT, METHODS, integrate, rk4_list
 from .physics.component import Model
 from .physics.params import ParameterError, allowed_text, check_value, enumeration_text
 
@@ -107,6 +108,16 @@ class CraneSlave(Fmi2Slave):
         self._t = 0.0
         self._initialized = False
         self._outputs_stale = True
+        self._init_error: Exception | None = None
+        # per-step caches of the hot path: the input vector and the input rates, rebuilt only after
+        # a set touches them; a set that touches no parameter and no rate input (the master's
+        # value exchange) skips the parameter checks
+        self._u: np.ndarray | None = None
+        self._input_values = _values_getter(self._input_names)
+        self._rates_now: tuple | None = None
+        rate_names = set(self._rate_names)
+        self._param_or_rate_vrs = frozenset(self._param_vrs) | {
+            vr for vr, n in self._real_name.items() if n in rate_names}
 
     # --- registration ------------------------------------------------------------------------
     def _add_real(self, name: str, start: float | None, unit: str, description: str,
@@ -161,8 +172,13 @@ class CraneSlave(Fmi2Slave):
         return self.physics(self.physics.Params(**fields))
 
     def _inputs(self) -> np.ndarray:
-        d = self.__dict__
-        return np.array([d[n] for n in self._input_names], dtype=float)
+        """The inputs as a read-only float array, built once per change of the inputs."""
+        u = self._u
+        if u is None:
+            u = np.array(self._input_values(self.__dict__), dtype=float)
+            u.flags.writeable = False  # shared by the calls until the next set: no model may change it
+            self._u = u
+        return u
 
     def _rates(self) -> tuple[np.ndarray, np.ndarray] | tuple[None, None]:
         """First and second time derivatives of the inputs, or (None, None) when all are 0."""
@@ -174,20 +190,20 @@ class CraneSlave(Fmi2Slave):
         r1, r2 = np.zeros(n), np.zeros(n)
         for k, i in enumerate(self._coupling):
             r1[i], r2[i] = values[2 * k], values[2 * k + 1]
+        r1.flags.writeable = r2.flags.writeable = False  # kept over the steps until a rate is set again
         return r1, r2
 
     def _refresh_outputs(self) -> None:
-        if getattr(self, "_init_error", None) is not None:
+        if self._init_error is not None:
             return  # reported at exit_initialization_mode
         try:
             if self._model is None or not self._initialized:
                 self._model = self._build_model()
                 self._x = self._model.initial_state(self._inputs())
-            y = self._model.output_values(self._t, self._x, self._inputs())
+            values = self._model.output_list(self._t, self._x, self._inputs())
         except Exception as err:
             self._fail("cannot compute the outputs", err)
             raise
-        values = np.asarray(y, dtype=float).tolist()
         for i in self._discrete_outputs:
             values[i] = int(round(values[i]))
         self.__dict__.update(zip(self._output_names, values))
@@ -232,8 +248,12 @@ class CraneSlave(Fmi2Slave):
             for vr, value in zip(vrs, values):
                 d[names[vr]] = value
         except KeyError:  # not a Real: pythonfmu raises the error naming the value reference
+            self._u = self._rates_now = None
             super().set_real(vrs, values)
-        self._after_set(vrs)
+        self._u = None
+        self._outputs_stale = True
+        if not self._param_or_rate_vrs.isdisjoint(vrs):
+            self._after_set(vrs)
 
     def set_integer(self, vrs: list[int], values: list[int]) -> None:
         super().set_integer(vrs, values)
@@ -245,6 +265,7 @@ class CraneSlave(Fmi2Slave):
 
     def _after_set(self, vrs: list[int]) -> None:
         self._outputs_stale = True
+        self._rates_now = None
         if self._initialized and not self._param_vrs.isdisjoint(vrs):
             try:
                 for name, old in self._fixed_values.items():
@@ -272,10 +293,13 @@ class CraneSlave(Fmi2Slave):
         return super().get_integer(vrs)
 
     def do_step(self, current_time: float, step_size: float) -> bool:
-        _keep_thread_state()
+        if get_ident() not in _THREADS_KEPT:
+            _keep_thread_state()
         try:
-            r1, r2 = self._rates()
-            self._x = advance(self._model, current_time, self._x, step_size, self._inputs(), r1, r2,
+            rates = self._rates_now
+            if rates is None:
+                rates = self._rates_now = self._rates()
+            self._x = advance(self._model, current_time, self._x, step_size, self._inputs(), rates[0], rates[1],
                               self._solver, self.rtol, self.max_step)
             self._t = current_time + step_size
             self._outputs_stale = True
@@ -298,6 +322,7 @@ class CraneSlave(Fmi2Slave):
         self._initialized = bool(values.pop("__initialized"))
         for name, value in values.items():
             setattr(self, name, value)
+        self._u = self._rates_now = None
         if self._initialized:
             self._model = self._build_model()
             self._fixed_values = self._fixed_parameters()
@@ -359,30 +384,54 @@ def advance(model: Model, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1:
     :meth:`CraneSlave.do_step` takes it (integration, the model's end-of-step update, the
     finite-state check).  ``solver = "exact"`` takes the model's own closed-form step
     (:meth:`Model.exact_step`) and integrates with rk4 at ``max_step`` where it does not apply."""
-    if r1 is None or r2 is None:
-        r1 = r2 = np.zeros_like(u0)
-        moving = False
+    moving = r1 is not None and r2 is not None and bool(r1.any() or r2.any())
+    if x.size == 0 and solver != EXACT:   # no state (a stateless spring): nothing to integrate
+        x1 = x
+    elif model.frozen:  # derivatives identically 0: sub-stepping would only cost time
+        x1 = x          # (the state arrays are never changed in place)
     else:
-        moving = bool(np.any(r1) or np.any(r2))
-    if moving:
-        def rhs(ti: float, xi: np.ndarray) -> np.ndarray:
-            s = ti - t
-            return model.derivatives(ti, xi, u0 + s * (r1 + 0.5 * s * r2))
-    else:
-        def rhs(ti: float, xi: np.ndarray) -> np.ndarray:
-            return model.derivatives(ti, xi, u0)
-    x1 = None
-    if model.frozen:  # derivatives identically 0: sub-stepping would only cost time
-        x1 = x.copy()
-    elif solver == EXACT:
-        x1 = model.exact_step(t, x, h, u0, r1, r2, max_step)
-        solver = "rk4"
-    if x1 is None:
-        x1 = integrate(rhs, t, x, h, solver, rtol, 1e-3 * rtol, max_step)
+        if r1 is None or r2 is None:
+            r1 = r2 = _zeros(u0.size)
+        x1 = None
+        if solver == EXACT:
+            x1 = model.exact_step(t, x, h, u0, r1, r2, max_step)
+            solver = "rk4"
+        if x1 is None and solver == "rk4" and not moving and model.list_rhs:   # rk4 on plain floats
+            x1 = np.array(rk4_list(lambda ti, xi: model.derivatives_list(ti, xi, u0), t, x.tolist(), h, max_step))
+        if x1 is None:
+            if moving:
+                def rhs(ti: float, xi: np.ndarray) -> np.ndarray:
+                    s = ti - t
+                    return model.derivatives(ti, xi, u0 + s * (r1 + 0.5 * s * r2))
+            else:
+                def rhs(ti: float, xi: np.ndarray) -> np.ndarray:
+                    return model.derivatives(ti, xi, u0)
+            x1 = integrate(rhs, t, x, h, solver, rtol, 1e-3 * rtol, max_step)
     t1 = t + h
     x1 = model.after_step(t1, x1, u0 + h * (r1 + 0.5 * h * r2) if moving else u0)
-    model.check_state(t1, x1)
+    if x1 is not x:  # the unchanged state of a frozen or stateless model was checked when it was made
+        model.check_state(t1, x1)
     return x1
+
+
+def _values_getter(names: list[str]):
+    """A function of a dict that returns the tuple of its values at ``names`` (in one C call for two
+    or more names: cheaper than a comprehension on the hot path)."""
+    if len(names) >= 2:
+        return itemgetter(*names)
+    return lambda d: tuple(d[n] for n in names)
+
+
+_ZEROS: dict[int, np.ndarray] = {}
+
+
+def _zeros(n: int) -> np.ndarray:
+    """A read-only zero vector of length ``n``, made once (the rates of constant inputs)."""
+    z = _ZEROS.get(n)
+    if z is None:
+        z = _ZEROS[n] = np.zeros(n)
+        z.flags.writeable = False
+    return z
 
 
 _THREADS_KEPT: set[int] = set()
@@ -399,7 +448,7 @@ def _keep_thread_state() -> None:
     thread's GIL state, and an Ensure there deadlocks.  CRANEFMU_KEEP_THREAD_STATE=0 turns it off
     (for measuring the difference).
     """
-    ident = threading.get_ident()
+    ident = get_ident()
     if ident in _THREADS_KEPT or os.environ.get("CRANEFMU_KEEP_THREAD_STATE") == "0":
         return
     ctypes.pythonapi.PyGILState_Ensure()

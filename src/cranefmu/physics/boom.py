@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -142,15 +143,21 @@ def telescope_law(t: float, p: BoomParams) -> tuple[np.ndarray, np.ndarray, np.n
     Both segments share the timing T1 = t_acc, T2 = |L_end - L_start| / (V10 + V20), so each
     travels V_i * T2 and the boom length reaches L_end at T3 = T2 + T1.
     """
+    s, sd, sdd = _telescope_floats(t, p)
+    return np.array(s), np.array(sd), np.array(sdd)
+
+
+def _telescope_floats(t: float, p: BoomParams) -> tuple[tuple[float, float], ...]:
+    """:func:`telescope_law` on plain floats (every output and right-hand side needs it: numpy's
+    per-call cost on two-element arrays dominated)."""
     dl = p.boom_length_end - p.boom_length_start
     v1 = p.telescope_speed
     v2 = p.telescope_speed * p.telescope_speed_ratio
     t2 = abs(dl) / (v1 + v2) if dl != 0.0 else 0.0
     sign = math.copysign(1.0, dl)
-    out = np.zeros((3, 2))
-    for i, v in enumerate((v1, v2)):
-        out[:, i] = trapezoid_motion(t, p.telescope_start, sign * v * t2, v, p.t_acc)
-    return out[0], out[1], out[2]
+    a = trapezoid_motion(t, p.telescope_start, sign * v1 * t2, v1, p.t_acc)
+    b = trapezoid_motion(t, p.telescope_start, sign * v2 * t2, v2, p.t_acc)
+    return (a[0], b[0]), (a[1], b[1]), (a[2], b[2])
 
 
 def luff_law(t: float, p: BoomParams) -> tuple[float, float, float]:
@@ -181,9 +188,9 @@ def constraint_residual(phi1: float, phi2: float, s3: float, p: BoomParams) -> f
     return math.hypot(f1, f2)
 
 
-@dataclass(frozen=True)
-class MassState:
-    """Mass properties of the boom at one instant (derived from eq. 13-18)."""
+class MassState(NamedTuple):
+    """Mass properties of the boom at one instant (derived from eq. 13-18).  A named tuple: made at
+    every output and right-hand side, where a frozen dataclass's construction cost more than the sums."""
 
     length: float    # L, foot - tip [m]
     length_rate: float
@@ -198,23 +205,28 @@ class MassState:
 
 def mass_state(t: float, p: BoomParams) -> MassState:
     """Mass properties for the telescoping law at time t."""
-    s, sd, sdd = telescope_law(t, p)
-    # (mass, centre distance, its rate, its acceleration, own inertia about the centre) per body
-    bodies = (
-        (p.m_seg5, 0.5 * p.l_seg5, 0.0, 0.0, p.m_seg5 * p.l_seg5 ** 2 / 12.0),
-        (p.m_seg4, p.seg4_offset + s[0] + 0.5 * p.l_seg4, sd[0], sdd[0], p.m_seg4 * p.l_seg4 ** 2 / 12.0),
-        (p.m_seg3, p.seg3_offset + s[0] + s[1] + 0.5 * p.l_seg3, sd[0] + sd[1], sdd[0] + sdd[1],
-         p.m_seg3 * p.l_seg3 ** 2 / 12.0),
-        (p.m_head, p.boom_length_start + s[0] + s[1], sd[0] + sd[1], sdd[0] + sdd[1], 0.0),
-    )
-    mass = sum(b[0] for b in bodies)
-    S = sum(m * r for m, r, _, _, _ in bodies)
-    S_rate = sum(m * rd for m, _, rd, _, _ in bodies)
-    S_acc = sum(m * rdd for m, _, _, rdd, _ in bodies)
-    J = sum(m * r * r + j for m, r, _, _, j in bodies)
-    J_rate = sum(2.0 * m * r * rd for m, r, rd, _, _ in bodies)
-    length = p.boom_length_start + s[0] + s[1]
-    return MassState(length, sd[0] + sd[1], sdd[0] + sdd[1], mass, S, S_rate, S_acc, J, J_rate)
+    return _mass_state_at(_telescope_floats(t, p), p)
+
+
+def _mass_state_at(telescope: tuple[tuple[float, float], ...], p: BoomParams) -> MassState:
+    """Mass properties for the extensions, rates and accelerations ``telescope`` of :func:`_telescope_floats`."""
+    (s1, s2), (sd1, sd2), (sdd1, sdd2) = telescope
+    # per body: mass m, centre distance r from O2, its rate rd and acceleration rdd, own inertia j
+    # about the centre; the sums are written out in body order (segment 5, 4, 3, head)
+    m5, m4, m3, mh = p.m_seg5, p.m_seg4, p.m_seg3, p.m_head
+    r5, r4 = 0.5 * p.l_seg5, p.seg4_offset + s1 + 0.5 * p.l_seg4
+    r3, rh = p.seg3_offset + s1 + s2 + 0.5 * p.l_seg3, p.boom_length_start + s1 + s2
+    rd4, rd3 = sd1, sd1 + sd2          # the head moves with segment 3; segment 5 does not move
+    rdd4, rdd3 = sdd1, sdd1 + sdd2
+    j5, j4, j3 = m5 * p.l_seg5 ** 2 / 12.0, m4 * p.l_seg4 ** 2 / 12.0, m3 * p.l_seg3 ** 2 / 12.0
+    mass = m5 + m4 + m3 + mh
+    S = m5 * r5 + m4 * r4 + m3 * r3 + mh * rh
+    S_rate = m5 * 0.0 + m4 * rd4 + m3 * rd3 + mh * rd3
+    S_acc = m5 * 0.0 + m4 * rdd4 + m3 * rdd3 + mh * rdd3
+    J = (m5 * r5 * r5 + j5) + (m4 * r4 * r4 + j4) + (m3 * r3 * r3 + j3) + (mh * rh * rh + 0.0)
+    J_rate = 2.0 * m5 * r5 * 0.0 + 2.0 * m4 * r4 * rd4 + 2.0 * m3 * r3 * rd3 + 2.0 * mh * rh * rd3
+    length = p.boom_length_start + s1 + s2
+    return MassState(length, sd1 + sd2, sdd1 + sdd2, mass, S, S_rate, S_acc, J, J_rate)
 
 
 def base_reactions(ms: MassState, psi: float, psi_rate: float, psi_acc: float, fx: float, fy: float,
@@ -282,6 +294,26 @@ class BoomModel(Model):
     def elastic(self) -> bool:
         return self.p.tip == "dynamic" and self.p.cylinder == "spring_damper"
 
+    def _mass_state(self, t: float) -> MassState:
+        """:func:`mass_state` at ``t`` [s], remembered for the last ``t`` (the outputs and rk4's two
+        middle stages ask for the same instant) and for the last state of the telescoping law (the
+        same mass properties while the boom does not telescope)."""
+        cached = getattr(self, "_ms_cache", None)
+        if cached is None or cached[0] != t:
+            telescope = _telescope_floats(t, self.p)
+            ms = cached[2] if cached is not None and cached[1] == telescope else _mass_state_at(telescope, self.p)
+            cached = self._ms_cache = (t, telescope, ms)
+        return cached[2]
+
+    def _cylinder_at(self, phi1: float) -> tuple[float, float, float, float]:
+        """Cylinder length, lever, direction (:func:`cylinder_geometry`) and the loop residual at the
+        luffing angle ``phi1`` [rad], remembered for the last angle (constant while the boom does not luff)."""
+        cached = getattr(self, "_cyl_cache", None)
+        if cached is None or cached[0] != phi1:
+            s3, lever, phi2 = cylinder_geometry(phi1, self.p)
+            cached = self._cyl_cache = (phi1, s3, lever, phi2, constraint_residual(phi1, phi2, s3, self.p))
+        return cached[1:]
+
     @property
     def frozen(self) -> bool:
         return not self.elastic
@@ -289,7 +321,8 @@ class BoomModel(Model):
     def _base(self, u: np.ndarray) -> tuple[float, float, float, float]:
         if self.p.tip == "kinematic":
             return 0.0, 0.0, 0.0, 0.0
-        return float(u[_Y]), float(u[_G]), float(u[_VY]), float(u[_GR])
+        y, gamma, vy, rate = u[:4].tolist()
+        return y, gamma, vy, rate
 
     def _cylinder_force(self, t: float, psi: float, psi_rate: float, offset: float, gamma: float,
                         gamma_rate: float) -> tuple[float, float]:
@@ -315,7 +348,7 @@ class BoomModel(Model):
         _, gamma, _, gamma_rate = self._base(u)
         if self.elastic:
             psi, psi_rate = float(x[0]), float(x[1])
-            return psi, psi_rate, self._psi_acc(t, x, u, mass_state(t, self.p)), psi + gamma
+            return psi, psi_rate, self._psi_acc(t, x, u, self._mass_state(t)), psi + gamma
         phi, phi_rate, phi_acc = luff_law(t, self.p)
         # rigid cylinder: the boom turns with the chassis; the chassis' angular acceleration is unknown here
         return phi - gamma, phi_rate - gamma_rate, phi_acc, phi
@@ -338,26 +371,26 @@ class BoomModel(Model):
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         if not self.elastic:
             return np.zeros(3)
-        ms = mass_state(t, self.p)
+        ms = self._mass_state(t)
         return np.array([x[1], self._psi_acc(t, x, u, ms), 0.0])
 
-    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         y_base, _, vy_base, _ = self._base(u)
         psi, psi_rate, psi_acc, phi1 = self._angles(t, x, u)
-        ms = mass_state(t, p)
+        ms = self._mass_state(t)
         c, s = math.cos(psi), math.sin(psi)
         L, Ld = ms.length, ms.length_rate
         tip = (p.x_foot + L * c, p.y_foot + y_base + L * s)
         vtip = (Ld * c - L * psi_rate * s, vy_base + Ld * s + L * psi_rate * c)
-        fbx, fby, mb = base_reactions(ms, psi, psi_rate, psi_acc, float(u[_FX]), float(u[_FY]), p.g)
-        s3, lever, phi2 = cylinder_geometry(phi1, p)
+        fx, fy = u[_FX:_FY + 1].tolist()
+        fbx, fby, mb = base_reactions(ms, psi, psi_rate, psi_acc, fx, fy, p.g)
+        s3, lever, _, residual = self._cylinder_at(phi1)
         if self.elastic:
             force, _ = self._cylinder_force(t, psi, psi_rate, float(x[2]), float(u[_G]), float(u[_GR]))
         else:
             force = -mb / lever   # the cylinder carries the whole moment about the pivot O2
-        return np.array([tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3,
-                         constraint_residual(phi1, phi2, s3, p)])
+        return [tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3, residual]
 
     def energy(self, t: float, x: np.ndarray, u: np.ndarray) -> float:
         """Mechanical energy [J] of the elastic boom with the constant tip force as a potential:

@@ -78,8 +78,29 @@ class Model:
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return np.zeros(0)
 
+    def derivatives_list(self, t: float, x: list[float], u: np.ndarray) -> list[float]:
+        """:meth:`derivatives` on a list of floats.  A model whose right-hand side works on plain floats
+        overrides this one (and derives ``derivatives`` from it): the FMU's rk4 then steps lists and
+        builds no array per stage (:func:`cranefmu.integrators.rk4_list`)."""
+        return self.derivatives(t, np.array(x), u).tolist()
+
+    @property
+    def list_rhs(self) -> bool:
+        """True when the model has its own :meth:`derivatives_list`."""
+        return type(self).derivatives_list is not Model.derivatives_list
+
     def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        raise NotImplementedError
+        """The outputs at (t, x, u) as an array, in the order of ``outputs``.  A model overrides this
+        or :meth:`output_list`."""
+        if type(self).output_list is Model.output_list:
+            raise NotImplementedError(f"{type(self).__name__} defines neither output_values nor output_list")
+        return np.array(self.output_list(t, x, u), dtype=float)
+
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
+        """:meth:`output_values` as a list of floats, what the FMU adapter copies out at every read;
+        the crane models compute their outputs on plain floats and override this one (an array built
+        only to be turned back into a list cost about a microsecond per read)."""
+        return np.asarray(self.output_values(t, x, u), dtype=float).tolist()
 
     def exact_step(self, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray,
                    r2: np.ndarray, max_step: float) -> np.ndarray | None:
@@ -94,9 +115,9 @@ class Model:
 
     def check_state(self, t: float, x: np.ndarray) -> None:
         """Raise ``FloatingPointError`` naming the state if ``x`` is not finite."""
-        total = float(x.sum())
-        if total - total == 0.0:  # finite sum: every state finite (one reduction, no temporary array)
-            return
+        total = sum(x.tolist())
+        if total - total == 0.0:  # finite sum: every state finite (on plain floats: a numpy
+            return                # reduction costs more than the whole sum of a few states)
         if not np.all(np.isfinite(x)):
             names = self.state_names()
             bad = [names[i] if i < len(names) else str(i) for i in np.flatnonzero(~np.isfinite(x))]

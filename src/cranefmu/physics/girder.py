@@ -196,9 +196,9 @@ class GirderModel(Model):
             self._linear = LinearPropagator(*self.linear_system())
         return self._linear.maps(h)[-1] @ self._linear.augment(x, u0, r1, r2)
 
-    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         q1, v1, q3, v3 = x
         if p.bearing == "rigid":
             q3, v3 = q1, v1
-        return np.array([p.x_pos, p.height + q3, p.z_pos, 0.0, v3, 0.0, q3, q1])
+        return [p.x_pos, p.height + q3, p.z_pos, 0.0, v3, 0.0, q3, q1]

@@ -42,12 +42,17 @@ class LinearPropagator:
         self.generator = z
         self.spectral_radius = float(np.max(np.abs(np.linalg.eigvals(a)), initial=0.0))
         self._cache: dict[tuple[float, int], list[np.ndarray]] = {}
+        self._last: tuple | None = None   # (h as given, k, maps) of the last call
 
     def augment(self, x: np.ndarray, u0: np.ndarray, r1: np.ndarray, r2: np.ndarray) -> np.ndarray:
         return np.concatenate((x, (1.0,), u0, r1, r2))
 
     def maps(self, h: float, k: int = 1) -> list[np.ndarray]:
         """[M_0, ..., M_k]: x(j h / k) = M_j z for j = 0..k (M_0 picks x out of z)."""
+        last = self._last
+        if last is not None and last[0] == h and last[1] == k:   # a fixed-step master: the same h again
+            return last[2]
+        h_given = h
         h = step_key(h)
         key = (h, k)
         maps = self._cache.get(key)
@@ -63,4 +68,5 @@ class LinearPropagator:
             if len(self._cache) >= 16:   # an adaptive master varies h: keep the cache small
                 self._cache.clear()
             self._cache[key] = maps
+        self._last = (h_given, k, maps)
         return maps

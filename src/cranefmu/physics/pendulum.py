@@ -172,6 +172,8 @@ def _angles(dx: float, dy_down: float, dz: float) -> tuple[float, float]:
 
 def _floats(a) -> list:
     """Plain Python floats: scalar arithmetic on them is several times cheaper than on numpy scalars."""
+    if type(a) is list:
+        return a
     return a.tolist() if hasattr(a, "tolist") else [float(v) for v in a]
 
 
@@ -387,38 +389,42 @@ class PendulumModel(Model):
             return None
         h2, h3 = h * h, h * h * h
         inv_m = 1.0 / p.mass
+        u0, r1, r2, x = u0.tolist(), r1.tolist(), r2.tolist(), x.tolist()   # plain floats: cheaper
         out = [0.0] * 6
         for i in range(3):
             mi = self._m[i]
-            a0, a1, a2 = float(u0[i]) * inv_m, float(r1[i]) * inv_m, float(r2[i]) * inv_m
+            a0, a1, a2 = u0[i] * inv_m, r1[i] * inv_m, r2[i] * inv_m
             if i == 1:
                 a0 -= p.g
-            v0 = float(x[3 + i])
-            out[i] = float(x[i]) + v0 * h + mi * (a0 * h2 / 2.0 + a1 * h3 / 6.0 + a2 * h3 * h / 24.0)
+            v0 = x[3 + i]
+            out[i] = x[i] + v0 * h + mi * (a0 * h2 / 2.0 + a1 * h3 / 6.0 + a2 * h3 * h / 24.0)
             out[3 + i] = v0 + mi * (a0 * h + a1 * h2 / 2.0 + a2 * h3 / 6.0)
         return np.array(out)
 
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.array(self.derivatives_list(t, x.tolist(), u))
+
+    def derivatives_list(self, t: float, x: list[float], u: np.ndarray) -> list[float]:
         p, m = self.p, self._m
         if p.payload == "none":
-            fx, fy, fz = u[0], u[1], u[2]
+            fx, fy, fz = _floats(u)[:3]
             if self._has_ground:
                 fy = fy + self._ground_force(x[1], x[4])
             if self._k_load != 0.0:
                 dx, dy, dz = self._drag(self._k_load, x[3], x[4], x[5])
                 fx, fy, fz = fx + dx, fy + dy, fz + dz
             mass = p.mass
-            return np.array([x[3], x[4], x[5], fx / mass * m[0], (fy / mass - p.g) * m[1], fz / mass * m[2]])
+            return [x[3], x[4], x[5], fx / mass * m[0], (fy / mass - p.g) * m[1], fz / mass * m[2]]
         x, u = _floats(x), _floats(u)
         if p.payload == "rigid":
             ah, ddth, ddph, _, _, _, _ = self._rigid(x, u)
             dth = x[8] if p.dimension >= 2 else 0.0
             dph = x[9] if p.dimension == 3 else 0.0
-            return np.array([x[3], x[4], x[5], *ah, dth, dph, ddth, ddph])
+            return [x[3], x[4], x[5], *ah, dth, dph, ddth, ddph]
         ah, ap, _, _, _ = self._elastic(x, u)
-        return np.array([x[3], x[4], x[5], *ah, x[9], x[10], x[11], *ap])
+        return [x[3], x[4], x[5], *ah, x[9], x[10], x[11], *ap]
 
-    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         x, u = _floats(x), _floats(u)
         theta, phi = _angles(x[0] - u[3], u[4] - x[1], x[2] - u[5])
@@ -435,5 +441,4 @@ class PendulumModel(Model):
             pp, vp = x[6:9], x[9:12]
             th_p, ph_p = _angles(e[0], -e[1], e[2])
         lifted = 1.0 if n == 0.0 else 0.0
-        return np.array([*x[:6], theta, phi, n, *pp, *vp, th_p, ph_p, s, lifted, *u[3:6], self._total,
-                         self._rest_tension])
+        return [*x[:6], theta, phi, n, *pp, *vp, th_p, ph_p, s, lifted, *u[3:6], self._total, self._rest_tension]

@@ -345,7 +345,7 @@ class RopeModel(Model):
         _, length, l_u, _ = geometry(u, self.p, self._length0(x))
         return self._with_z(boucwen.project_state(length - l_u, float(x[0]), self.bouc_wen_at(l_u)), x)
 
-    def output_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         e, length, l_u, delta_dot = geometry(u, p, self._length0(x))
         z = float(x[0]) if self._bw is not None else 0.0
@@ -365,8 +365,8 @@ class RopeModel(Model):
             tension = boucwen.tension(length - l_u, delta_dot, z, self.bouc_wen_at(l_u))
         fx, fy, fz = -tension * e[0], -tension * e[1], -tension * e[2]
         hang = l_u * (1.0 + self.strain(float(u[_LOAD])))
-        return np.array([tension, tension / p.n_lines, fx, fy, fz, -fx, -fy, -fz, length, length - l_u,
-                         1.0 if tension == 0.0 else 0.0, z, hang])
+        return [tension, tension / p.n_lines, fx, fy, fz, -fx, -fy, -fz, length, length - l_u,
+                1.0 if tension == 0.0 else 0.0, z, hang]
 
 
 def static_strain(p: RopeParams, load: float) -> float:
