@@ -18,17 +18,8 @@ import numpy as np
 from .acceleration import ACCELERATORS
 from .coupling import InputGroup, feedthrough, rates
 from ..errors import SimulationError
-from .residual import relative_residual
+from .residual import CouplingCriterion
 from .system import CoSystem
-
-# A fixed-point map evaluated through FMUs is not exact: round-off, and the quasi-Newton update
-# near convergence, leave its change at a noise level (measured on truck_telescope's start-up:
-# 2e-13 of the forces, 4e-9 of a hook velocity of 2e-6 m/s, never below).  A residual that has
-# stopped falling (not halved in STALL iterations) while every value changes by less than NOISE
-# of its size is that noise: the step counts as converged.
-STALL = 5
-NOISE = 1e-8
-
 
 class Jacobi:
     name = "jacobi"
@@ -111,7 +102,7 @@ class Iterative:
         self.max_iterations = max_iterations
         self.acc = ACCELERATORS[accelerator]()
         self.index = range(len(system.comps))
-        self.last_residual = 0.0
+        self.criterion = CouplingCriterion(tolerance, _nominals(system))
 
     def _feed(self, t: float, h: float, u: np.ndarray) -> None:
         s = self.system
@@ -138,42 +129,62 @@ class Iterative:
         s = self.system
         return np.maximum(s.scale, 1e-12 * max(1.0, float(np.max(s.scale, initial=0.0))))
 
-    @staticmethod
-    def _residual(u: np.ndarray, gu: np.ndarray, scale: np.ndarray) -> tuple[float, int]:
-        """(largest change relative to each variable's size so far or now, its index); a value
-        starting from exactly 0 too (``scale`` carries the floor, see :meth:`_scale`)."""
-        return relative_residual(u, gu, np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu)), 0.0)
+    def _converged(self, u: np.ndarray, gu: np.ndarray, scale: np.ndarray, errors: list[float],
+                   reps: int = 1) -> tuple[bool, int]:
+        """(has the iteration converged, index of the worst value): the criterion's error <= 1, or a
+        stall at the map's noise (see :class:`~.residual.CouplingCriterion`); each value's size is its
+        magnitude so far or now (``scale`` carries a floor so that a value starting from exactly 0 has
+        a size, see :meth:`_scale`).  A non-finite error raises at once."""
+        size = np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu))
+        err, worst = self.criterion.error(u, gu, size, reps)
+        if not np.isfinite(err):
+            raise self._not_converged(len(errors) + 1, u, gu, scale, worst)
+        errors.append(err)
+        return err <= 1.0 or self.criterion.stalled(errors, u, gu, size), worst
 
-    def _not_converged(self, t: float, h: float, k: int, res: float, worst: int) -> SimulationError:
-        s = self.system
-        name = s.variable_names[worst] if s.variable_names else "?"
+    def _not_converged(self, k: int, u: np.ndarray, gu: np.ndarray, scale: np.ndarray,
+                       worst: int) -> SimulationError:
+        s, (t, h) = self.system, self.span
+        n = max(s.n_coupling, 1)
+        name = s.variable_names[worst % n] if s.variable_names else "?"
+        size = max(scale[worst], abs(u[worst]), abs(gu[worst]))
+        change = abs(gu[worst] - u[worst])
         return SimulationError(f"iterative coupling did not converge in the step from t = {t:.9g} s (H = {h:.3g} s): "
-                               f"after {k} iterations connection {name} still changes by {res:.3g} relative to its "
-                               f"size (tolerance {self.tolerance:g}). Try a smaller --step, or --adaptive.")
+                               f"after {k} iterations connection {name} still changes by {change:.3g} "
+                               f"({change / size:.3g} relative to its size {size:.3g}; allowed: tolerance "
+                               f"{self.tolerance:g} relative + {self.criterion.floor[worst % n]:.3g} absolute). "
+                               "Try a smaller --step, or --adaptive.")
 
     def step(self, t: float, h: float, snapshot=None) -> int:
         s = self.system
         u = s.predicted(t, h, order=min(self.degree, 2))
         scale = self._scale()
+        self.criterion.start(s.coupling_values())
         self.acc.start_step()
-        res, worst = np.inf, 0
-        history: list[float] = []
+        self.span, errors = (t, h), []
         for k in range(1, self.max_iterations + 1):
             if k > 1:
                 s.restore(snapshot)
+                u = scale * self.acc.next(u / scale, gu / scale)
             self._feed(t, h, u)
             for i in self.index:
                 s.do_step(i, t, h)
             s.capture_input_ends(h)
             gu = self._image(t + h)
-            res, worst = self._residual(u, gu, scale)
-            if not np.isfinite(res):
-                break
-            history.append(res)
-            if res <= self.tolerance or (res * self.tolerance <= NOISE and k > STALL
-                                         and res > 0.5 * min(history[:-STALL])):
-                self.last_residual = res
+            done, worst = self._converged(u, gu, scale, errors)
+            if done:
                 s.exchange(t + h)
                 return k
-            u = scale * self.acc.next(u / scale, gu / scale)
-        raise self._not_converged(t, h, k, res, worst)
+        raise self._not_converged(k, u, gu, scale, worst)
+
+
+def _nominals(system: CoSystem) -> np.ndarray:
+    """Per coupling variable, the nominal its source output declares (times the connection's
+    factor), NaN where none is declared."""
+    out = []
+    for g in system.links:
+        by_vr = {v.valueReference: v for v in system.comps[g.src].md.modelVariables}
+        for vr, factor in zip(g.src_vrs, g.factor):
+            nominal = by_vr[vr].nominal
+            out.append(abs(float(nominal) * factor) if nominal is not None else np.nan)
+    return np.array(out)
