@@ -1,8 +1,10 @@
 """Coupling algorithms: how the FMUs of a :class:`~.system.CoSystem` step over one macro step.
 
-Each ``step(t, h, snapshot)`` advances every FMU from t to t + h, leaves the coupling values at
-t + h exchanged (and the inputs fed for the next step), and returns the number of coupling
-iterations it took (1 for the explicit schemes).
+Every algorithm implements :class:`Algorithm` (libcosim's algorithm, scipy's OdeSolver: one
+contract for every method): ``step(t, h, snapshot)`` advances every FMU from t to t + h, leaves
+the coupling values at t + h exchanged (and the inputs fed for the next step), and returns the
+number of coupling iterations it took (1 for the explicit schemes).  :func:`make_algorithm` builds
+the one a run's settings name (:data:`ALGORITHMS`), with its start-up (:class:`StartUp`).
 
 - Jacobi: every FMU steps with its inputs extrapolated from the past (order 0, 1, 2).
 - Gauss-Seidel: FMUs step one after another; an input whose source already stepped follows the
@@ -13,6 +15,8 @@ iterations it took (1 for the explicit schemes).
 """
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
+
 import numpy as np
 
 from .acceleration import ACCELERATORS
@@ -21,7 +25,22 @@ from ..errors import SimulationError
 from .residual import CouplingCriterion
 from .system import CoSystem
 
-class Jacobi:
+ALGORITHMS = ("jacobi", "gauss-seidel", "iterative")
+
+
+class Algorithm(ABC):
+    """How the FMUs step over one macro step, and when values move between them."""
+
+    name: str
+    needs_snapshot: bool   # step() rolls the FMUs back to ``snapshot`` (taken before the step)
+    estimable = True       # this step's coupling error may be estimated (by the step controller)
+
+    @abstractmethod
+    def step(self, t: float, h: float, snapshot=None) -> int:
+        """Advance every FMU from t to t + h [s]; return the coupling iterations taken."""
+
+
+class Jacobi(Algorithm):
     name = "jacobi"
     needs_snapshot = False
 
@@ -38,7 +57,7 @@ class Jacobi:
         return 1
 
 
-class GaussSeidel:
+class GaussSeidel(Algorithm):
     name = "gauss-seidel"
     needs_snapshot = False
 
@@ -88,7 +107,7 @@ class GaussSeidel:
         s.push(g, g.history[-1][1], d1, d2)
 
 
-class Iterative:
+class Iterative(Algorithm):
     """Strong coupling by fixed-point iteration on the coupling values at the end of the step."""
 
     name = "iterative"
@@ -188,3 +207,66 @@ def _nominals(system: CoSystem) -> np.ndarray:
             nominal = by_vr[vr].nominal
             out.append(abs(float(nominal) * factor) if nominal is not None else np.nan)
     return np.array(out)
+
+
+class StartUp(Algorithm):
+    """``main`` after a start-up of ``p`` steps (its extrapolation order).
+
+    An explicit scheme of extrapolation order p needs p past values: its first p accepted steps
+    are taken with iterative coupling (degree p), so the extrapolation starts from exact past
+    values and the order is kept.  FMUs that cannot roll back start from a past at rest instead:
+    each connection's history holds its start value at t0 - 2 H, t0 - H and t0 (see :meth:`at_rest`).
+    """
+
+    def __init__(self, system: CoSystem, main: Algorithm, p: int, coupling_tolerance: float,
+                 max_iterations: int):
+        self.system, self.main, self.p = system, main, p
+        self.name = main.name
+        self.first = Iterative(system, degree=p, tolerance=min(coupling_tolerance, 1e-10),
+                               max_iterations=max(max_iterations, 50))
+
+    @property
+    def _current(self) -> Algorithm:
+        return self.first if self.system.stats.steps < self.p else self.main
+
+    @property
+    def needs_snapshot(self) -> bool:
+        return self._current.needs_snapshot
+
+    @property
+    def estimable(self) -> bool:
+        return self._current is self.main
+
+    def step(self, t: float, h: float, snapshot=None) -> int:
+        return self._current.step(t, h, snapshot)
+
+    @staticmethod
+    def at_rest(system: CoSystem, t0: float, h: float) -> None:
+        """Give every connection a past at rest (its value at t0 also at t0 - H and t0 - 2 H)."""
+        for g in system.links:
+            t, u = g.history[-1]
+            g.history[:] = [(t - 2 * h, u), (t - h, u), (t, u)]
+        system.exchange(t0)
+
+
+def make_algorithm(system: CoSystem, s) -> Algorithm:
+    """The algorithm ``s`` (the run's :class:`~.run.Settings`) names, with its start-up."""
+    from .waveform import WaveformIterative
+
+    if s.algorithm == "jacobi":
+        algo = Jacobi(system)
+    elif s.algorithm == "gauss-seidel":
+        algo = GaussSeidel(system, s.order)
+    elif s.substeps > 1:
+        return WaveformIterative(system, s.substeps, tolerance=s.coupling_tolerance,
+                                 max_iterations=s.max_iterations, accelerator=s.accelerator)
+    else:
+        return Iterative(system, degree=max(1, s.extrapolation), tolerance=s.coupling_tolerance,
+                         max_iterations=s.max_iterations, accelerator=s.accelerator)
+    p = s.extrapolation
+    if p == 0:
+        return algo
+    if system.can_rollback:
+        return StartUp(system, algo, p, s.coupling_tolerance, s.max_iterations)
+    StartUp.at_rest(system, s.start_time, s.step_size)
+    return algo
