@@ -116,3 +116,27 @@ def test_every_algorithm_implements_the_one_interface():
         assert issubclass(cls, Algorithm)
     with pytest.raises(TypeError):
         type("Missing", (Algorithm,), {"name": "x", "needs_snapshot": False})()   # no step(): refused
+
+
+def test_jacobi_plain_lags_a_feedthrough_output_by_one_step(oscillator_ssp):
+    """libcosim's plain Jacobi reads each output once, right after the step: the massless spring's
+    force F = -kc x_in (direct feedthrough of the mass position) then still holds the position it was
+    fed over the step, x(t - H); Jacobi x0 reads it again after the new position is set: -kc x(t)."""
+    from cranefmu.master.run import run
+    kc, h = 100.0, 0.01
+    p = {"spring.m": 0.0, "spring.kc": kc, "mass.x0": 0.1}
+    plain = run(oscillator_ssp, stop_time=0.5, step_size=h, algorithm="jacobi-plain", parameters=p).result
+    fresh = run(oscillator_ssp, stop_time=0.5, step_size=h, algorithm="jacobi", parameters=p).result
+    x, scale = plain["mass.x"], kc * 0.1
+    assert np.max(np.abs(plain["spring.F"][1:] + kc * x[:-1])) < 1e-12 * scale       # one step late
+    assert np.max(np.abs(plain["spring.F"][1:] + kc * x[1:])) > 1e-3 * scale
+    assert np.max(np.abs(fresh["spring.F"] + kc * fresh["mass.x"])) < 1e-12 * scale  # same instant
+    # the mass is fed a force one step older: its motion is not the same as Jacobi x0's
+    assert np.max(np.abs(plain["mass.x"] - fresh["mass.x"])) > 1e-4
+
+
+def test_jacobi_plain_refuses_extrapolation(oscillator_ssp):
+    from cranefmu.errors import SettingsError
+    from cranefmu.master.run import run
+    with pytest.raises(SettingsError, match="extrapolation = 1 is not allowed with algorithm = 'jacobi-plain'"):
+        run(oscillator_ssp, stop_time=0.1, step_size=0.01, algorithm="jacobi-plain", extrapolation=1)

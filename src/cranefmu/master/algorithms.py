@@ -7,6 +7,8 @@ number of coupling iterations it took (1 for the explicit schemes).  :func:`make
 the one a run's settings name (:data:`ALGORITHMS`), with its start-up (:class:`StartUp`).
 
 - Jacobi: every FMU steps with its inputs extrapolated from the past (order 0, 1, 2).
+- Plain Jacobi ("jacobi-plain"): libcosim's fixed-step algorithm (zero-order hold, outputs read
+  once right after the step, no re-read of direct-feedthrough outputs).
 - Gauss-Seidel: FMUs step one after another; an input whose source already stepped follows the
   polynomial through the past values and the source's new value (interpolation).
 - Iterative (strong coupling): the step is repeated from the snapshot until the coupling values at
@@ -21,11 +23,11 @@ import numpy as np
 
 from .acceleration import ACCELERATORS
 from .coupling import InputGroup, feedthrough, rates
-from ..errors import SimulationError
+from ..errors import SettingsError, SimulationError
 from .residual import CouplingCriterion
 from .system import CoSystem
 
-ALGORITHMS = ("jacobi", "gauss-seidel", "iterative")
+ALGORITHMS = ("jacobi", "gauss-seidel", "iterative", "jacobi-plain")
 
 
 class Algorithm(ABC):
@@ -49,11 +51,44 @@ class Jacobi(Algorithm):
         self.index = range(len(system.comps))
 
     def step(self, t: float, h: float, snapshot=None) -> int:
+        self._step_all(t, h)
+        self.system.exchange(t + h)
+        return 1
+
+    def _step_all(self, t: float, h: float) -> None:
         s = self.system
         for i in self.index:
             s.do_step(i, t, h)
         s.capture_input_ends(h)
-        s.exchange(t + h)
+
+
+class PlainJacobi(Jacobi):
+    """libcosim's fixed-step Jacobi (``cosim::fixed_step_algorithm``), reproduced: every FMU steps,
+    then every connected output is read once, right after the step, and set into its inputs as a
+    zero-order hold over the next step.
+
+    The difference from :class:`Jacobi` (feedthrough-aware): there an output that depends directly on
+    its FMU's inputs (a rope force on the hook position it is fed) is read again after those inputs
+    were set, so it carries the partner's new value.  Here it is read before: such a force arrives one
+    macro step late (a lag of H on top of the zero-order hold; measured in tests/test_master_loop.py).
+    The recorded row holds the outputs as read right after the step, as libcosim's observers see them.
+    """
+
+    name = "jacobi-plain"
+
+    def step(self, t: float, h: float, snapshot=None) -> int:
+        self._step_all(t, h)
+        s = self.system
+        for i in self.index:                   # every output once, right after the step
+            s.read(i)
+        values = [s.pull(g) for g in s.links]
+        for g, value in zip(s.links, values):
+            s.record_history(g, t + h, value)
+            s.push(g, value, g.zero, g.zero)
+        for comp in s.comps:   # the row shows what was read right after the step, as libcosim's observers
+            comp.fresh = True
+        if values:
+            np.maximum(s.scale, np.abs(np.concatenate(values)), out=s.scale)
         return 1
 
 
@@ -67,7 +102,6 @@ class GaussSeidel(Algorithm):
             names = [c.name for c in system.comps]
             unknown = [n for n in order if n not in names]
             if unknown or sorted(order) != sorted(names):
-                from ..errors import SettingsError
                 raise SettingsError(f"gauss-seidel order {order!r} is not allowed: a permutation of "
                                     f"{', '.join(names)}")
             self.order = [names.index(n) for n in order]
@@ -253,6 +287,11 @@ def make_algorithm(system: CoSystem, s) -> Algorithm:
     """The algorithm ``s`` (the run's :class:`~.run.Settings`) names, with its start-up."""
     from .waveform import WaveformIterative
 
+    if s.algorithm == "jacobi-plain":
+        if s.extrapolation != 0:
+            raise SettingsError(f"extrapolation = {s.extrapolation!r} is not allowed with algorithm = 'jacobi-plain' "
+                                "(libcosim's zero-order hold): use 0, or algorithm 'jacobi'")
+        return PlainJacobi(system)
     if s.algorithm == "jacobi":
         algo = Jacobi(system)
     elif s.algorithm == "gauss-seidel":
