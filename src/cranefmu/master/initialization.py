@@ -64,10 +64,6 @@ def settle(system: CoSystem, t: float, tolerance: float, max_iterations: int) ->
     return used
 
 
-def _slices(system: CoSystem, members: list[int]) -> list[slice]:
-    return [system.slices[i] for i in members]
-
-
 def _values(system: CoSystem, members: list[int]) -> np.ndarray:
     """What the member connections currently carry (pulled now)."""
     return np.concatenate([system.pull(system.links[i]) for i in members])
