@@ -147,7 +147,7 @@ class Iterative(Algorithm):
     name = "iterative"
     needs_snapshot = True
 
-    def __init__(self, system: CoSystem, degree: int = 2, tolerance: float = 1e-10, max_iterations: int = 50,
+    def __init__(self, system: CoSystem, degree: int, tolerance: float, max_iterations: int,
                  accelerator: str = "iqn-ils"):
         self.system = system
         self.degree = degree

@@ -55,8 +55,8 @@ class WaveformIterative(Iterative):
     name = "iterative"
     needs_snapshot = True
 
-    def __init__(self, system: CoSystem, substeps: int, degree: int = 5, tolerance: float = 1e-10,
-                 max_iterations: int = 50, accelerator: str = "iqn-ils"):
+    def __init__(self, system: CoSystem, substeps: int, tolerance: float, max_iterations: int,
+                 accelerator: str, degree: int = 5):
         super().__init__(system, degree=degree, tolerance=tolerance, max_iterations=max_iterations,
                          accelerator=accelerator)
         self.m = substeps
