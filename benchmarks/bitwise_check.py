@@ -35,7 +35,9 @@ EXTRA = {"elastic_pendulum/waveform_m2": dict(algorithm="iterative", extrapolati
          "overhead_lift/adaptive_stop_when_lifted": dict(algorithm="jacobi", extrapolation=1, adaptive=True,
                                                          stop_when=["pendulum.lifted"]),
          "elastic_pendulum/energy_alarm": dict(algorithm="jacobi", extrapolation=0, energy_alarm=1e-12),
-         "hook_sway/no_alarm_x1": dict(algorithm="jacobi", extrapolation=1, instability_alarm=False)}
+         "hook_sway/no_alarm_x1": dict(algorithm="jacobi", extrapolation=1, instability_alarm=False),
+         "hook_sway/jacobi-plain": dict(algorithm="jacobi-plain", extrapolation=0),
+         "truck_telescope/jacobi-plain": dict(algorithm="jacobi-plain", extrapolation=0)}
 
 
 def check_runs() -> dict[str, tuple[str, dict]]:
