@@ -79,3 +79,18 @@ def test_strongly_connected_blocks_in_dependency_order():
     pos = {tuple(b): i for i, b in enumerate(blocks)}
     assert pos[(3,)] < pos[(1, 2)] < pos[(0,)]
     assert is_loop([1, 2], graph) and is_loop([4], graph) and not is_loop([0], graph)
+
+
+def test_topological_order_and_the_loop_it_refuses():
+    """One graph representation for the step's orders too: dependencies first; a loop is reported as
+    a closed path through it."""
+    from cranefmu.master.graph import DependencyLoop, topological_order
+    graph = {0: set(), 1: {0}, 2: {1, 0}, 3: {0}}
+    order = topological_order(graph)
+    assert sorted(order) == [0, 1, 2, 3]
+    assert all(order.index(d) < order.index(n) for n, deps in graph.items() for d in deps)
+    with pytest.raises(DependencyLoop) as info:
+        topological_order({0: set(), 1: {0, 3}, 2: {1}, 3: {2}})
+    cycle = info.value.cycle
+    assert cycle[0] == cycle[-1] and sorted(set(cycle)) == [1, 2, 3]
+    assert all(cycle[i + 1] in {0: set(), 1: {0, 3}, 2: {1}, 3: {2}}[cycle[i]] for i in range(len(cycle) - 1))

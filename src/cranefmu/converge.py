@@ -9,7 +9,6 @@ Observed order between neighbours i, i+1 (derived): p = ln(e_i / e_{i+1}) / ln(H
 from __future__ import annotations
 
 import csv
-import inspect
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -94,13 +93,12 @@ def parse_numbers(text: str, what: str) -> list[float]:
 
 def check_settings(steps: list[float], tolerances: list[float], algorithm: str, extrapolation: int,
                    reference: str, target: float, stop_time: float | None) -> None:
-    from .master import run as master_run
+    from .master.algorithms import ALGORITHMS
 
     if not steps and not tolerances:
         raise SettingsError("no runs asked for: give --steps and/or --tolerances")
-    algorithms = getattr(master_run, "ALGORITHMS", ("jacobi", "gauss-seidel"))
-    if algorithm not in algorithms:
-        raise SettingsError(f"algorithm = {algorithm!r} is not allowed: one of {', '.join(algorithms)}")
+    if algorithm not in ALGORITHMS:
+        raise SettingsError(f"algorithm = {algorithm!r} is not allowed: one of {', '.join(ALGORITHMS)}")
     if extrapolation not in (0, 1, 2):
         raise SettingsError(f"extrapolation = {extrapolation!r} is not allowed: 0, 1 or 2")
     if reference not in REFERENCES:
@@ -109,16 +107,6 @@ def check_settings(steps: list[float], tolerances: list[float], algorithm: str, 
         raise SettingsError(f"target = {target!r} is not allowed: a relative error > 0, e.g. 1e-2")
     if stop_time is not None and not (math.isfinite(stop_time) and stop_time > 0):
         raise SettingsError(f"stop_time = {stop_time!r} is not allowed: a finite number of seconds > 0")
-    if tolerances and not master_supports_adaptive():
-        raise SettingsError(f"tolerances = {tolerances} are not allowed yet: the master has no adaptive step "
-                            "(run() takes no adaptive=/tolerance=); use --steps")
-
-
-def master_supports_adaptive() -> bool:
-    from .master.run import run
-
-    params = inspect.signature(run).parameters
-    return "adaptive" in params and "tolerance" in params
 
 
 def key_outputs(scene: str) -> tuple[str, ...]:
@@ -133,14 +121,8 @@ def key_outputs(scene: str) -> tuple[str, ...]:
 
 # --- runs and reference ---------------------------------------------------------------------------
 def energy_residual(stats) -> float | None:
-    """Sum of the power bonds' total energy residuals [J] from the run statistics, if the master logs them."""
-    for name in ("bond_energy", "bond_residuals", "energy_residual", "bonds"):
-        value = getattr(stats, name, None)
-        if isinstance(value, dict) and value:
-            return float(sum(abs(float(v)) for v in value.values()))
-        if isinstance(value, (int, float)):
-            return float(value)
-    return None
+    """Sum of the power bonds' total energy residuals [J] (None for a scene without power bonds)."""
+    return float(sum(abs(v) for v in stats.bond_energy.values())) if stats.bond_energy else None
 
 
 def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: float | None, algorithm: str,
@@ -162,7 +144,7 @@ def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: f
     st = res.stats
     t = res.result["time"]
     row.steps = int(st.steps)
-    row.rejections = getattr(st, "rejections", None)
+    row.rejections = st.rejections
     row.wall_time = float(st.wall_time)
     row.simulated = float(t[-1] - t[0]) if len(t) else 0.0
     row.energy_residual = energy_residual(st)
@@ -171,20 +153,11 @@ def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: f
 
 def monolithic_reference(scene: str, stop_time: float, times: np.ndarray, parameter_set: str | None = None,
                          parameters: dict | None = None, rtol: float = 1e-10) -> dict[str, np.ndarray]:
-    """The scene's monolithic solve at ``times`` (``reference.solve`` when it exists)."""
-    from . import reference
+    """The scene's monolithic solve at ``times`` (:func:`cranefmu.reference.solve`)."""
+    from .reference import solve
 
-    if hasattr(reference, "solve"):
-        return reference.solve(scene, stop_time, times, parameter_set=parameter_set or "default",
-                               parameters=parameters, rtol=rtol)
-    if scene == "elastic_pendulum":
-        if parameter_set not in (None, "default"):
-            raise SettingsError(f"parameter_set = {parameter_set!r} is not allowed with the monolithic reference "
-                                "of elastic_pendulum: only the default set (or --reference finest)")
-        return reference.elastic_pendulum(stop_time, times, overrides=parameters, rtol=rtol,
-                                          atol=min(1e-12, rtol * 1e-2))
-    raise SettingsError(f"reference = 'monolithic' is not available for scene {scene!r} "
-                        "(cranefmu.reference has no solve for it): use --reference finest")
+    return solve(scene, stop_time, times, parameter_set=parameter_set or "default", parameters=parameters,
+                 rtol=rtol)
 
 
 def measure(run: ConvergenceRun, result: np.ndarray, ref_at: dict[str, np.ndarray], keys: tuple[str, ...]) -> None:

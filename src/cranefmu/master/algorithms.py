@@ -1,10 +1,14 @@
 """Coupling algorithms: how the FMUs of a :class:`~.system.CoSystem` step over one macro step.
 
-Each ``step(t, h, snapshot)`` advances every FMU from t to t + h, leaves the coupling values at
-t + h exchanged (and the inputs fed for the next step), and returns the number of coupling
-iterations it took (1 for the explicit schemes).
+Every algorithm implements :class:`Algorithm` (libcosim's algorithm, scipy's OdeSolver: one
+contract for every method): ``step(t, h, snapshot)`` advances every FMU from t to t + h, leaves
+the coupling values at t + h exchanged (and the inputs fed for the next step), and returns the
+number of coupling iterations it took (1 for the explicit schemes).  :func:`make_algorithm` builds
+the one a run's settings name (:data:`ALGORITHMS`), with its start-up (:class:`StartUp`).
 
 - Jacobi: every FMU steps with its inputs extrapolated from the past (order 0, 1, 2).
+- Plain Jacobi ("jacobi-plain"): libcosim's fixed-step algorithm (zero-order hold, outputs read
+  once right after the step, no re-read of direct-feedthrough outputs).
 - Gauss-Seidel: FMUs step one after another; an input whose source already stepped follows the
   polynomial through the past values and the source's new value (interpolation).
 - Iterative (strong coupling): the step is repeated from the snapshot until the coupling values at
@@ -13,24 +17,32 @@ iterations it took (1 for the explicit schemes).
 """
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
+
 import numpy as np
 
 from .acceleration import ACCELERATORS
 from .coupling import InputGroup, feedthrough, rates
-from ..errors import SimulationError
-from .residual import relative_residual
+from ..errors import SettingsError, SimulationError
+from .residual import CouplingCriterion
 from .system import CoSystem
 
-# A fixed-point map evaluated through FMUs is not exact: round-off, and the quasi-Newton update
-# near convergence, leave its change at a noise level (measured on truck_telescope's start-up:
-# 2e-13 of the forces, 4e-9 of a hook velocity of 2e-6 m/s, never below).  A residual that has
-# stopped falling (not halved in STALL iterations) while every value changes by less than NOISE
-# of its size is that noise: the step counts as converged.
-STALL = 5
-NOISE = 1e-8
+ALGORITHMS = ("jacobi", "gauss-seidel", "iterative", "jacobi-plain")
 
 
-class Jacobi:
+class Algorithm(ABC):
+    """How the FMUs step over one macro step, and when values move between them."""
+
+    name: str
+    needs_snapshot: bool   # step() rolls the FMUs back to ``snapshot`` (taken before the step)
+    estimable = True       # this step's coupling error may be estimated (by the step controller)
+
+    @abstractmethod
+    def step(self, t: float, h: float, snapshot=None) -> int:
+        """Advance every FMU from t to t + h [s]; return the coupling iterations taken."""
+
+
+class Jacobi(Algorithm):
     name = "jacobi"
     needs_snapshot = False
 
@@ -39,15 +51,48 @@ class Jacobi:
         self.index = range(len(system.comps))
 
     def step(self, t: float, h: float, snapshot=None) -> int:
+        self._step_all(t, h)
+        self.system.exchange(t + h)
+        return 1
+
+    def _step_all(self, t: float, h: float) -> None:
         s = self.system
         for i in self.index:
             s.do_step(i, t, h)
         s.capture_input_ends(h)
-        s.exchange(t + h)
+
+
+class PlainJacobi(Jacobi):
+    """libcosim's fixed-step Jacobi (``cosim::fixed_step_algorithm``), reproduced: every FMU steps,
+    then every connected output is read once, right after the step, and set into its inputs as a
+    zero-order hold over the next step.
+
+    The difference from :class:`Jacobi` (feedthrough-aware): there an output that depends directly on
+    its FMU's inputs (a rope force on the hook position it is fed) is read again after those inputs
+    were set, so it carries the partner's new value.  Here it is read before: such a force arrives one
+    macro step late (a lag of H on top of the zero-order hold; measured in tests/test_master_loop.py).
+    The recorded row holds the outputs as read right after the step, as libcosim's observers see them.
+    """
+
+    name = "jacobi-plain"
+
+    def step(self, t: float, h: float, snapshot=None) -> int:
+        self._step_all(t, h)
+        s = self.system
+        for i in self.index:                   # every output once, right after the step
+            s.read(i)
+        values = [s.pull(g) for g in s.links]
+        for g, value in zip(s.links, values):
+            s.record_history(g, t + h, value)
+            s.push(g, value, g.zero, g.zero)
+        for comp in s.comps:   # the row shows what was read right after the step, as libcosim's observers
+            comp.fresh = True
+        if values:
+            np.maximum(s.scale, np.abs(np.concatenate(values)), out=s.scale)
         return 1
 
 
-class GaussSeidel:
+class GaussSeidel(Algorithm):
     name = "gauss-seidel"
     needs_snapshot = False
 
@@ -57,7 +102,6 @@ class GaussSeidel:
             names = [c.name for c in system.comps]
             unknown = [n for n in order if n not in names]
             if unknown or sorted(order) != sorted(names):
-                from ..errors import SettingsError
                 raise SettingsError(f"gauss-seidel order {order!r} is not allowed: a permutation of "
                                     f"{', '.join(names)}")
             self.order = [names.index(n) for n in order]
@@ -97,13 +141,13 @@ class GaussSeidel:
         s.push(g, g.history[-1][1], d1, d2)
 
 
-class Iterative:
+class Iterative(Algorithm):
     """Strong coupling by fixed-point iteration on the coupling values at the end of the step."""
 
     name = "iterative"
     needs_snapshot = True
 
-    def __init__(self, system: CoSystem, degree: int = 2, tolerance: float = 1e-10, max_iterations: int = 50,
+    def __init__(self, system: CoSystem, degree: int, tolerance: float, max_iterations: int,
                  accelerator: str = "iqn-ils"):
         self.system = system
         self.degree = degree
@@ -111,7 +155,7 @@ class Iterative:
         self.max_iterations = max_iterations
         self.acc = ACCELERATORS[accelerator]()
         self.index = range(len(system.comps))
-        self.last_residual = 0.0
+        self.criterion = CouplingCriterion(tolerance, _nominals(system))
 
     def _feed(self, t: float, h: float, u: np.ndarray) -> None:
         s = self.system
@@ -138,42 +182,130 @@ class Iterative:
         s = self.system
         return np.maximum(s.scale, 1e-12 * max(1.0, float(np.max(s.scale, initial=0.0))))
 
-    @staticmethod
-    def _residual(u: np.ndarray, gu: np.ndarray, scale: np.ndarray) -> tuple[float, int]:
-        """(largest change relative to each variable's size so far or now, its index); a value
-        starting from exactly 0 too (``scale`` carries the floor, see :meth:`_scale`)."""
-        return relative_residual(u, gu, np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu)), 0.0)
+    def _converged(self, u: np.ndarray, gu: np.ndarray, scale: np.ndarray, errors: list[float],
+                   reps: int = 1) -> tuple[bool, int]:
+        """(has the iteration converged, index of the worst value): the criterion's error <= 1, or a
+        stall at the map's noise (see :class:`~.residual.CouplingCriterion`); each value's size is its
+        magnitude so far or now (``scale`` carries a floor so that a value starting from exactly 0 has
+        a size, see :meth:`_scale`).  A non-finite error raises at once."""
+        size = np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu))
+        err, worst = self.criterion.error(u, gu, size, reps)
+        if not np.isfinite(err):
+            raise self._not_converged(len(errors) + 1, u, gu, scale, worst)
+        errors.append(err)
+        return err <= 1.0 or self.criterion.stalled(errors, u, gu, size), worst
 
-    def _not_converged(self, t: float, h: float, k: int, res: float, worst: int) -> SimulationError:
-        s = self.system
-        name = s.variable_names[worst] if s.variable_names else "?"
+    def _not_converged(self, k: int, u: np.ndarray, gu: np.ndarray, scale: np.ndarray,
+                       worst: int) -> SimulationError:
+        s, (t, h) = self.system, self.span
+        n = max(s.n_coupling, 1)
+        name = s.variable_names[worst % n] if s.variable_names else "?"
+        size = max(scale[worst], abs(u[worst]), abs(gu[worst]))
+        change = abs(gu[worst] - u[worst])
         return SimulationError(f"iterative coupling did not converge in the step from t = {t:.9g} s (H = {h:.3g} s): "
-                               f"after {k} iterations connection {name} still changes by {res:.3g} relative to its "
-                               f"size (tolerance {self.tolerance:g}). Try a smaller --step, or --adaptive.")
+                               f"after {k} iterations connection {name} still changes by {change:.3g} "
+                               f"({change / size:.3g} relative to its size {size:.3g}; allowed: tolerance "
+                               f"{self.tolerance:g} relative + {self.criterion.floor[worst % n]:.3g} absolute). "
+                               "Try a smaller --step, or --adaptive.")
 
     def step(self, t: float, h: float, snapshot=None) -> int:
         s = self.system
         u = s.predicted(t, h, order=min(self.degree, 2))
         scale = self._scale()
+        self.criterion.start(s.coupling_values())
         self.acc.start_step()
-        res, worst = np.inf, 0
-        history: list[float] = []
+        self.span, errors = (t, h), []
         for k in range(1, self.max_iterations + 1):
             if k > 1:
                 s.restore(snapshot)
+                u = scale * self.acc.next(u / scale, gu / scale)
             self._feed(t, h, u)
             for i in self.index:
                 s.do_step(i, t, h)
             s.capture_input_ends(h)
             gu = self._image(t + h)
-            res, worst = self._residual(u, gu, scale)
-            if not np.isfinite(res):
-                break
-            history.append(res)
-            if res <= self.tolerance or (res * self.tolerance <= NOISE and k > STALL
-                                         and res > 0.5 * min(history[:-STALL])):
-                self.last_residual = res
+            done, worst = self._converged(u, gu, scale, errors)
+            if done:
                 s.exchange(t + h)
                 return k
-            u = scale * self.acc.next(u / scale, gu / scale)
-        raise self._not_converged(t, h, k, res, worst)
+        raise self._not_converged(k, u, gu, scale, worst)
+
+
+def _nominals(system: CoSystem) -> np.ndarray:
+    """Per coupling variable, the nominal its source output declares (times the connection's
+    factor), NaN where none is declared."""
+    out = []
+    for g in system.links:
+        by_vr = {v.valueReference: v for v in system.comps[g.src].md.modelVariables}
+        for vr, factor in zip(g.src_vrs, g.factor):
+            nominal = by_vr[vr].nominal
+            out.append(abs(float(nominal) * factor) if nominal is not None else np.nan)
+    return np.array(out)
+
+
+class StartUp(Algorithm):
+    """``main`` after a start-up of ``p`` steps (its extrapolation order).
+
+    An explicit scheme of extrapolation order p needs p past values: its first p accepted steps
+    are taken with iterative coupling (degree p), so the extrapolation starts from exact past
+    values and the order is kept.  FMUs that cannot roll back start from a past at rest instead:
+    each connection's history holds its start value at t0 - 2 H, t0 - H and t0 (see :meth:`at_rest`).
+    """
+
+    def __init__(self, system: CoSystem, main: Algorithm, p: int, coupling_tolerance: float,
+                 max_iterations: int):
+        self.system, self.main, self.p = system, main, p
+        self.name = main.name
+        self.first = Iterative(system, degree=p, tolerance=min(coupling_tolerance, 1e-10),
+                               max_iterations=max(max_iterations, 50))
+
+    @property
+    def _current(self) -> Algorithm:
+        return self.first if self.system.stats.steps < self.p else self.main
+
+    @property
+    def needs_snapshot(self) -> bool:
+        return self._current.needs_snapshot
+
+    @property
+    def estimable(self) -> bool:
+        return self._current is self.main
+
+    def step(self, t: float, h: float, snapshot=None) -> int:
+        return self._current.step(t, h, snapshot)
+
+    @staticmethod
+    def at_rest(system: CoSystem, t0: float, h: float) -> None:
+        """Give every connection a past at rest (its value at t0 also at t0 - H and t0 - 2 H)."""
+        for g in system.links:
+            t, u = g.history[-1]
+            g.history[:] = [(t - 2 * h, u), (t - h, u), (t, u)]
+        system.exchange(t0)
+
+
+def make_algorithm(system: CoSystem, s) -> Algorithm:
+    """The algorithm ``s`` (the run's :class:`~.run.Settings`) names, with its start-up."""
+    from .waveform import WaveformIterative
+
+    if s.algorithm == "jacobi-plain":
+        if s.extrapolation != 0:
+            raise SettingsError(f"extrapolation = {s.extrapolation!r} is not allowed with algorithm = 'jacobi-plain' "
+                                "(libcosim's zero-order hold): use 0, or algorithm 'jacobi'")
+        return PlainJacobi(system)
+    if s.algorithm == "jacobi":
+        algo = Jacobi(system)
+    elif s.algorithm == "gauss-seidel":
+        algo = GaussSeidel(system, s.order)
+    elif s.substeps > 1:
+        return WaveformIterative(system, s.substeps, tolerance=s.coupling_tolerance,
+                                 max_iterations=s.max_iterations, accelerator=s.accelerator)
+    else:
+        return Iterative(system, degree=max(1, s.extrapolation), tolerance=s.coupling_tolerance,
+                         max_iterations=s.max_iterations, accelerator=s.accelerator)
+    p = s.extrapolation
+    if p == 0:
+        return algo
+    if system.can_rollback:
+        return StartUp(system, algo, p, s.coupling_tolerance, s.max_iterations)
+    StartUp.at_rest(system, s.start_time, s.step_size)
+    return algo

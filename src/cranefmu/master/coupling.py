@@ -8,12 +8,12 @@ an algebraic loop.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from graphlib import CycleError, TopologicalSorter
 
 import numpy as np
 
 from ..errors import SceneError
 from .fmu import FmuComponent
+from .graph import DependencyLoop, topological_order
 from .scene import ConnectionSpec
 
 
@@ -114,9 +114,9 @@ def visit_order(comps: list[FmuComponent], connections: list[ConnectionSpec]) ->
         if ft[s].get(c.src_var):
             graph[d].add(s)
     try:
-        order = list(TopologicalSorter(graph).static_order())
-    except CycleError as err:
-        names = " -> ".join(comps[i].name for i in err.args[1])
+        order = topological_order(graph)
+    except DependencyLoop as err:
+        names = " -> ".join(comps[i].name for i in err.cycle)
         raise SceneError(f"algebraic loop through direct feedthrough: {names}; break it with a component that "
                          "has internal state, or remove a connection") from None
     return order
@@ -124,7 +124,7 @@ def visit_order(comps: list[FmuComponent], connections: list[ConnectionSpec]) ->
 
 def exchange_order(comps: list[FmuComponent], groups: list[InputGroup]) -> list[InputGroup]:
     """The groups in an order where each is read only after every input its outputs depend on
-    directly was set (variable-level feedthrough).  Raises CycleError for a loop among the groups."""
+    directly was set (variable-level feedthrough).  Raises DependencyLoop for a loop among the groups."""
     ft = [feedthrough(c) for c in comps]
     feeder = {(g.dst, n): i for i, g in enumerate(groups) for n in g.dst_names}
     graph: dict[int, set[int]] = {i: set() for i in range(len(groups))}
@@ -133,7 +133,7 @@ def exchange_order(comps: list[FmuComponent], groups: list[InputGroup]) -> list[
             for inp in ft[g.src].get(out, ()):
                 if (g.src, inp) in feeder:
                     graph[i].add(feeder[(g.src, inp)])
-    return [groups[i] for i in TopologicalSorter(graph).static_order()]
+    return [groups[i] for i in topological_order(graph)]
 
 
 def ordered_links(comps: list[FmuComponent], connections: list[ConnectionSpec]
@@ -146,8 +146,8 @@ def ordered_links(comps: list[FmuComponent], connections: list[ConnectionSpec]
         flat = [g for gs in groups for g in gs]
         try:
             return groups, exchange_order(comps, flat)
-        except CycleError as err:
-            cycle = err.args[1]
+        except DependencyLoop as err:
+            cycle = err.cycle
     names = " -> ".join(comps[flat[i].src].name for i in cycle)
     via = ", ".join(f"{comps[flat[i].src].name}.{flat[i].src_names[0]} -> {comps[flat[i].dst].name}."
                     f"{flat[i].dst_names[0]}" for i in cycle[:-1])

@@ -53,11 +53,12 @@ only 3. touches the coupling vector with numpy.
 """
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+
+from ..errors import SimulationError
 
 LEVELS = 9   # block lengths 1 ... 256 steps
 
@@ -209,6 +210,15 @@ class Watch:
         self.imbalance = ImbalanceAlarm(n) if n else None
         self.increments = IncrementAlarm(system.n_coupling) if not n and system.n_coupling else None
 
+    def simulation_initialized(self, t: float, values) -> None:
+        return None
+
+    def step_complete(self, t: float, h: float, values) -> None:
+        """Raise the alarm (a :class:`~cranefmu.errors.SimulationError`) if the step shows instability."""
+        alarm = self.update(t, h)
+        if alarm is not None:
+            raise SimulationError(alarm)
+
     def update(self, t: float, h: float) -> str | None:
         b = self.bonds
         if self.growth is not None:
@@ -234,3 +244,35 @@ class Watch:
                         f"steps, by t = {t:.9g} s ({g.per_step():.4g} per step, geometric): the explicit coupling "
                         "is unstable at this step size. " + ADVICE)
         return None
+
+
+class ValueCheck:
+    """Fails the run on a non-finite value or a power bond over its energy alarm [J] (None: no
+    alarm), naming what and where."""
+
+    def __init__(self, system, bonds, energy_alarm: float | None):
+        self.system, self.bonds, self.energy_alarm = system, bonds, energy_alarm
+
+    def simulation_initialized(self, t: float, values: np.ndarray) -> None:
+        return None
+
+    def step_complete(self, t: float, h: float, row: np.ndarray) -> None:
+        system, bonds = self.system, self.bonds
+        if not np.all(np.isfinite(row)):
+            i = int(np.flatnonzero(~np.isfinite(row))[0])
+            names = system.columns + bonds.columns
+            n = len(system.columns)
+            what = (f"component {names[i].partition('.')[0]}, variable {names[i].partition('.')[2]}" if i < n
+                    else f"the energy residual of power bond {bonds.names[(i - n) // 2]}")
+            big = np.abs(row[:n])
+            j = int(np.argmax(np.where(np.isfinite(big), big, -1.0)))
+            grown = f" ({names[j]} = {row[j]:.3g})" if i >= n else ""
+            raise SimulationError(f"{what} became non-finite at t = {t:.9g} s{grown}: the coupling is unstable at "
+                                  "this step size. Try a smaller --step, --adaptive, or --algorithm iterative.")
+        if self.energy_alarm is not None and bonds.bonds:
+            k = int(np.argmax(bonds.total))
+            if bonds.total[k] > self.energy_alarm:
+                raise SimulationError(f"power bond {bonds.names[k]} has put {bonds.total[k]:.6g} J of coupling error "
+                                      f"into the scene by t = {t:.9g} s (energy alarm {self.energy_alarm:g} J): the "
+                                      "coupling is unstable or too coarse. Try a smaller --step, --adaptive, or "
+                                      "--algorithm iterative.")

@@ -1,5 +1,9 @@
-"""Dependency graph of the initialization: which components' values must be settled before which,
-and which strongly connected groups must be iterated together.
+"""Dependency graphs, one representation for every use: ``graph[d]`` = the nodes d depends on.
+
+Strongly connected blocks (Tarjan) give both the initialization's plan (which components' values
+must be settled before which, and which groups must be iterated together) and the step's orders
+(:func:`topological_order`, used by :mod:`.coupling` for the visit and exchange order, where a
+block of more than one node is an algebraic loop).
 
 A connection src -> dst makes dst's inputs depend on src's output; that output depends on src's
 inputs at initialization if the FMU says so (ModelStructure/InitialUnknowns; an output not
@@ -82,3 +86,59 @@ def strongly_connected(graph: dict[int, set[int]]) -> list[list[int]]:
 
 def is_loop(block: list[int], graph: dict[int, set[int]]) -> bool:
     return len(block) > 1 or block[0] in graph[block[0]]
+
+
+class DependencyLoop(Exception):
+    """A loop in a graph that must have none; ``cycle`` lists its nodes, the first repeated last."""
+
+    def __init__(self, cycle: list[int]):
+        super().__init__(cycle)
+        self.cycle = cycle
+
+
+def topological_order(graph: dict[int, set[int]]) -> list[int]:
+    """Every node after the nodes it depends on (Kahn: the ready nodes in rounds, each round in the
+    order the nodes were first named, as ``graphlib.TopologicalSorter.static_order``, so the exchange
+    order is the one every earlier result was computed with); :class:`DependencyLoop` for a loop."""
+    waiting: dict[int, int] = {}
+    needed_by: dict[int, list[int]] = {}
+    for node, deps in graph.items():
+        waiting[node] = waiting.get(node, 0) + len(deps)
+        needed_by.setdefault(node, [])
+        for dep in deps:
+            waiting.setdefault(dep, 0)
+            needed_by.setdefault(dep, []).append(node)
+    order, ready = [], [n for n, count in waiting.items() if count == 0]
+    while ready:
+        order += ready
+        fresh = []
+        for node in ready:
+            for later in needed_by[node]:
+                waiting[later] -= 1
+                if waiting[later] == 0:
+                    fresh.append(later)
+        ready = fresh
+    if len(order) < len(waiting):
+        left = set(waiting) - set(order)
+        rest = {n: graph.get(n, set()) & left for n in left}
+        block = next(b for b in strongly_connected(rest) if is_loop(b, rest))
+        raise DependencyLoop(_cycle(block, graph))
+    return order
+
+
+def _cycle(block: list[int], graph: dict[int, set[int]]) -> list[int]:
+    """A closed path through the loop ``block`` starting at its first node (depth first)."""
+    members, start = set(block), block[0]
+    path, seen = [start], {start}
+    while True:
+        nxt = sorted(graph[path[-1]] & members)
+        if start in nxt and (len(path) > 1 or start in graph[start]):
+            return path + [start]
+        step = next((w for w in nxt if w not in seen), None)
+        if step is None:           # a dead end inside the block: back up
+            path.pop()
+            if not path:
+                return [start, start]
+            continue
+        seen.add(step)
+        path.append(step)

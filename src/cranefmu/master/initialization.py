@@ -17,13 +17,13 @@ from .graph import component_graph, is_loop, strongly_connected
 from .residual import relative_residual
 from .system import CoSystem
 
-TOLERANCE = 1e-10
 MAX_ITERATIONS = 200
 
 
-def initialize(system: CoSystem, start_time: float, overrides: dict, tolerance: float = TOLERANCE,
+def initialize(system: CoSystem, start_time: float, overrides: dict, tolerance: float,
                max_iterations: int = MAX_ITERATIONS) -> int:
-    """Bring every FMU to the start of the run; returns the number of exchanges used."""
+    """Bring every FMU to the start of the run; returns the number of exchanges used.  ``tolerance``:
+    the run's ``init_tolerance`` (its default lives in :class:`~.run.Settings`, the one place)."""
     for comp in system.comps:
         comp.instantiate()
         comp.fmu.setupExperiment(startTime=start_time)
@@ -62,10 +62,6 @@ def settle(system: CoSystem, t: float, tolerance: float, max_iterations: int) ->
     if _residual(system, everything, u, gu)[0] > tolerance:
         used += _iterate(system, everything, t, tolerance, max_iterations, None, start=gu)
     return used
-
-
-def _slices(system: CoSystem, members: list[int]) -> list[slice]:
-    return [system.slices[i] for i in members]
 
 
 def _values(system: CoSystem, members: list[int]) -> np.ndarray:

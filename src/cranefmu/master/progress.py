@@ -16,6 +16,12 @@ class Progress:
         self.bar = None
         self.shown = 0.0
 
+    def simulation_initialized(self, t: float, values) -> None:
+        return None
+
+    def step_complete(self, t: float, h: float, values) -> None:
+        self.update(t)
+
     def update(self, t: float) -> None:
         if not self.enabled:
             return

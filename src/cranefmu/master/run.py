@@ -17,21 +17,19 @@ from pathlib import Path
 import numpy as np
 
 from .acceleration import ACCELERATORS
-from .algorithms import GaussSeidel, Iterative, Jacobi
-from .divergence import Watch
+from .algorithms import ALGORITHMS, make_algorithm
+from .divergence import ValueCheck, Watch
 from ..errors import CraneFmuError, ParameterSetError, SettingsError, SimulationError
 from .initialization import initialize
 from .power_bonds import BondMonitor, resolve
 from .progress import Progress
 from .results import Recorder
 from .scene import Scene, load_scene
+from .loop import Sampler, march
 from .scene_names import resolve_scene
-from .step_control import PIController, coupling_error, ecco_error
+from .step_control import make_step_control
 from .stop_conditions import StopWatch
 from .system import CoSystem, RunStats
-from .waveform import WaveformIterative
-
-ALGORITHMS = ("jacobi", "gauss-seidel", "iterative")
 STEP_CONTROLS = ("extrapolation", "ecco")
 
 __all__ = ["run", "simulate", "RunResult", "RunStats", "Settings", "ALGORITHMS"]
@@ -257,149 +255,15 @@ def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> No
                             "(see README, 'Power bonds')")
 
 
-def _algorithm(system: CoSystem, s: Settings):
-    if s.algorithm == "jacobi":
-        return Jacobi(system)
-    if s.algorithm == "gauss-seidel":
-        return GaussSeidel(system, s.order)
-    if s.substeps > 1:
-        return WaveformIterative(system, s.substeps, tolerance=s.coupling_tolerance,
-                                 max_iterations=s.max_iterations, accelerator=s.accelerator)
-    return Iterative(system, degree=max(1, s.extrapolation), tolerance=s.coupling_tolerance,
-                     max_iterations=s.max_iterations, accelerator=s.accelerator)
-
-
 def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor, progress: Progress,
           watch: Watch | None, stopper: StopWatch | None = None) -> None:
-    """Step from start to stop: fixed steps, or adaptive with rejection, rollback and event location.
-
-    Start-up: an explicit scheme of extrapolation order p takes its first p steps with iterative
-    coupling (degree p), so the extrapolation starts from exact past values and the order is kept;
-    FMUs that cannot roll back start from a past at rest instead.
-    """
-    stats = system.stats
-    algo = _algorithm(system, s)
-    p = s.extrapolation
-    startup = None
-    if p > 0 and algo.name != "iterative":
-        if system.can_rollback:
-            startup = Iterative(system, degree=p, tolerance=min(s.coupling_tolerance, 1e-10),
-                                max_iterations=max(s.max_iterations, 50))
-        else:
-            for g in system.links:
-                t0, u0 = g.history[-1]
-                g.history[:] = [(t0 - 2 * s.step_size, u0), (t0 - s.step_size, u0), (t0, u0)]
-            system.exchange(s.start_time)
-    t, stop = s.start_time, s.stop_time
-    ecco = s.adaptive and s.step_control == "ecco"
-    controller = PIController(p + 1 if not ecco else 2, s.h_min, s.h_max) if s.adaptive else None
-    flags = system.flags() if s.adaptive else None
-    row = _row(system, bonds, s.adaptive)
-    recorder.record(t, row)
-    if stopper is not None:
-        stats.stopped = stopper.check(t, row) or ""
-        if stats.stopped:
-            return
-    n_fixed = max(1, round((stop - t) / s.step_size))
-    h = s.step_size
-    locating = False
-    n = 0
-    while True:
-        if s.adaptive:
-            remaining = stop - t
-            if remaining <= 1e-12 * max(1.0, abs(stop)):
-                break
-            if h >= remaining or remaining - h < 0.1 * h:
-                h = remaining
-        else:
-            if n >= n_fixed:
-                break
-            t_next = stop if n == n_fixed - 1 else s.start_time + (n + 1) * s.step_size
-            h = t_next - t
-        use = startup if startup is not None and n < p else algo
-        snap = system.save() if (s.adaptive or use.needs_snapshot) else None
-        predicted = system.predicted(t, h) if (s.adaptive and not ecco) else None
-        try:
-            iterations = use.step(t, h, snap)
-            err = 0.0
-            if s.adaptive:
-                new_flags = system.flags()
-                event = new_flags != flags
-                if event and h > s.h_min * (1 + 1e-9):
-                    _reject(system, snap, stats)
-                    h, locating = max(0.5 * h, s.h_min), True
-                    continue
-                if not ecco and use is algo:
-                    err, worst = coupling_error(predicted, system.coupling_values(), system.scale, s.tolerance)
-                    if err > 1.0 and h > s.h_min * (1 + 1e-9) and not locating:
-                        _reject(system, snap, stats)
-                        h = controller.rejected(h, err)
-                        continue
-                flags = new_flags
-        finally:
-            system.release(snap)
-        t = t + h if s.adaptive else t_next
-        n += 1
-        stats.steps += 1
-        stats.iterations += iterations
-        stats.max_iterations = max(stats.max_iterations, iterations)
-        stats.min_step = h if stats.steps == 1 else min(stats.min_step, h)
-        stats.max_step = max(stats.max_step, h)
-        if bonds.bonds:
-            bonds.measure(h)
-        row = _row(system, bonds, s.adaptive)
-        recorder.record(t, row)   # the failing row too: it shows what went wrong
-        _check(system, bonds, row, t, s)
-        if watch is not None:
-            alarm = watch.update(t, h)
-            if alarm is not None:
-                raise SimulationError(alarm)
-        if stopper is not None:
-            stats.stopped = stopper.check(t, row) or ""
-            if stats.stopped:
-                break
-        progress.update(t)
-        if s.adaptive:
-            if locating and event:      # the switch is located to min_step: restart small
-                locating = False
-                h = s.h_min
-            elif not locating:
-                if ecco:
-                    err = ecco_error(bonds.residual, bonds.carried, s.tolerance, 1e-3 * s.tolerance)
-                h = controller.accepted(h, err)
-
-
-def _reject(system: CoSystem, snap, stats: RunStats) -> None:
-    system.restore(snap)
-    stats.rejections += 1
-
-
-def _row(system: CoSystem, bonds: BondMonitor, adaptive: bool) -> np.ndarray:
-    if not adaptive and system.flag_names:
-        system.flags()   # the adaptive loop read them already
-    values = system.outputs()
-    return np.concatenate((values, bonds.row)) if bonds.bonds else values
-
-
-def _check(system: CoSystem, bonds: BondMonitor, row: np.ndarray, t: float, s: Settings) -> None:
-    """Stop on a non-finite value or a power bond over its energy alarm, naming what and where."""
-    if not np.all(np.isfinite(row)):
-        i = int(np.flatnonzero(~np.isfinite(row))[0])
-        names = system.columns + bonds.columns
-        what = (f"component {names[i].partition('.')[0]}, variable {names[i].partition('.')[2]}"
-                if i < len(system.columns) else f"the energy residual of power bond {bonds.names[(i - len(system.columns)) // 2]}")
-        big = np.abs(row[:len(system.columns)])
-        j = int(np.argmax(np.where(np.isfinite(big), big, -1.0)))
-        grown = f" ({names[j]} = {row[j]:.3g})" if i >= len(system.columns) else ""
-        raise SimulationError(f"{what} became non-finite at t = {t:.9g} s{grown}: the coupling is unstable at this "
-                              "step size. Try a smaller --step, --adaptive, or --algorithm iterative.")
-    if s.energy_alarm is not None and bonds.bonds:
-        k = int(np.argmax(bonds.total))
-        if bonds.total[k] > s.energy_alarm:
-            raise SimulationError(f"power bond {bonds.names[k]} has put {bonds.total[k]:.6g} J of coupling error into "
-                                  f"the scene by t = {t:.9g} s (energy alarm {s.energy_alarm:g} J): the coupling is "
-                                  "unstable or too coarse. Try a smaller --step, --adaptive, or --algorithm "
-                                  "iterative.")
+    """Step from start to stop (:func:`.loop.march`): the algorithm and its start-up, the step
+    controller and the observers the settings ask for, in the order they see each row."""
+    algorithm = make_algorithm(system, s)
+    control = make_step_control(system, s, bonds)
+    observers = [recorder, ValueCheck(system, bonds, s.energy_alarm), watch, stopper, progress]
+    system.stats.stopped = march(system, algorithm, control, Sampler(system, bonds, s.adaptive),
+                                 [o for o in observers if o is not None], s.start_time)
 
 
 def simulate(scene: str | Path, stop_time: float | None = None, step_size: float = 1e-3, algorithm: str = "jacobi",

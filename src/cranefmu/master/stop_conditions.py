@@ -47,6 +47,12 @@ class StopWatch:
                                 f"{', '.join(columns[:30])}{' ...' if len(columns) > 30 else ''}")
         self.watched = [(columns.index(v), v, reason) for v, reason in conditions.items()]
 
+    def simulation_initialized(self, t: float, values) -> str | None:
+        return self.check(t, values)
+
+    def step_complete(self, t: float, h: float, values) -> str | None:
+        return self.check(t, values)
+
     def check(self, t: float, row) -> str | None:
         """Why the run stops at ``t`` [s], or None to go on."""
         for i, name, reason in self.watched:

@@ -55,8 +55,8 @@ class WaveformIterative(Iterative):
     name = "iterative"
     needs_snapshot = True
 
-    def __init__(self, system: CoSystem, substeps: int, degree: int = 5, tolerance: float = 1e-10,
-                 max_iterations: int = 50, accelerator: str = "iqn-ils"):
+    def __init__(self, system: CoSystem, substeps: int, tolerance: float, max_iterations: int,
+                 accelerator: str, degree: int = 5):
         super().__init__(system, degree=degree, tolerance=tolerance, max_iterations=max_iterations,
                          accelerator=accelerator)
         self.m = substeps
@@ -82,11 +82,13 @@ class WaveformIterative(Iterative):
         n = s.n_coupling
         w = np.vstack([s.predicted(t, h * j / m, order=2) for j in range(1, m + 1)])
         scale = np.tile(self._scale(), m)
+        self.criterion.start(s.coupling_values())
         self.acc.start_step()
-        res, worst = np.inf, 0
+        self.span, errors = (t, h), []
         for k in range(1, self.max_iterations + 1):
             if k > 1:
                 s.restore(snapshot)
+                w = (scale * self.acc.next(w.ravel() / scale, gw.ravel() / scale)).reshape(m, n)
             ts, values, i0 = self._points(t, h, w)
             gw = np.empty((m, n))
             for j in range(m):
@@ -96,14 +98,10 @@ class WaveformIterative(Iterative):
                 if j == m - 1:
                     s.capture_input_ends(ts[i0 + m] - ts[i0 + m - 1])
                 gw[j] = self._image(ts[i0 + j + 1])
-            res, worst = self._residual(w.ravel(), gw.ravel(), scale)
-            if not np.isfinite(res):
-                break
-            if res <= self.tolerance:
-                self.last_residual = res
+            done, worst = self._converged(w.ravel(), gw.ravel(), scale, errors, m)
+            if done:
                 s.exchange(t + h)
                 self.past = [p for p in self.past if p[0] < t] + [(ts[i0 + j], gw[j - 1]) for j in range(1, m + 1)]
                 del self.past[:-self.degree]
                 return k
-            w = (scale * self.acc.next(w.ravel() / scale, gw.ravel() / scale)).reshape(m, n)
-        raise self._not_converged(t, h, k, res, worst % max(n, 1))
+        raise self._not_converged(k, w.ravel(), gw.ravel(), scale, worst)
