@@ -11,6 +11,14 @@ import signal
 import threading
 
 
+STOP_SIGNALS: list[int] = [signal.SIGINT]   # what stops a run; the CLI adds SIGTERM (see stop_on)
+
+
+def stop_on(*signals: int) -> None:
+    """Make ``signals`` stop every later run of this process between steps (the CLI: SIGINT, SIGTERM)."""
+    STOP_SIGNALS[:] = list(signals)
+
+
 class RunInterrupted(KeyboardInterrupt):
     """The run was stopped by a signal after closing cleanly; ``result`` holds the rows so far,
     ``output`` the CSV they are in (or None), ``signum`` the signal."""
@@ -45,8 +53,8 @@ class Interrupt:
     run closes are counted, never raised.
     """
 
-    def __init__(self, signals: tuple[int, ...] = (signal.SIGINT,)):
-        self.signals = signals
+    def __init__(self, signals: tuple[int, ...] | None = None):
+        self.signals = tuple(STOP_SIGNALS) if signals is None else signals
         self.signum: int | None = None
         self.count = 0
         self._old: dict[int, object] = {}

@@ -24,7 +24,7 @@ import time as clock
 from pathlib import Path
 
 from ..errors import SimulationError
-from .interrupt import RunInterrupted, signal_name
+from .interrupt import STOP_SIGNALS, RunInterrupted, signal_name
 from .output_file import OutputFile
 
 GRACE = 0.7        # seconds a signalled worker gets to close its run before it is killed
@@ -32,8 +32,9 @@ TAIL_BYTES = 8192  # of the worker's stderr, kept for the message if it dies
 
 
 def run_isolated(ssp: Path, settings, parameter_set, parameters, claim: OutputFile | None, keep: bool,
-                 signals: tuple[int, ...] = (signal.SIGINT,)):
-    """Run in a worker; returns its RunResult or raises what it raised (a death as SimulationError)."""
+                 signals: tuple[int, ...] | None = None):
+    """Run in a worker; returns its RunResult or raises what it raised (a death as SimulationError).
+    ``signals`` (default :data:`.interrupt.STOP_SIGNALS`) received meanwhile are passed on to it."""
     if settings.progress is None:   # the worker's stderr is a pipe: decide for it
         settings.progress = bool(getattr(sys.stderr, "isatty", lambda: False)())
     jobdir = Path(tempfile.mkdtemp(prefix="cranefmu_run_"))
@@ -49,7 +50,7 @@ def run_isolated(ssp: Path, settings, parameter_set, parameters, claim: OutputFi
         relay = _Relay(proc.stderr)
         proc.stdin.write(pickle.dumps(job))
         proc.stdin.flush()          # kept open: its end-of-file tells the worker the parent is gone
-        got = _wait(proc, signals)
+        got = _wait(proc, tuple(STOP_SIGNALS) if signals is None else signals)
         relay.join(2.0)
         if outcome.is_file():
             kind, value = pickle.loads(outcome.read_bytes())

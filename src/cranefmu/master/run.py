@@ -34,7 +34,7 @@ from .stop_conditions import StopWatch, read_stop_conditions
 from .system import CoSystem, RunStats
 from .waveform import WaveformIterative
 
-__all__ = ["run", "simulate", "RunResult", "RunStats", "Settings", "ALGORITHMS", "RunInterrupted"]
+__all__ = ["run", "simulate", "preview", "RunResult", "RunStats", "Settings", "ALGORITHMS", "RunInterrupted"]
 
 
 @dataclass
@@ -62,6 +62,40 @@ def resolve_scene(scene: str | Path) -> Path:
         raise SceneError(f"scene {str(scene)!r} is unknown: one of {', '.join(names)} or a path to an .ssp file")
     b.build(verbose=False, only=[str(scene)])
     return b.SSP_DIR / f"{scene}.ssp"
+
+
+@dataclass
+class ScenePreview:
+    """What a scene's run will record, known before it starts: result columns and their units."""
+
+    path: Path
+    name: str
+    stop_time: float | None
+    columns: list[str]
+    units: dict[str, str]
+
+
+def preview(scene: str | Path) -> ScenePreview:
+    """Columns (in the order of a run's result) and units of a scene, read without instantiating it."""
+    from .extracted import fmu_dir
+    from .fmu import FmuComponent
+
+    ssp = resolve_scene(scene)
+    workdir, loaded = extracted_scene(ssp)
+    reals, flags, units = [], [], {}
+    for c in loaded.components:
+        md = FmuComponent(c.name, c.fmu, fmu_dir(workdir, c.name)).md
+        for v in md.modelVariables:
+            if v.causality != "output":
+                continue
+            name = f"{c.name}.{v.name}"
+            (reals if v.type == "Real" else flags).append(name)
+            unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
+            if unit:
+                units[name] = unit
+    bonds = [f"bond.{n}.{e}" for n, _ in read_bonds(workdir / "SystemStructure.ssd") for e in ("dE", "E")]
+    units.update({b: "J" for b in bonds})
+    return ScenePreview(ssp, loaded.name, loaded.stop_time, reals + flags + bonds, units)
 
 
 def _overrides(scene: Scene, parameter_set: str | None, parameters: dict | None) -> dict[tuple[str, str], object]:

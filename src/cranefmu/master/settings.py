@@ -18,11 +18,13 @@ STEP_CONTROLS = ("extrapolation", "ecco")
 
 
 def setting(default, help: str, *, type=None, flag: str | None = None, metavar: str | None = None,
-            form: str = "value"):
+            form: str = "value", flag_help: str | None = None):
     """A settings field.  ``form``: value (``--flag VALUE``), switch (``--flag`` sets True), negate
     (``--no-flag`` sets False), off (``--no-flag`` sets False, default None = automatic), list
-    (comma-separated names; for stop_when 'none' is the empty list)."""
-    return field(default=default, metadata=dict(help=help, type=type, flag=flag, metavar=metavar, form=form))
+    (comma-separated names; for stop_when 'none' is the empty list).  ``flag_help``: the option's
+    help where it differs from the setting's (a --no- option)."""
+    return field(default=default, metadata=dict(help=help, type=type, flag=flag, metavar=metavar, form=form,
+                                                 flag_help=flag_help))
 
 
 @dataclass
@@ -56,12 +58,14 @@ class Settings:
     init_tolerance: float = setting(1e-10, "relative agreement of the connections after initialization",
                                     type=float)
     progress: bool | None = setting(None, "progress bar (default: on a terminal, for runs longer than 3 s)",
-                                    form="off")
+                                    form="off", flag_help="no progress bar (it shows on a terminal only, for "
+                                    "runs longer than 3 s)")
     substeps: int = setting(1, "iterative: waveform iteration on this many sub-intervals of each macro step "
                             "(1: one input polynomial per step)", type=int, metavar="M")
     instability_alarm: bool = setting(True, "stop a run whose explicit coupling is unstable (a power bond's "
                                       "residual grows geometrically, or a coupling value's change per step)",
-                                      form="negate")
+                                      form="negate", flag_help="do not stop a run whose explicit coupling is "
+                                      "unstable (the alarm is on by default)")
     stop_when: list[str] | None = setting(None, "end the run (as a result) at the first output time where one "
                                           "of these outputs 'component.variable' is non-zero (default: the "
                                           "scene's own stop conditions; 'none' or [] runs on)", metavar="VARS",
@@ -156,7 +160,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         meta, form = f.metadata, f.metadata["form"]
         default = "" if f.default in (None, MISSING) or form in ("negate", "off", "switch") \
             else f" (default {f.default:g})" if isinstance(f.default, float) else f" (default {f.default})"
-        common = dict(dest=f.name, default=argparse.SUPPRESS, help=meta["help"] + default)
+        common = dict(dest=f.name, default=argparse.SUPPRESS, help=(meta["flag_help"] or meta["help"]) + default)
         if form == "switch":
             parser.add_argument(flag_of(f), action="store_true", **common)
         elif form in ("negate", "off"):
