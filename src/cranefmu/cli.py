@@ -54,6 +54,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if prefix is not None:
         check_directory(prefix.parent, "--plot", str(prefix) + "_*.png")
     keep = rows <= KEEP_ROWS or not args.output
+    if not args.in_process:   # the worker extracts its own copy; this one would outlive a killed parent
+        from .master.extracted import clear
+
+        clear()
     res = run(scene.path, parameter_set=args.parameter_set, parameters=_parse_set(args.set), output=args.output,
               keep=keep, isolate=not args.in_process, **options)
     _report(res, keep)
@@ -173,7 +177,13 @@ def _cmd_docs(args: argparse.Namespace) -> int:
 
 def _cmd_build_fmi3(args: argparse.Namespace) -> int:
     from .build import build, fmu_scripts
-    from .fmi3_adapter import build_fmi3
+
+    try:
+        from .fmi3_adapter import build_fmi3
+    except ModuleNotFoundError as err:
+        if err.name != "pythonfmu3":
+            raise
+        raise CraneFmuError("build-fmi3 needs pythonfmu3, which is not installed: pip install 'cranefmu[fmi3]'") from None
 
     names = args.only or [s.stem for s in fmu_scripts()]
     known = {s.stem for s in fmu_scripts()}

@@ -118,9 +118,10 @@ def _death(ssp: Path, code: int, tail: str, rows: int, where: Path | None) -> st
     fatal-error traceback names, its last line of output, and where the rows are."""
     how = f"was killed by {signal_name(-code)}" if code < 0 else f"exited with code {code}"
     lines = [line.strip() for line in tail.splitlines() if line.strip()]
-    comps = re.findall(r"fmu_([A-Za-z0-9_]+)[/\\]", tail)
-    inside = f", inside component {comps[-1]}" if comps else ""
-    last = f"; its last output: {lines[-1]!r}" if lines else "; it wrote no output"
+    comps = re.findall(r"[/\\]fmu_([^/\\]+)[/\\]", tail)   # an FMU's Python frame in faulthandler's dump
+    inside = f", inside component {comps[0]}" if comps else ""   # most recent call first
+    fatal = [line for line in lines if line.startswith("Fatal Python error")]
+    last = f"; its last output: {(fatal or lines)[-1]!r}" if lines else "; it wrote no output"
     kept = f" The {rows} rows written before are in {where}." if rows else " No rows were written."
     return f"the worker process running scene {ssp.name} {how}{inside} before the run finished{last}.{kept}"
 
