@@ -106,7 +106,7 @@ def read_csv(path, columns: list[str] | None = None) -> np.ndarray:
     """Read a result CSV written by :class:`Recorder` back into a structured array (only ``columns``
     and time, if given: a long run's file need not fit in memory whole)."""
     if columns is None:
-        return np.genfromtxt(path, delimiter=",", names=True, deletechars="", dtype=np.float64)
+        return np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True, deletechars="", dtype=np.float64))
     with open(path, newline="") as f:
         header = next(csv.reader(f))
     wanted = ["time", *[c for c in columns if c != "time"]]
