@@ -237,12 +237,12 @@ def build_parser() -> argparse.ArgumentParser:
                    "(default 4e-3,2e-3,1e-3,5e-4)")
     c.add_argument("--tolerances", default=None, help="adaptive-step tolerances, comma-separated (if the master "
                    "supports adaptive stepping)")
-    c.add_argument("--algorithm", default="jacobi", help="coupling algorithm (default jacobi)")
-    c.add_argument("--extrapolation", type=int, default=0, help="order of the input extrapolation: 0, 1, 2")
+    from .master.settings import add_arguments as add_settings
+
+    add_settings(c, ("stop_time", "algorithm", "extrapolation"), absent=False)   # the run's own definitions
     c.add_argument("--reference", default="monolithic", help="monolithic (the scene's scipy solve) or finest "
                    "(a co-simulation at min(H)/4)")
     c.add_argument("--target", type=float, default=1e-2, help="largest error / signal range accepted (default 1e-2)")
-    c.add_argument("--stop-time", type=float, default=None, help="end of each run [s] (default: the scene's)")
     c.add_argument("--parameter-set", default=None, help="a parameter set of the scene")
     c.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE", help="override (repeatable)")
     c.add_argument("--output", default=None, help="directory for converge.csv and error_vs_wall.png "

@@ -153,14 +153,18 @@ def flag_of(f) -> str:
     return "--no-" + base[2:] if f.metadata["form"] in ("negate", "off") else base
 
 
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """One option per setting, its help from the field; options not given stay absent (the field's
-    default rules), so defaults live in :class:`Settings` only."""
+def add_arguments(parser: argparse.ArgumentParser, names: tuple[str, ...] | None = None,
+                  absent: bool = True) -> None:
+    """One option per setting (or per setting of ``names``), its help from the field.  ``absent``:
+    an option not given stays out of the namespace (the field's default rules when the settings are
+    built); else it takes the field's default.  Either way defaults live in :class:`Settings` only."""
     for f in fields(Settings):
+        if names is not None and f.name not in names:
+            continue
         meta, form = f.metadata, f.metadata["form"]
         default = "" if f.default in (None, MISSING) or form in ("negate", "off", "switch") \
             else f" (default {f.default:g})" if isinstance(f.default, float) else f" (default {f.default})"
-        common = dict(dest=f.name, default=argparse.SUPPRESS, help=(meta["flag_help"] or meta["help"]) + default)
+        common = dict(dest=f.name, default=argparse.SUPPRESS if absent else f.default, help=(meta["flag_help"] or meta["help"]) + default)
         if form == "switch":
             parser.add_argument(flag_of(f), action="store_true", **common)
         elif form in ("negate", "off"):
