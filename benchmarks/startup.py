@@ -73,8 +73,17 @@ print(json.dumps({"long": long_wall, "short": time.perf_counter() - a}))
 """
 
 
+CRASHES: list[str] = []   # processes that printed their measurement and then died at exit
+
+
 def python(code: str, *args: str) -> dict:
-    p = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True, check=True)
+    p = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True)
+    if p.returncode != 0:
+        if not p.stdout.strip():
+            raise RuntimeError(f"{args}: exit {p.returncode}: {p.stderr[-2000:]}")
+        last = (p.stderr.strip().splitlines() or ["(no output)"])[-1]
+        CRASHES.append(f"{' '.join(args)}: exit {p.returncode} after the measurement ({last})")
+        print("crash at exit:", CRASHES[-1], flush=True)
     return json.loads(p.stdout.splitlines()[-1])
 
 
@@ -134,6 +143,8 @@ def main() -> None:
                  for extra in ([], ["--in-process"])]
         lines.append(f"| {signal.Signals(signum).name} | {cells[0]:.3f} | {cells[1]:.3f} |")
         print(lines[-1], flush=True)
+    lines += ["", f"Processes that died at exit after printing their measurement: {len(CRASHES)}"]
+    lines += [f"- {c}" for c in CRASHES]
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "startup.md").write_text("\n".join(lines) + "\n")
     print(f"wrote {RESULTS / 'startup.md'}")

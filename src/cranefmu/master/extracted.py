@@ -39,7 +39,7 @@ def extracted_scene(ssp: Path) -> tuple[Path, Scene]:
             return hit[0], copy.deepcopy(hit[1])
         if _ROOT is None or not _ROOT.is_dir():
             _ROOT = Path(tempfile.mkdtemp(prefix="cranefmu_scenes_"))
-            atexit.register(shutil.rmtree, _ROOT, True)
+            atexit.register(clear)
         workdir = _ROOT / digest
         shutil.rmtree(workdir, ignore_errors=True)
         workdir.mkdir()
