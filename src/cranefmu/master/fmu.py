@@ -100,6 +100,18 @@ def _slave_class():
     return _SLAVE
 
 
+def adopt_extracted(src: Path, dst: Path) -> None:
+    """``dst`` holds the same checked files as the extracted directory ``src``: reuse its description."""
+    if src in _MODEL_DESCRIPTIONS:
+        _MODEL_DESCRIPTIONS[dst] = _MODEL_DESCRIPTIONS[src]
+
+
+def forget_extracted(root: Path) -> None:
+    """Drop the descriptions of directories under ``root`` (removed after a run)."""
+    for key in [k for k in _MODEL_DESCRIPTIONS if root in k.parents]:
+        del _MODEL_DESCRIPTIONS[key]
+
+
 class FmuComponent:
     """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages."""
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import inspect
 import math
+import tempfile
 import time as clock
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -20,7 +21,8 @@ import numpy as np
 from .algorithms import GaussSeidel, Iterative, Jacobi
 from .divergence import Watch
 from ..errors import CraneFmuError, ParameterSetError, SceneError, SettingsError, SimulationError
-from .extracted import extracted_scene
+from .extracted import discard, extracted_scene, fresh_fmu_dirs
+from .fmu import forget_extracted
 from .initialization import initialize
 from .interrupt import Interrupt, RunInterrupted, signal_name
 from .output_file import OutputFile
@@ -155,15 +157,17 @@ def _run_here(ssp: Path, settings: Settings, parameter_set: str | None, paramete
 
 def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, parameters: dict | None,
                   claim: OutputFile | None, keep: bool, interrupt: Interrupt) -> RunResult:
-    system = recorder = progress = None
+    system = recorder = progress = fmu_dirs = None
     wall0 = clock.perf_counter()
     try:
         workdir, loaded = extracted_scene(ssp)
+        fmu_dirs = Path(tempfile.mkdtemp(prefix="run_", dir=workdir))
+        fresh_fmu_dirs(workdir, loaded, fmu_dirs)   # never instantiate twice from one directory
         if settings.stop_time is None:
             settings.stop_time = loaded.stop_time or 10.0
         settings.check()
         overrides = _overrides(loaded, parameter_set, parameters)
-        system = CoSystem(loaded, workdir, settings.extrapolation)
+        system = CoSystem(loaded, fmu_dirs, settings.extrapolation)
         _refuse_connected_inputs(system, parameters)
         bonds = BondMonitor(system, resolve(system, read_bonds(workdir / "SystemStructure.ssd")))
         _check_capabilities(system, settings, bonds)
@@ -199,6 +203,9 @@ def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, para
             progress.close()
         if system is not None:
             system.free()
+        if fmu_dirs is not None:
+            forget_extracted(fmu_dirs)
+            discard(fmu_dirs)
         _finish(claim, recorder)
     if interrupt.signum is not None:
         raise RunInterrupted(_interrupted(interrupt.signum, result), result.result, where, interrupt.signum)
