@@ -55,3 +55,28 @@ def test_bad_run_settings_exit_2_naming_the_item(oscillator_ssp, tmp_path):
         p = cranefmu("run", str(oscillator_ssp), "--stop-time", "0.05", "--step", "1e-2", *args, cwd=tmp_path)
         assert p.returncode == 2, (args, p.stderr)
         assert needle in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)
+
+
+def test_run_options_and_signature_come_from_the_one_settings_definition():
+    """Every Settings field is a `cranefmu run` option (typed, absent unless given, its default in --help)
+    and a keyword of run() with the same default."""
+    import inspect
+    from dataclasses import fields
+
+    from cranefmu.cli import build_parser
+    from cranefmu.master.run import run
+    from cranefmu.master.settings import Settings, flag_of
+
+    parser = build_parser()
+    assert not hasattr(parser.parse_args(["run", "x"]), "step_size")   # the default lives in Settings only
+    given = {"value": "2", "list": "a,b", "switch": None, "negate": None, "off": None}
+    expect = {"value": None, "list": ["a", "b"], "switch": True, "negate": False, "off": False}
+    signature = inspect.signature(run).parameters
+    for f in fields(Settings):
+        form = f.metadata["form"]
+        extra = [given[form]] if given[form] is not None else []
+        args = parser.parse_args(["run", "x", flag_of(f), *extra])
+        want = f.metadata["type"]("2") if form == "value" else expect[form]
+        assert getattr(args, f.name) == want and type(getattr(args, f.name)) is type(want), f.name
+        assert signature[f.name].default == f.default, f.name
+    assert parser.parse_args(["run", "x", "--stop-when", "none"]).stop_when == []

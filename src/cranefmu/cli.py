@@ -35,67 +35,103 @@ def _parse_set(items: list[str]) -> dict[str, str]:
     return out
 
 
-def _stop_when(text: str | None) -> list[str] | None:
-    """--stop-when: None keeps the scene's own stop conditions, 'none' runs on."""
-    if text is None:
-        return None
-    return [] if text.strip().lower() == "none" else [v.strip() for v in text.split(",") if v.strip()]
+KEEP_ROWS = 1_000_000     # above this many rows the CLI streams them to the CSV without keeping them in memory
+MAX_ROWS = 10_000_000     # default --max-rows: a larger run is refused before it starts (about 2 GB of CSV)
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .master.run import run
+    from dataclasses import fields
+
+    from .master.output_file import check_directory, check_target
+    from .master.run import preview, run
+    from .master.settings import Settings
+
+    options = {f.name: getattr(args, f.name) for f in fields(Settings) if hasattr(args, f.name)}
+    scene = preview(args.scene)
+    settings = Settings.from_options(**options)
+    if settings.stop_time is None:
+        settings.stop_time = scene.stop_time or 10.0
+    settings.check()
+    rows = settings.rows_expected()
+    if rows > args.max_rows:
+        raise CraneFmuError(f"this run would record {rows:.3g} rows ({rows * len(scene.columns) * 20 / 1e9:.3g} GB "
+                            f"of CSV), more than --max-rows {args.max_rows:g}: give a larger --step or a shorter "
+                            "--stop-time, or raise --max-rows")
+    if args.output:
+        check_target(args.output, "--output", scene.path)
+    plotted, prefix = _plot_plan(args, scene)
+    if prefix is not None:
+        check_directory(prefix.parent, "--plot", str(prefix) + "_*.png")
+    keep = rows <= KEEP_ROWS or not args.output
+    if not args.in_process:   # the worker extracts its own copy; this one would outlive a killed parent
+        from .master.extracted import clear
+
+        clear()
+    res = run(scene.path, parameter_set=args.parameter_set, parameters=_parse_set(args.set), output=args.output,
+              keep=keep, isolate=not args.in_process, **options)
+    _report(res, keep)
+    if prefix is not None:
+        from .master.plot import write_plots
+        from .master.results import read_csv
+
+        data = res.result if keep else read_csv(res.output, [c for _, cols in plotted for c in cols])
+        for path in write_plots(data, res.scene, prefix, plotted, units=scene.units):
+            print(f"figure: {path}")
+    return 0
+
+
+def _plot_plan(args: argparse.Namespace, scene) -> tuple[list[tuple[str, list[str]]], Path | None]:
+    """The figures --plot asks for, checked against the scene's columns before the run, and their prefix."""
+    if args.plot is None:
+        return [], None
+    variables = [v.strip() for v in args.plot.split(",") if v.strip()]
+    if variables:
+        unknown = [v for v in variables if v not in scene.columns]
+        if unknown:
+            raise CraneFmuError(f"--plot {','.join(unknown)} is not allowed: no such column; columns are "
+                                f"{', '.join(scene.columns[:30])}{' ...' if len(scene.columns) > 30 else ''}")
+        groups = [(", ".join(variables), variables)]
+    else:
+        from .scenes import plot_groups
+
+        groups = plot_groups(scene.name, scene.columns) or _by_component(scene.columns)
+    prefix = Path(args.output).with_suffix("") if args.output else Path(scene.name)
+    return groups, prefix
+
+
+def _by_component(columns: list[str]) -> list[tuple[str, list[str]]]:
+    groups: dict[str, list[str]] = {}
+    for c in columns:
+        groups.setdefault(c.split(".")[0], []).append(c)
+    return list(groups.items())
+
+
+def _report(res, kept: bool) -> None:
+    """The run's statistics, the scene's summary and where the results are."""
     from .scenes import summary
 
-    options = dict(adaptive=args.adaptive, tolerance=args.tolerance, min_step=args.min_step, max_step=args.max_step,
-                   step_control=args.step_control, coupling_tolerance=args.coupling_tolerance,
-                   max_iterations=args.max_iterations, accelerator=args.accelerator, energy_alarm=args.energy_alarm,
-                   substeps=args.substeps,
-                   instability_alarm=not args.no_instability_alarm,
-                   stop_when=_stop_when(args.stop_when),
-                   order=args.order.split(",") if args.order else None,
-                   progress=False if args.no_progress else None)
-    res = run(args.scene, stop_time=args.stop_time, step_size=args.step, algorithm=args.algorithm,
-              extrapolation=args.extrapolation, parameter_set=args.parameter_set,
-              parameters=_parse_set(args.set), output=args.output, **options)
-    st = res.stats
-    t = res.result["time"]
-    simulated = float(t[-1] - t[0]) if len(t) else 0.0
+    st, s = res.stats, res.settings
+    simulated = res.end_time - s.start_time if res.rows else 0.0
     steps = f"{st.steps} steps of {st.min_step:.3g} to {st.max_step:.3g} s, {st.rejections} rejected" \
-        if args.adaptive else f"{st.steps} steps of {args.step:g} s"
-    print(f"scene {res.scene}: {steps} to t = {simulated:g} s ({args.algorithm}, extrapolation {args.extrapolation})")
+        if s.adaptive else f"{st.steps} steps of {s.step_size:g} s"
+    print(f"scene {res.scene}: {steps} to t = {simulated:g} s ({s.algorithm}, extrapolation {s.extrapolation})")
     if st.stopped:
         print(st.stopped)
     print(f"wall time {st.wall_time:.3f} s (master {st.master_time:.3f} s), real-time factor "
           f"{st.real_time_factor(simulated):.1f}")
     print("  per FMU: " + ", ".join(f"{k} {st.fmu_calls[k]} steps {st.fmu_time[k]:.3f} s" for k in st.fmu_time))
-    if args.algorithm == "iterative":
+    if s.algorithm == "iterative":
         print(f"  coupling iterations: {st.iterations} ({st.iterations / max(st.steps, 1):.2f} per step, "
               f"at most {st.max_iterations})")
     for name, energy in st.bond_energy.items():
         print(f"  power bond {name}: energy residual {energy:.6g} J")
-    for label, text in summary(res.scene, res.result):
-        print(f"  {label:<24} {text}")
+    if kept:
+        for label, text in summary(res.scene, res.result):
+            print(f"  {label:<24} {text}")
+    else:
+        print(f"  (no summary: the {res.rows} rows were streamed to the CSV, more than {KEEP_ROWS} to keep in memory)")
     if res.output:
-        print(f"results: {res.output} ({len(t)} rows, {len(res.result.dtype.names)} columns)")
-    if args.plot is not None:
-        from .master.plot import write_plots
-
-        prefix = Path(res.output).with_suffix("") if res.output else Path(res.scene)
-        variables = [v.strip() for v in args.plot.split(",") if v.strip()] if args.plot else None
-        for path in write_plots(res.result, res.scene, prefix, variables, units=_units(args.scene)):
-            print(f"figure: {path}")
-    return 0
-
-
-def _units(scene: str) -> dict[str, str]:
-    """Units of the result columns of ``scene`` (name or .ssp path), read from its FMUs."""
-    import tempfile
-
-    from .master.run import resolve_scene
-    from .master.scene import load_scene, output_units
-
-    with tempfile.TemporaryDirectory(prefix="cranefmu_units_") as tmp:
-        return output_units(load_scene(resolve_scene(scene), Path(tmp)))
+        print(f"results: {res.output} ({res.rows} rows, {len(res.result.dtype.names)} columns)")
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
@@ -157,7 +193,13 @@ def _cmd_docs(args: argparse.Namespace) -> int:
 
 def _cmd_build_fmi3(args: argparse.Namespace) -> int:
     from .build import build, fmu_scripts
-    from .fmi3_adapter import build_fmi3
+
+    try:
+        from .fmi3_adapter import build_fmi3
+    except ModuleNotFoundError as err:
+        if err.name != "pythonfmu3":
+            raise
+        raise CraneFmuError("build-fmi3 needs pythonfmu3, which is not installed: pip install 'cranefmu[fmi3]'") from None
 
     names = args.only or [s.stem for s in fmu_scripts()]
     known = {s.stem for s in fmu_scripts()}
@@ -187,46 +229,25 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("only", nargs="*", help="FMU or scene names to build (default: all)")
     b.set_defaults(func=_cmd_build)
 
-    r = sub.add_parser("run", help="run a scene (builds what is missing first)")
+    r = sub.add_parser("run", help="run a scene (builds what is missing first)",
+                       description="Run a scene.  SIGINT or SIGTERM ends the run at the next step, keeps the rows "
+                       "so far in the CSV and exits 130 or 143.")
     r.add_argument("scene", help="scene name under ssp/ or path to an .ssp file")
-    r.add_argument("--stop-time", type=float, default=None, help="end of the run [s] (default: the scene's)")
-    r.add_argument("--step", type=float, default=1e-3, help="macro (communication) step [s] (default 1e-3)")
-    r.add_argument("--algorithm", default="jacobi",
-                   help="coupling: jacobi, gauss-seidel or iterative (strong coupling; default jacobi)")
-    r.add_argument("--extrapolation", type=int, default=0, help="order of the input extrapolation: 0, 1, 2 "
-                   "(iterative: degree of the interpolation, at least 1)")
-    r.add_argument("--adaptive", action="store_true", help="control the macro step (--step is the first step)")
-    r.add_argument("--tolerance", type=float, default=1e-3, help="relative local error of the coupling values "
-                   "per step with --adaptive (default 1e-3)")
-    r.add_argument("--min-step", type=float, default=None, help="smallest adaptive step [s] (default step/1000); "
-                   "also how finely a switching discrete output is located")
-    r.add_argument("--max-step", type=float, default=None, help="largest adaptive step [s] (default 100 step)")
-    r.add_argument("--step-control", default="extrapolation", help="extrapolation (error of the extrapolated "
-                   "coupling values, rejecting) or ecco (power-bond energy residuals, never rejecting)")
-    r.add_argument("--coupling-tolerance", type=float, default=1e-8, help="iterative: relative residual of the "
-                   "coupling values at which a step has converged (default 1e-8)")
-    r.add_argument("--max-iterations", type=int, default=50, help="iterative: iterations per step (default 50)")
-    r.add_argument("--accelerator", default="iqn-ils", help="iterative: iqn-ils, aitken or none (default iqn-ils)")
-    r.add_argument("--substeps", type=int, default=1, metavar="M", help="iterative: waveform iteration on M "
-                   "sub-intervals of each macro step (default 1: one input polynomial per step)")
-    r.add_argument("--order", default=None, metavar="COMP,COMP,...", help="gauss-seidel: the order the "
-                   "components step in (default: from the dependency graph)")
-    r.add_argument("--energy-alarm", type=float, default=None, metavar="JOULES", help="stop when a power bond's "
-                   "total energy residual exceeds this")
-    r.add_argument("--no-instability-alarm", action="store_true", help="do not stop a fixed-step run whose power "
-                   "bond residual grows geometrically (an unstable explicit coupling; on by default)")
-    r.add_argument("--stop-when", default=None, metavar="VARS", help="end the run (as a result) at the first "
-                   "output time where one of these comma-separated outputs is non-zero; default: the scene's own "
-                   "stop conditions (truck_telescope: chassis.tipping); 'none' runs on")
+    from .master.settings import add_arguments
+
+    add_arguments(r)   # every run setting, from cranefmu.master.settings.Settings
     r.add_argument("--parameter-set", default=None, help="a parameter set of the scene (see cranefmu info)")
     r.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
-                   help="override a parameter or start value (repeatable)")
-    r.add_argument("--output", default=None, help="CSV file written during the run (columns time, comp.var)")
+                   help="override a parameter or start value (repeatable; not a connected input)")
+    r.add_argument("--output", default=None, help="CSV file written during the run (columns time, comp.var), "
+                   "as OUTPUT.part until the run ends")
     r.add_argument("--plot", nargs="?", const="", default=None, metavar="VARS",
                    help="write PNG figures (next to --output, else in the current directory): the scene's "
                    "figure groups, or one figure of the comma-separated columns VARS")
-    r.add_argument("--no-progress", action="store_true", help="no progress bar (it shows on a terminal only, "
-                   "for runs longer than 3 s)")
+    r.add_argument("--max-rows", type=float, default=MAX_ROWS, metavar="N", help="refuse a run that would "
+                   f"record more rows than this (default {MAX_ROWS:g})")
+    r.add_argument("--in-process", action="store_true", help="run the FMUs in this process (default: a worker "
+                   "process, so a crash inside an FMU is reported instead of ending the command)")
     r.set_defaults(func=_cmd_run)
 
     i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
@@ -240,12 +261,12 @@ def build_parser() -> argparse.ArgumentParser:
                    "(default 4e-3,2e-3,1e-3,5e-4)")
     c.add_argument("--tolerances", default=None, help="adaptive-step tolerances, comma-separated (if the master "
                    "supports adaptive stepping)")
-    c.add_argument("--algorithm", default="jacobi", help="coupling algorithm (default jacobi)")
-    c.add_argument("--extrapolation", type=int, default=0, help="order of the input extrapolation: 0, 1, 2")
+    from .master.settings import add_arguments as add_settings
+
+    add_settings(c, ("stop_time", "algorithm", "extrapolation"), absent=False)   # the run's own definitions
     c.add_argument("--reference", default="monolithic", help="monolithic (the scene's scipy solve) or finest "
                    "(a co-simulation at min(H)/4)")
     c.add_argument("--target", type=float, default=1e-2, help="largest error / signal range accepted (default 1e-2)")
-    c.add_argument("--stop-time", type=float, default=None, help="end of each run [s] (default: the scene's)")
     c.add_argument("--parameter-set", default=None, help="a parameter set of the scene")
     c.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE", help="override (repeatable)")
     c.add_argument("--output", default=None, help="directory for converge.csv and error_vs_wall.png "
@@ -274,16 +295,30 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _terminated(signum, frame):
+    """SIGTERM outside a run (before it starts, or after): end like an interrupt, cleaning up."""
+    from .master.interrupt import RunInterrupted
+
+    raise RunInterrupted("interrupted by SIGTERM", signum=signum)
+
+
 def main(argv: list[str] | None = None) -> int:
+    import signal
+
+    from .master.interrupt import stop_on
+
     args = build_parser().parse_args(argv)
+    if args.func is _cmd_run:
+        stop_on(signal.SIGINT, signal.SIGTERM)   # during the run: stop between steps, keep the rows
+        signal.signal(signal.SIGTERM, _terminated)
     try:
         return args.func(args)
     except CraneFmuError as err:
         print(f"cranefmu: error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("cranefmu: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as err:
+        print(f"cranefmu: {err or 'interrupted'}", file=sys.stderr)
+        return getattr(err, "exit_code", 130)
 
 
 if __name__ == "__main__":

@@ -21,6 +21,7 @@ class FaultyParams(Params):
     x0: float = param(0.1, "m", "initial position")
     t_fail: float = param(1e30, "s", "time from which every step fails")
     t_crash: float = param(1e30, "s", "time at which the process hosting the FMU dies (os._exit, like a segfault)")
+    t_segfault: float = param(1e30, "s", "time at which the FMU reads address 0 (a real segmentation fault)")
 
 
 class FaultyModel(Model):
@@ -40,6 +41,10 @@ class FaultyModel(Model):
             import os
 
             os._exit(70)
+        if t >= self.p.t_segfault:
+            import ctypes
+
+            ctypes.string_at(0)
         if t >= self.p.t_fail:
             raise FloatingPointError(f"faulty: injected failure at t = {t:.6g} s (t_fail = {self.p.t_fail:g} s)")
         return np.array([x[1], (u[0] - self.p.k * x[0]) / self.p.m])

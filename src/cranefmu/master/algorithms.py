@@ -25,9 +25,9 @@ from .acceleration import ACCELERATORS
 from .coupling import InputGroup, feedthrough, rates
 from ..errors import SettingsError, SimulationError
 from .residual import CouplingCriterion
+from .settings import ALGORITHMS  # noqa: F401  (the names make_algorithm makes; re-exported)
 from .system import CoSystem
 
-ALGORITHMS = ("jacobi", "gauss-seidel", "iterative", "jacobi-plain")
 
 
 class Algorithm(ABC):

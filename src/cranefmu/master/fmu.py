@@ -2,12 +2,14 @@
 from __future__ import annotations
 
 import ctypes
+import re
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import ParameterSetError, SceneError
 
+_EXCEPTION_LINE = re.compile(r"^[A-Za-z_][\w.]*(Error|Exception|Exit|Interrupt)\b.*")
 _BOOL_TEXT = {"true": True, "false": False, "1": True, "0": False}
 
 # Messages by instance name.  pythonfmu FMUs in one process may all report through the logger of
@@ -16,6 +18,21 @@ _MESSAGES: dict[str, list[str]] = {}
 
 
 _CALLBACKS = None
+_EXTRACTED = ".cranefmu_extracted"   # written last: the directory holds a whole, checked FMU
+# unzip directory -> (fmpy ModelDescription, switch names), for the process
+_MODEL_DESCRIPTIONS: dict[Path, tuple[object, dict[str, dict[str, int]]]] = {}
+
+
+def _check_binary(name: str, fmu_name: str, unzipdir: Path, identifier: str) -> None:
+    """Refuse an FMU without a shared library for this platform, naming the platforms it has."""
+    from fmpy import platform, sharedLibraryExtension
+
+    if (unzipdir / "binaries" / platform / (identifier + sharedLibraryExtension)).is_file():
+        return
+    have = sorted(p.name for p in (unzipdir / "binaries").iterdir() if p.is_dir()) \
+        if (unzipdir / "binaries").is_dir() else []
+    raise SceneError(f"component {name!r}: {fmu_name} has no binary for this platform ({platform}): it has "
+                     f"{', '.join(have) or 'no binaries at all'}; rebuild the FMU here (cranefmu build)")
 
 
 def _callbacks():
@@ -108,32 +125,28 @@ def fmu_switch_names(fmu: Path) -> dict[str, dict[str, int]]:
         return switch_names(check_xml(zf.read("modelDescription.xml"), f"{Path(fmu).name}/modelDescription.xml"))
 
 
+def adopt_extracted(src: Path, dst: Path) -> None:
+    """``dst`` holds the same checked files as the extracted directory ``src``: reuse its description."""
+    if src in _MODEL_DESCRIPTIONS:
+        _MODEL_DESCRIPTIONS[dst] = _MODEL_DESCRIPTIONS[src]
+
+
+def forget_extracted(root: Path) -> None:
+    """Drop the descriptions of directories under ``root`` (removed after a run)."""
+    for key in [k for k in _MODEL_DESCRIPTIONS if root in k.parents]:
+        del _MODEL_DESCRIPTIONS[key]
+
+
 class FmuComponent:
     """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages."""
 
     def __init__(self, name: str, fmu_path: Path, unzipdir: Path):
-        from fmpy import read_model_description
-
-        from .untrusted import check_xml, safe_extract
-
         self.name = name
-        # fmpy.extract lets zipfile rewrite '../' entries silently; ours refuses the archive instead
         self.unzipdir = Path(unzipdir)
-        try:
-            safe_extract(fmu_path, self.unzipdir)
-            md_xml = (self.unzipdir / "modelDescription.xml").read_bytes()
-        except SceneError as err:
-            raise SceneError(f"component {name!r}: {err}") from None
-        except Exception as err:
-            raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
-        md_root = check_xml(md_xml, f"component {name!r}: {fmu_path.name}/modelDescription.xml")
-        self.switches = switch_names(md_root)
-        try:
-            self.md = read_model_description(str(self.unzipdir), validate=False)
-        except Exception as err:
-            raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
-        if self.md.fmiVersion != "2.0" or self.md.coSimulation is None:
-            raise SceneError(f"component {name!r}: {fmu_path.name} is not an FMI 2.0 co-simulation FMU")
+        described = _MODEL_DESCRIPTIONS.get(self.unzipdir) if (self.unzipdir / _EXTRACTED).is_file() else None
+        if described is None:
+            described = self.extract(name, Path(fmu_path), self.unzipdir)
+        self.md, self.switches = described
         self.variables = {v.name: v for v in self.md.modelVariables}
         self.fmu = None
         self.alive = False
@@ -143,13 +156,46 @@ class FmuComponent:
         self.fresh = False      # the read buffer holds what the FMU would return now
         self._read = None       # (vr array, count, value array, numpy view of it), built on first read
 
+    @staticmethod
+    def extract(name: str, fmu_path: Path, unzipdir: Path):
+        """Unzip ``fmu_path`` safely into ``unzipdir``, check and read its modelDescription.xml, and
+        mark the directory done (a later instance from it skips all of this); returns the description
+        and the switch names (:func:`switch_names`)."""
+        from fmpy import read_model_description
+
+        from .untrusted import check_xml, safe_extract
+
+        # fmpy.extract lets zipfile rewrite '../' entries silently; ours refuses the archive instead
+        try:
+            safe_extract(fmu_path, unzipdir)
+            md_xml = (unzipdir / "modelDescription.xml").read_bytes()
+        except SceneError as err:
+            raise SceneError(f"component {name!r}: {err}") from None
+        except Exception as err:
+            raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
+        switches = switch_names(check_xml(md_xml, f"component {name!r}: {fmu_path.name}/modelDescription.xml"))
+        try:
+            md = read_model_description(str(unzipdir), validate=False)
+        except Exception as err:
+            raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
+        if md.fmiVersion != "2.0" or md.coSimulation is None:
+            raise SceneError(f"component {name!r}: {fmu_path.name} is not an FMI 2.0 co-simulation FMU")
+        _check_binary(name, fmu_path.name, unzipdir, md.coSimulation.modelIdentifier)
+        _MODEL_DESCRIPTIONS[unzipdir] = md, switches
+        (unzipdir / _EXTRACTED).touch()
+        return md, switches
+
     # --- life cycle ---------------------------------------------------------------------------
     def instantiate(self) -> None:
         self.fmu = _slave_class()(guid=self.md.guid, unzipDirectory=str(self.unzipdir),
                              modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=self.name)
 
         _MESSAGES[self.name] = []
-        self.fmu.instantiate(loggingOn=True, callbacks=_callbacks())
+        try:
+            self.fmu.instantiate(loggingOn=True, callbacks=_callbacks())
+        except Exception as err:
+            raise SceneError(f"component {self.name!r} ({self.md.modelName}) could not be instantiated: "
+                             f"{self.python_error() or err}") from None
         self.alive = True
         # the hot path calls the C functions themselves (fmpy's wrappers convert lists to new ctypes
         # arrays on every call); argument types as fmpy declared them
@@ -166,6 +212,12 @@ class FmuComponent:
     @property
     def messages(self) -> list[str]:
         return _MESSAGES.get(self.name, [])
+
+    def python_error(self) -> str:
+        """The Python exception the FMU's code raised, as pythonfmu logged it (one line), or ''."""
+        lines = [line for m in self.messages for line in m.strip().splitlines() if line.strip()]
+        errors = [line.strip() for line in lines if _EXCEPTION_LINE.match(line.strip())]
+        return errors[-1] if errors else (lines[-1].strip() if lines else "")
 
     def last_error(self) -> str:
         # the adapter's own message names the cause; pythonfmu's "Fatal py exception" line does not

@@ -1,44 +1,91 @@
 """Observers: record the outputs at every communication point, streaming to CSV as they come.
 
-A recorder never steers the run.  The CSV is flushed every ``flush_every`` rows and on close, so
-a run that fails part-way leaves every row computed before the failure on disk.
+A recorder never steers the run.  Rows are written to the file descriptor in whole rows, at the
+first row and then every ``flush_every`` rows, so a run that fails or is killed part-way leaves
+every row written before on disk in a well-formed CSV.  A failed write (disk full) cuts the file
+back to its last whole row and raises a :class:`~cranefmu.errors.SimulationError` saying so.
 """
 from __future__ import annotations
 
 import csv
-from pathlib import Path
+import io
+import os
+import stat
 
 import numpy as np
 
+from ..errors import SimulationError
+
 
 class Recorder:
-    """Rows of (time, values...) kept in memory (optionally) and streamed to a CSV file."""
+    """Rows of (time, values...) kept in memory (optionally) and streamed to an open file descriptor.
 
-    def __init__(self, columns: list[str], output: Path | None = None, keep: bool = True,
-                 flush_every: int = 1000):
+    ``name`` is how the file is called in messages (the run's target), ``path`` where it is now.  ``count`` rows were
+    recorded, ``written`` of them are on disk.
+    """
+
+    def __init__(self, columns: list[str], fd: int | None = None, name: str = "", keep: bool = True,
+                 flush_every: int = 1000, path: str = ""):
         self.columns = ["time", *columns]
-        self.output = Path(output) if output else None
+        self.fd = fd
+        self.name = name
+        self.path = path or name    # the file on disk while the run goes on (``name`` + ".part")
         self.keep = keep
         self.rows: list[np.ndarray] = []
         self.count = 0
+        self.written = 0
+        self.write_error = ""
+        self.last_time = float("nan")
         self._flush_every = flush_every
-        self._file = None
-        self._writer = None
-        if self.output:
-            self.output.parent.mkdir(parents=True, exist_ok=True)
-            self._file = open(self.output, "w", newline="")
-            self._writer = csv.writer(self._file)
+        self._buffer = io.StringIO()
+        self._writer = csv.writer(self._buffer)
+        self._offset = 0
+        self._pending = 0
+        if fd is not None:
+            self._regular = stat.S_ISREG(os.fstat(fd).st_mode)
             self._writer.writerow(self.columns)
+
+    @property
+    def output(self) -> str | None:
+        return self.name or None
 
     def record(self, time: float, values: np.ndarray) -> None:
         row = np.concatenate(([time], values))
+        self.last_time = time
         if self.keep:
             self.rows.append(row)
-        if self._writer is not None:
-            self._writer.writerow(row.tolist())  # csv writes a float as repr(): every digit kept
-            if self.count % self._flush_every == 0:
-                self._file.flush()
         self.count += 1
+        if self.fd is not None:
+            self._writer.writerow(row.tolist())  # csv writes a float as repr(): every digit kept
+            self._pending += 1
+            if self.count == 1 or self._pending >= self._flush_every:
+                self.flush()
+
+    def flush(self) -> None:
+        """Write the buffered rows; on failure cut the file back to its last whole row and raise."""
+        if self.fd is None or self.write_error:
+            return
+        data = self._buffer.getvalue().encode()
+        self._buffer.seek(0)
+        self._buffer.truncate()
+        try:
+            view = memoryview(data)
+            while view:
+                view = view[os.write(self.fd, view):]
+        except OSError as err:
+            self.write_error = err.strerror or str(err)
+            if self._regular:
+                try:
+                    os.ftruncate(self.fd, self._offset)
+                except OSError:
+                    pass
+            kept = (f"the {self.written} rows written before are in {self.name}" if self.written
+                    else "no rows were written")
+            raise SimulationError(f"writing the results to {self.name} failed at row {self.count}: "
+                                  f"{self.write_error}; {kept}") from None
+        self._offset += len(data)
+        self.written += self._pending
+        self._pending = 0
 
     def simulation_initialized(self, t: float, values: np.ndarray) -> None:
         self.record(t, values)
@@ -47,9 +94,9 @@ class Recorder:
         self.record(t, values)   # the failing row too: it shows what went wrong
 
     def close(self) -> None:
-        if self._file is not None and not self._file.closed:
-            self._file.flush()
-            self._file.close()
+        """Write what is buffered (errors after a failed write are not repeated)."""
+        if self.fd is not None and not self.write_error and self._pending:
+            self.flush()
 
     def result(self) -> np.ndarray:
         """The kept rows as a numpy structured array with one float field per column."""
@@ -61,6 +108,17 @@ class Recorder:
         return out
 
 
-def read_csv(path: Path) -> np.ndarray:
-    """Read a result CSV written by :class:`Recorder` back into a structured array."""
-    return np.genfromtxt(path, delimiter=",", names=True, deletechars="", dtype=np.float64)
+def read_csv(path, columns: list[str] | None = None) -> np.ndarray:
+    """Read a result CSV written by :class:`Recorder` back into a structured array (only ``columns``
+    and time, if given: a long run's file need not fit in memory whole)."""
+    if columns is None:
+        return np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True, deletechars="", dtype=np.float64))
+    with open(path, newline="") as f:
+        header = next(csv.reader(f))
+    wanted = ["time", *[c for c in columns if c != "time"]]
+    index = [header.index(c) for c in wanted]
+    data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=index, ndmin=2)
+    out = np.zeros(len(data), dtype=[(c, np.float64) for c in wanted])
+    for i, c in enumerate(wanted):
+        out[c] = data[:, i]
+    return out

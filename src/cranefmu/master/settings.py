@@ -1,0 +1,179 @@
+"""Every run setting, defined once: default, meaning, unit and command-line form.
+
+:class:`Settings` is the single source: :func:`cranefmu.master.run.run` takes its fields as keywords
+(its signature and docstring are built from them), and ``cranefmu run`` builds its options and their
+``--help`` from the same fields (:func:`add_arguments`).
+"""
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import MISSING, dataclass, field, fields
+
+from ..errors import SettingsError
+from .acceleration import ACCELERATORS
+
+ALGORITHMS = ("jacobi", "gauss-seidel", "iterative", "jacobi-plain")  # made by algorithms.make_algorithm
+STEP_CONTROLS = ("extrapolation", "ecco")
+
+
+def setting(default, help: str, *, type=None, flag: str | None = None, metavar: str | None = None,
+            form: str = "value", flag_help: str | None = None):
+    """A settings field.  ``form``: value (``--flag VALUE``), switch (``--flag`` sets True), negate
+    (``--no-flag`` sets False), off (``--no-flag`` sets False, default None = automatic), list
+    (comma-separated names; for stop_when 'none' is the empty list).  ``flag_help``: the option's
+    help where it differs from the setting's (a --no- option)."""
+    return field(default=default, metadata=dict(help=help, type=type, flag=flag, metavar=metavar, form=form,
+                                                 flag_help=flag_help))
+
+
+@dataclass
+class Settings:
+    """Every run setting; :meth:`check` validates them once the scene's stop time is known."""
+
+    stop_time: float | None = setting(None, "end of the run [s] (default: the scene's DefaultExperiment, else 10)",
+                                      type=float)
+    step_size: float = setting(1e-3, "macro (communication) step [s]; the first step with adaptive", type=float,
+                               flag="--step")
+    algorithm: str = setting("jacobi", "coupling: " + ", ".join(ALGORITHMS) + " (iterative: strong coupling with "
+                             "rollback; jacobi-plain: libcosim's fixed-step Jacobi, no feedthrough re-read)", type=str)
+    extrapolation: int = setting(0, "order of the polynomial the coupling inputs follow inside a step: 0, 1, 2 "
+                                 "(iterative: degree of the interpolation, at least 1)", type=int)
+    start_time: float = setting(0.0, "start of the run [s]", type=float)
+    adaptive: bool = setting(False, "control the macro step (step_size is the first step)", form="switch")
+    tolerance: float = setting(1e-3, "adaptive: relative local error of the coupling values per step", type=float)
+    min_step: float | None = setting(None, "adaptive: smallest step [s] (default step/1000); also how finely a "
+                                     "switching discrete output is located", type=float)
+    max_step: float | None = setting(None, "adaptive: largest step [s] (default 100 steps)", type=float)
+    step_control: str = setting("extrapolation", "adaptive: extrapolation (error of the extrapolated coupling "
+                                "values, rejecting) or ecco (power-bond energy residuals, never rejecting)", type=str)
+    coupling_tolerance: float = setting(1e-8, "iterative: relative residual of the coupling values at which a "
+                                        "step has converged", type=float)
+    max_iterations: int = setting(50, "iterative: iterations per step", type=int)
+    accelerator: str = setting("iqn-ils", "iterative: " + ", ".join(ACCELERATORS), type=str)
+    order: list[str] | None = setting(None, "gauss-seidel: the order the components step in (default: from the "
+                                      "dependency graph)", metavar="COMP,COMP,...", form="list")
+    energy_alarm: float | None = setting(None, "stop when a power bond's total energy residual exceeds this [J]",
+                                         type=float, metavar="JOULES")
+    init_tolerance: float = setting(1e-10, "relative agreement of the connections after initialization",
+                                    type=float)
+    progress: bool | None = setting(None, "progress bar (default: on a terminal, for runs longer than 3 s)",
+                                    form="off", flag_help="no progress bar (it shows on a terminal only, for "
+                                    "runs longer than 3 s)")
+    substeps: int = setting(1, "iterative: waveform iteration on this many sub-intervals of each macro step "
+                            "(1: one input polynomial per step)", type=int, metavar="M")
+    instability_alarm: bool = setting(True, "stop a run whose explicit coupling is unstable (a power bond's "
+                                      "residual grows geometrically, or a coupling value's change per step)",
+                                      form="negate", flag_help="do not stop a run whose explicit coupling is "
+                                      "unstable (the alarm is on by default)")
+    stop_when: list[str] | None = setting(None, "end the run (as a result) at the first output time where one "
+                                          "of these outputs 'component.variable' is non-zero (default: the "
+                                          "scene's own stop conditions; 'none' or [] runs on)", metavar="VARS",
+                                          form="list")
+
+    @classmethod
+    def from_options(cls, **options) -> "Settings":
+        """Settings from keywords, refusing an unknown one by name."""
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(options) - known)
+        if unknown:
+            raise SettingsError(f"{unknown[0]} is not a run setting: one of {', '.join(sorted(known))}")
+        return cls(**options)
+
+    def check(self) -> None:
+        if not isinstance(self.instability_alarm, bool):
+            raise SettingsError(f"instability_alarm = {self.instability_alarm!r} is not allowed: True or False")
+        if self.stop_when is not None and (isinstance(self.stop_when, str) or
+                                           not all(isinstance(v, str) for v in self.stop_when)):
+            raise SettingsError(f"stop_when = {self.stop_when!r} is not allowed: a list of output names "
+                                "'component.variable' (empty: run on)")
+        for name in ("start_time", "stop_time", "step_size", "tolerance", "coupling_tolerance", "init_tolerance"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise SettingsError(f"{name} = {value!r} is not allowed: a finite number")
+        if self.stop_time <= self.start_time:
+            raise SettingsError(f"stop_time = {self.stop_time!r} is not allowed: must be > start_time = "
+                                f"{self.start_time!r} s")
+        span = self.stop_time - self.start_time
+        if self.step_size <= 0:
+            raise SettingsError(f"step_size = {self.step_size!r} is not allowed: must be > 0 s")
+        if self.step_size > span:
+            raise SettingsError(f"step_size = {self.step_size!r} is not allowed: must be <= stop_time - start_time "
+                                f"= {span!r} s")
+        if self.algorithm not in ALGORITHMS:
+            raise SettingsError(f"algorithm = {self.algorithm!r} is not allowed: one of {', '.join(ALGORITHMS)}")
+        if isinstance(self.extrapolation, bool) or self.extrapolation not in (0, 1, 2):
+            raise SettingsError(f"extrapolation = {self.extrapolation!r} is not allowed: 0, 1 or 2")
+        for name in ("tolerance", "coupling_tolerance", "init_tolerance"):
+            if not 0 < getattr(self, name) < 1:
+                raise SettingsError(f"{name} = {getattr(self, name)!r} is not allowed: between 0 and 1 (relative)")
+        if self.step_control not in STEP_CONTROLS:
+            raise SettingsError(f"step_control = {self.step_control!r} is not allowed: one of "
+                                f"{', '.join(STEP_CONTROLS)}")
+        if self.accelerator not in ACCELERATORS:
+            raise SettingsError(f"accelerator = {self.accelerator!r} is not allowed: one of {', '.join(ACCELERATORS)}")
+        for name in ("max_iterations", "substeps"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise SettingsError(f"{name} = {value!r} is not allowed: an integer >= 1")
+        if self.substeps > 1 and self.algorithm != "iterative":
+            raise SettingsError(f"substeps = {self.substeps!r} is not allowed with algorithm = {self.algorithm!r}: "
+                                "only with 'iterative' (waveform iteration); use 1")
+        for name in ("min_step", "max_step", "energy_alarm"):
+            value = getattr(self, name)
+            if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
+                                      or not math.isfinite(value) or value <= 0):
+                raise SettingsError(f"{name} = {value!r} is not allowed: a number > 0 (or None)")
+        if self.adaptive and self.h_min > self.step_size:
+            raise SettingsError(f"min_step = {self.h_min!r} is not allowed: must be <= step_size = {self.step_size!r} s")
+        if self.adaptive and self.h_max < self.step_size:
+            raise SettingsError(f"max_step = {self.h_max!r} is not allowed: must be >= step_size = {self.step_size!r} s")
+
+    @property
+    def h_min(self) -> float:
+        return self.min_step if self.min_step is not None else 1e-3 * self.step_size
+
+    @property
+    def h_max(self) -> float:
+        span = self.stop_time - self.start_time
+        return self.max_step if self.max_step is not None else min(span, 100 * self.step_size)
+
+    def rows_expected(self) -> float:
+        """Rows a run writes: one per step plus the start (adaptive: at the first step's size)."""
+        return math.floor((self.stop_time - self.start_time) / self.step_size + 0.5) + 1
+
+
+def describe() -> str:
+    """One line per setting (for docstrings): ``name = default: meaning``."""
+    return "\n".join(f"    {f.name} = {f.default!r}: {f.metadata['help']}" for f in fields(Settings))
+
+
+def flag_of(f) -> str:
+    base = f.metadata["flag"] or "--" + f.name.replace("_", "-")
+    return "--no-" + base[2:] if f.metadata["form"] in ("negate", "off") else base
+
+
+def add_arguments(parser: argparse.ArgumentParser, names: tuple[str, ...] | None = None,
+                  absent: bool = True) -> None:
+    """One option per setting (or per setting of ``names``), its help from the field.  ``absent``:
+    an option not given stays out of the namespace (the field's default rules when the settings are
+    built); else it takes the field's default.  Either way defaults live in :class:`Settings` only."""
+    for f in fields(Settings):
+        if names is not None and f.name not in names:
+            continue
+        meta, form = f.metadata, f.metadata["form"]
+        default = "" if f.default in (None, MISSING) or form in ("negate", "off", "switch") \
+            else f" (default {f.default:g})" if isinstance(f.default, float) else f" (default {f.default})"
+        common = dict(dest=f.name, default=argparse.SUPPRESS if absent else f.default, help=(meta["flag_help"] or meta["help"]) + default)
+        if form == "switch":
+            parser.add_argument(flag_of(f), action="store_true", **common)
+        elif form in ("negate", "off"):
+            parser.add_argument(flag_of(f), action="store_false", **common)
+        else:
+            kind = _comma_list if form == "list" else meta["type"]
+            parser.add_argument(flag_of(f), type=kind, metavar=meta["metavar"], **common)
+
+
+def _comma_list(text: str) -> list[str]:
+    """'a,b' -> ['a', 'b']; 'none' -> [] (stop_when: run on)."""
+    return [] if text.strip().lower() == "none" else [v.strip() for v in text.split(",") if v.strip()]
