@@ -453,9 +453,9 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
         # Jacobi x0 and x1 always: the same-H comparison with fmpy and the adaptive comparison use them
         for ex in sorted(set(extrapolations) | ({0, 1} if alg == "jacobi" else set())):
             series[(alg, ex)] = master_runs(scene, [(h, None) for h in steps], stop, alg, ex, say)
-    if cv.master_supports_adaptive():  # adaptive Jacobi, extrapolation 1, started at the finest fixed H
-        series[("jacobi adaptive", 1)] = master_runs(scene, [(min(steps), tol) for tol in ADAPTIVE_TOLERANCES],
-                                                     stop, "jacobi", 1, say)
+    # adaptive Jacobi, extrapolation 1, started at the finest fixed H
+    series[("jacobi adaptive", 1)] = master_runs(scene, [(min(steps), tol) for tol in ADAPTIVE_TOLERANCES],
+                                                 stop, "jacobi", 1, say)
     ssp = str(resolve_scene(scene))
     fm = []
     for h in steps:

@@ -104,8 +104,8 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
           **settings) -> SweepResult:
     """Run ``scene`` for every point of a design and write one row per run to the CSV ``output``.
 
-    vary: ``["comp.var=1,2,3", "step_size=log:1e-4:1e-2:5", ...]`` or ``{"comp.var": [values]}``
-    (see :mod:`.spec`); metrics: ``["max:rope.tension", "scene", ...]`` (see :mod:`.metrics`;
+    vary: ``["comp.var=1,2,3", "step_size=log:1e-4:1e-2:5", ...]``, ``{"comp.var": [values]}`` or a list
+    of points ``[{"step_size": 1e-3, "rope.E": 1e11}, ...]`` run as given (see :mod:`.spec`); metrics: ``["max:rope.tension", "scene", ...]`` (see :mod:`.metrics`;
     default: the scene's key metrics and the range of its key outputs); parameters, parameter_set and
     further keyword run settings (``stop_time``, ``step_size``, ``algorithm``, ...) are fixed for every
     run; design: factorial | lhs | sobol (``samples`` points, ``seed``); results: a folder for each
@@ -123,7 +123,7 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     metric_names = check(wanted, facts.name, facts.columns)
     runs = list({r.key: r for r in plan.runs(facts.name)}.values())
     check_inputs(facts, runs)
-    inputs = [f.name for f in plan.factors] + sorted(plan.fixed)
+    inputs = plan.names + sorted(plan.fixed)
     table = tables.Table(output, tables.header(inputs, metric_names))
     todo = [r for r in runs if r.key not in table.done]
     out = SweepResult(table.path, [], skipped=len(runs) - len(todo))

@@ -23,12 +23,12 @@ from dataclasses import dataclass, field
 from ..errors import SettingsError
 
 DESIGNS = ("factorial", "lhs", "sobol")
-# run settings a sweep may vary or fix; the rest of Settings (order, stop_when, progress) are lists or
-# display only
+# run settings a sweep may vary or fix (lists: fixed only, comma-separated in text); progress is display only
 _SETTING_TYPES = {"stop_time": float, "step_size": float, "algorithm": str, "extrapolation": int,
                   "start_time": float, "adaptive": bool, "tolerance": float, "min_step": float, "max_step": float,
                   "step_control": str, "coupling_tolerance": float, "max_iterations": int, "accelerator": str,
-                  "energy_alarm": float, "init_tolerance": float, "substeps": int, "instability_alarm": bool}
+                  "energy_alarm": float, "init_tolerance": float, "substeps": int, "instability_alarm": bool,
+                  "order": list, "stop_when": list}
 SETTINGS = tuple(_SETTING_TYPES) + ("parameter_set",)
 _TRUE, _FALSE = ("1", "true", "yes", "on"), ("0", "false", "no", "off")
 
@@ -50,6 +50,8 @@ def convert(name: str, text: object) -> object:
     kind = _SETTING_TYPES.get(name)
     if name == "parameter_set" or kind is str:
         return text
+    if kind is list:
+        return [v.strip() for v in text.split(",") if v.strip()]
     if kind is bool:
         if text.lower() in _TRUE + _FALSE:
             return text.lower() in _TRUE
@@ -180,6 +182,7 @@ class Design:
 
     factors: tuple[Factor, ...]
     fixed: dict = field(default_factory=dict, hash=False)
+    listed: tuple = ()   # explicit points (dicts of inputs) instead of factors
     kind: str = "factorial"
     samples: int | None = None
     seed: int = 0
@@ -187,12 +190,17 @@ class Design:
     def __post_init__(self):
         if self.kind not in DESIGNS:
             raise SettingsError(f"design = {self.kind!r} is not allowed: one of {', '.join(DESIGNS)}")
+        if self.listed and self.factors:
+            raise SettingsError("give either varied inputs or a list of points, not both")
+        for p in self.listed:
+            for name in p:
+                check_name(name)
         names = [f.name for f in self.factors]
         if len(set(names)) != len(names):
             raise SettingsError(f"an input is varied twice: {', '.join(sorted({n for n in names if names.count(n) > 1}))}")
         for name in self.fixed:
             check_name(name)
-        both = set(names) & set(self.fixed)
+        both = (set(names) | {k for p in self.listed for k in p}) & set(self.fixed)
         if both:
             raise SettingsError(f"input(s) {', '.join(sorted(both))} both varied and fixed: give one")
         if self.kind != "factorial" and (not isinstance(self.samples, int) or self.samples < 1):
@@ -200,8 +208,16 @@ class Design:
         if self.kind == "factorial" and self.samples is not None:
             raise SettingsError("samples is only allowed with design 'lhs' or 'sobol'")
 
+    @property
+    def names(self) -> list[str]:
+        """The varied inputs in order (of listed points: every name any point has)."""
+        return list(dict.fromkeys(k for p in self.listed for k in p)) if self.listed else \
+            [f.name for f in self.factors]
+
     def points(self) -> list[dict]:
         """Each run's varied inputs, in a fixed order."""
+        if self.listed:
+            return [dict(p) for p in self.listed]
         if not self.factors:
             return [{}]
         if self.kind == "factorial":
@@ -219,9 +235,14 @@ class Design:
         return [Run(scene, {**self.fixed, **p}) for p in self.points()]
 
 
-def design(vary: list[str] | dict | None = None, fixed: dict | None = None, kind: str = "factorial",
+def design(vary: list[str] | list[dict] | dict | None = None, fixed: dict | None = None, kind: str = "factorial",
            samples: int | None = None, seed: int = 0) -> Design:
-    """A design from ``--vary`` texts (or a dict name -> list of values) and fixed inputs name -> value."""
+    """A design from ``--vary`` texts, a dict name -> list of values, or a list of points (dicts name ->
+    value, run as given), and the fixed inputs name -> value."""
+    fixed = {k: convert(k, v) for k, v in (fixed or {}).items()}
+    if isinstance(vary, (list, tuple)) and vary and all(isinstance(p, dict) for p in vary):
+        listed = tuple({k: convert(k, v) for k, v in p.items()} for p in vary)
+        return Design((), fixed, kind=kind, samples=samples, seed=seed, listed=listed)
     if isinstance(vary, dict):
         factors = []
         for k, v in vary.items():
@@ -231,4 +252,4 @@ def design(vary: list[str] | dict | None = None, fixed: dict | None = None, kind
                 factors.append(Factor(str(k), values=tuple(convert(k, x) for x in v)))
     else:
         factors = [parse_factor(t) for t in (vary or [])]
-    return Design(tuple(factors), {k: convert(k, v) for k, v in (fixed or {}).items()}, kind, samples, seed)
+    return Design(tuple(factors), fixed, kind=kind, samples=samples, seed=seed)

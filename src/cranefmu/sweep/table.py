@@ -16,10 +16,10 @@ from pathlib import Path
 
 from ..errors import SettingsError
 
-TAIL = ("status", "error", "stopped", "steps", "wall_time", "task_time", "attempts", "worker")
+TAIL = ("status", "error", "stopped", "steps", "rejections", "wall_time", "task_time", "attempts", "worker")
 _TEXT = ("key", "status", "error", "stopped", "worker")   # never read as numbers (a key may look like 12e4)
 # status: ok | failed; error: the message of a failed run; stopped: why a stop condition ended the run
-# (a result, e.g. tipping); wall_time [s]: the run's own (master loop); task_time [s]: on the worker,
+# (a result, e.g. tipping); steps, rejections: accepted and rejected macro steps; wall_time [s]: the run's own (master loop); task_time [s]: on the worker,
 # scene loading, FMU set-up and metrics included; attempts: 2 when the run was retried
 
 
@@ -38,6 +38,8 @@ def cell(value) -> str:
         return str(value)
     if isinstance(value, float):
         return repr(value)
+    if isinstance(value, (list, tuple)):
+        return ",".join(map(str, value))
     return str(value)
 
 

@@ -69,7 +69,7 @@ def execute(ssp: SspFile, run: Run, metrics: list[Metric], results_dir: str | No
         res = master_run(ssp.local(), parameters=run.parameters, parameter_set=run.parameter_set, isolate=False,
                          keep=True, progress=False, **run.settings)
         row.update(measure(metrics, run.scene, res.result))
-        row.update(steps=res.stats.steps, wall_time=res.stats.wall_time, stopped=_one_line(res.stats.stopped or ""))
+        row.update(steps=res.stats.steps, rejections=res.stats.rejections, wall_time=res.stats.wall_time, stopped=_one_line(res.stats.stopped or ""))
         if results_dir is not None:
             import numpy as np
 
