@@ -18,7 +18,7 @@ from pathlib import Path
 
 from ..errors import ParameterSetError, SettingsError
 from . import table as tables
-from .metrics import Metric, check, parse_metric
+from .metrics import Custom, Metric, check, parse_metric
 from .spec import Run, design as make_design
 from .worker import SspFile, execute
 
@@ -142,7 +142,7 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     return out
 
 
-def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric], results_dir: str | None,
+def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custom], results_dir: str | None,
                 table: tables.Table, out: SweepResult, workers: int | None, scheduler: str | None, client,
                 progress: bool | None) -> None:
     from distributed import as_completed

@@ -2,7 +2,7 @@
 
 A metric is written ``KIND:COLUMN``:
 
-- ``max``, ``min``, ``final``, ``mean`` (time-weighted, trapezoid), ``ptp`` (peak to peak), ``absmax``;
+- ``max``, ``min``, ``initial`` (the static state: a scene starts at rest), ``final``, ``mean`` (time-weighted, trapezoid), ``ptp`` (peak to peak), ``absmax``;
 - ``cross:COLUMN>VALUE`` / ``cross:COLUMN<VALUE``: time [s] of the first sample above / below VALUE
   (NaN if never);
 - ``dynamic_factor:COLUMN``: peak / static value, the static value being the column at the start (a
@@ -10,12 +10,16 @@ A metric is written ``KIND:COLUMN``:
 - ``scene``: the scene's own key metrics (:data:`cranefmu.scenes.METRICS`, e.g. overhead_lift's
   dynamic factor, truck_telescope's sway and tipping), one column each.
 
+From Python, a :class:`Custom` metric is any function ``fn(result, inputs) -> {name: value}`` (it
+travels to the workers by value, so it may live in a script).
+
 The table column of a metric is its text (``max:rope.tension``); scene metrics keep their own names.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
@@ -23,7 +27,7 @@ from ..errors import SettingsError
 from .spec import number
 
 _trapezoid = getattr(np, "trapezoid", None) or np.trapz   # numpy 2 renamed it
-KINDS = ("max", "min", "final", "mean", "ptp", "absmax", "cross", "dynamic_factor", "scene")
+KINDS = ("max", "min", "initial", "final", "mean", "ptp", "absmax", "cross", "dynamic_factor", "scene")
 
 
 @dataclass(frozen=True)
@@ -44,12 +48,25 @@ class Metric:
         return f"{self.kind}:{self.column}"
 
 
-def parse_metric(text: str) -> Metric:
+@dataclass(frozen=True)
+class Custom:
+    """A metric computed by ``fn(result, inputs)`` returning ``{name: float}`` for each of ``names``;
+    ``columns``: the result columns it reads, checked before anything runs."""
+
+    names: tuple[str, ...]
+    fn: Callable
+    columns: tuple[str, ...] = ()
+    kind = "custom"
+
+
+def parse_metric(text: str | Custom) -> Metric | Custom:
     """'max:rope.tension', 'cross:pendulum.y>0.1', 'dynamic_factor:rope.tension', 'scene', ..."""
+    if isinstance(text, Custom):
+        return text
     text = str(text).strip()
     kind, _, rest = text.partition(":")
     kind = kind.strip().lower()
-    allowed = ("max:COLUMN, min:, final:, mean:, ptp:, absmax:, cross:COLUMN>VALUE, cross:COLUMN<VALUE, "
+    allowed = ("max:COLUMN, min:, initial:, final:, mean:, ptp:, absmax:, cross:COLUMN>VALUE, cross:COLUMN<VALUE, "
                "dynamic_factor:COLUMN[/STATIC], scene")
     if kind == "scene" and not rest:
         return Metric("scene")
@@ -98,17 +115,20 @@ def check(metrics: list[Metric], scene: str, columns: list[str]) -> list[str]:
         if m.kind == "scene":
             names += scene_metric_names(scene, columns)
             continue
-        if m.column not in known:
-            close = [c for c in columns if m.column.split(".")[-1] in c] or columns
-            raise SettingsError(f"metric {m.name!r}: column {m.column!r} is not an output of scene {scene}: "
-                                f"one of {', '.join(close[:12])}{' ...' if len(close) > 12 else ''}")
-        names.append(m.name)
+        for column in (m.columns if m.kind == "custom" else (m.column,)):
+            if column not in known:
+                close = [c for c in columns if column.split(".")[-1] in c] or columns
+                label = ",".join(m.names) if m.kind == "custom" else m.name
+                raise SettingsError(f"metric {label!r}: column {column!r} is not an output "
+                                    f"of scene {scene}: one of {', '.join(close[:12])}"
+                                    f"{' ...' if len(close) > 12 else ''}")
+        names += list(m.names) if m.kind == "custom" else [m.name]
     if len(set(names)) != len(names):
         raise SettingsError(f"metrics {names} name a column twice")
     return names
 
 
-def measure(metrics: list[Metric], scene: str, result: np.ndarray) -> dict[str, float]:
+def measure(metrics: list[Metric | Custom], scene: str, result: np.ndarray, inputs: dict | None = None) -> dict[str, float]:
     """Every metric of one run's result (NaN where the result has fewer than two rows)."""
     from ..scenes import METRICS
 
@@ -118,6 +138,10 @@ def measure(metrics: list[Metric], scene: str, result: np.ndarray) -> dict[str, 
         if m.kind == "scene":
             with np.errstate(all="ignore"):
                 out.update({k: float(v) for k, v in METRICS[scene](result).items()} if len(t) > 1 else {})
+            continue
+        if m.kind == "custom":
+            values = m.fn(result, dict(inputs or {})) if len(t) > 1 else {}
+            out.update({k: float(values.get(k, math.nan)) for k in m.names})
             continue
         y = np.asarray(result[m.column], dtype=float)
         out[m.name] = _one(m, t, y) if len(t) > 1 else math.nan
@@ -129,6 +153,8 @@ def _one(m: Metric, t: np.ndarray, y: np.ndarray) -> float:
         return float(y.max())
     if m.kind == "min":
         return float(y.min())
+    if m.kind == "initial":
+        return float(y[0])
     if m.kind == "final":
         return float(y[-1])
     if m.kind == "absmax":

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import CraneFmuError
-from .metrics import Metric, measure
+from .metrics import Custom, Metric, measure
 from .spec import Run
 
 _LOCAL: dict[str, Path] = {}   # sha256 -> the .ssp written in this worker process
@@ -54,7 +54,7 @@ class SspFile:
         return _LOCAL[self.sha256]
 
 
-def execute(ssp: SspFile, run: Run, metrics: list[Metric], results_dir: str | None = None) -> dict:
+def execute(ssp: SspFile, run: Run, metrics: list[Metric | Custom], results_dir: str | None = None) -> dict:
     """Run ``run`` in this process and return its row (inputs, metrics, status, error, cost).
 
     Every exception is caught into the row: a CraneFmuError (bad value, unstable coupling, ...) is the
@@ -68,7 +68,7 @@ def execute(ssp: SspFile, run: Run, metrics: list[Metric], results_dir: str | No
     try:
         res = master_run(ssp.local(), parameters=run.parameters, parameter_set=run.parameter_set, isolate=False,
                          keep=True, progress=False, **run.settings)
-        row.update(measure(metrics, run.scene, res.result))
+        row.update(measure(metrics, run.scene, res.result, run.inputs))
         row.update(steps=res.stats.steps, rejections=res.stats.rejections, wall_time=res.stats.wall_time, stopped=_one_line(res.stats.stopped or ""))
         if results_dir is not None:
             import numpy as np
