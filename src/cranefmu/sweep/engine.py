@@ -215,7 +215,7 @@ def connect(workers: int | None = None, scheduler: str | None = None):
     # a dying worker fails its task at once (the engine retries it once itself), instead of the
     # scheduler trying it on three more workers
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                                silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
