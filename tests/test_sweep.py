@@ -4,6 +4,7 @@ finished runs, a metric on an unknown column is refused before anything runs."""
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -99,3 +100,21 @@ def test_designs():
         design(["rope.E=1:2"]).points()
     with pytest.raises(SettingsError, match="extrapolation = '1.5' is not allowed: an integer"):
         parse_factor("extrapolation=0,1.5")
+
+
+def test_a_run_that_kills_its_worker_is_retried_once_then_recorded(client, tmp_path):
+    from cranefmu.sweep.metrics import Custom
+
+    def die_at_2e11(result, inputs):   # a crash inside the worker process (as a segfault in an FMU)
+        if inputs["rope.E"] == 2e11:
+            os._exit(1)
+        return {"final_tension": float(result["rope.tension"][-1])}
+
+    res = cranefmu.sweep("elastic_pendulum", {"rope.E": [1e11, 2e11, 3e11]},
+                         [Custom(("final_tension",), die_at_2e11, ("rope.tension",))], tmp_path / "s.csv",
+                         client=client, stop_time=0.1)
+    by_e = {r["rope.E"]: r for r in res.rows}
+    assert (res.ran, res.failed, res.retried) == (3, 1, [by_e[2e11]["key"]])
+    assert by_e[2e11]["status"] == "failed" and by_e[2e11]["attempts"] == 2
+    assert "worker lost the run" in by_e[2e11]["error"] and "KilledWorker" in by_e[2e11]["error"]
+    assert all(by_e[e]["status"] == "ok" and math.isfinite(by_e[e]["final_tension"]) for e in (1e11, 3e11))
