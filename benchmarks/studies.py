@@ -64,7 +64,7 @@ def load_chart(full: bool, client) -> None:
            f"Telescoping from {L_MIN} m to the boom length at each speed (trapezoid, 3 s ramps, load height held "
            "by the winch), then 6 s of free sway; rated load = the largest load whose run keeps the front "
            "outrigger loaded (secant on the smallest N1 of the run, 1 % tolerance, every tried load safe "
-           f"at the value given). {sum(len(r.tried) for r in ratings)} runs, {wall:.0f} s wall this session.", "",
+           f"at the value given), H = 5 ms, Jacobi, extrapolation 1. {sum(len(r.tried) for r in ratings)} runs, {wall:.0f} s wall this session.", "",
            "| angle [deg] | boom [m] | radius [m] | static [kg] | " +
            " | ".join(f"{v} m/s [kg] (of static)" for v in SPEEDS) + " |",
            "| --- | --- | --- | --- | " + " | ".join("---" for _ in SPEEDS) + " |"]
@@ -74,10 +74,14 @@ def load_chart(full: bool, client) -> None:
             cells = []
             for v in SPEEDS:
                 r = next(x for x in ratings if (x.angle, x.length, x.speed) == (a, L, v))
+                if r.failure or not r.safe:
+                    cells.append(f"failed ({r.failure[:80]})")
+                    continue
                 rated = r.safe[-1][0]
                 cells.append(f"{rated:.0f} ({rated / s:.3f})")
             md.append(f"| {a:g} | {L:g} | {L * math.cos(math.radians(a)):.2f} | {s:.0f} | " + " | ".join(cells) + " |")
-    cost = [1.0 - r.safe[-1][0] / closed_form_max_load(r.angle, r.length) for r in ratings]
+    ratings_ok = [r for r in ratings if r.safe and not r.failure]
+    cost = [1.0 - r.safe[-1][0] / closed_form_max_load(r.angle, r.length) for r in ratings_ok]
     md += ["", f"Telescoping costs {100 * min(cost):.1f} to {100 * max(cost):.1f} % of the static rated load over "
            "these points; the cost grows with the speed (the sway the ramps excite).",
            "", "![load chart](load_chart.png)", "",
@@ -92,7 +96,7 @@ def load_chart(full: bool, client) -> None:
         pts = [r for r in static if r["angle"] == a]
         ax.plot([r["radius"] for r in pts], [r["scene"] / 1e3 for r in pts], "o", color=f"C{i}", mfc="none")
         for v, marker in zip(SPEEDS, ("v", "s", "x")):
-            rs = sorted((r for r in ratings if r.angle == a and r.speed == v), key=lambda r: r.length)
+            rs = sorted((r for r in ratings_ok if r.angle == a and r.speed == v), key=lambda r: r.length)
             if rs:
                 ax.plot([r.length * math.cos(math.radians(a)) for r in rs], [r.safe[-1][0] / 1e3 for r in rs],
                         marker, color=f"C{i}", ls=":", label=f"{a:g} deg, telescoping {v} m/s" if i < 2 else None)
