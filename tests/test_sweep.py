@@ -118,3 +118,18 @@ def test_a_run_that_kills_its_worker_is_retried_once_then_recorded(client, tmp_p
     assert by_e[2e11]["status"] == "failed" and by_e[2e11]["attempts"] == 2
     assert "worker lost the run" in by_e[2e11]["error"] and "KilledWorker" in by_e[2e11]["error"]
     assert all(by_e[e]["status"] == "ok" and math.isfinite(by_e[e]["final_tension"]) for e in (1e11, 3e11))
+
+
+def test_remote_workers_get_the_scene_bytes_once(built, tmp_path, monkeypatch):
+    from cranefmu.master.run import resolve_scene
+    from cranefmu.sweep import worker
+
+    monkeypatch.setattr(worker.tempfile, "gettempdir", lambda: str(tmp_path))
+    monkeypatch.setattr(worker, "_LOCAL", {})
+    ssp = resolve_scene("elastic_pendulum")
+    sent = worker.SspFile.of(ssp, "elastic_pendulum", with_data=True)
+    local = sent.local()
+    assert local != ssp and local.read_bytes() == ssp.read_bytes()
+    local.write_bytes(b"")   # a second call reuses the copy, it does not write again
+    assert sent.local() == local and local.read_bytes() == b""
+    assert worker.SspFile.of(ssp, "elastic_pendulum", with_data=False).local() == ssp
