@@ -111,7 +111,7 @@ def write(args, stop, t_setup, walls, rows, startup, memory, load) -> list[str]:
         return (f"| {workers} | {waves} | {compute:.0f} | {sched:.0f} | {startup[2]:.0f}+ | "
                 f"{max(compute, sched) + startup[2]:.0f} |")
 
-    return ["# Sweep engine scaling (benchmarks/sweep_scaling.py)", "",
+    lines = ["# Sweep engine scaling (benchmarks/sweep_scaling.py)", "",
             f"Machine: {os.cpu_count()} cores shared with other jobs; load average {load[0]:.1f} before, "
             f"{load[1]:.1f} after (a load above the core count means the workers were not alone: the ratios "
             "below are lower bounds of what an idle machine gives).", "",
@@ -121,8 +121,9 @@ def write(args, stop, t_setup, walls, rows, startup, memory, load) -> list[str]:
             "| workers | cluster start [s] | sweep wall [s] | own work per run [s] | task on worker per run [s] | "
             "engine overhead per run [s] | overhead / own work |",
             "| --- | --- | --- | --- | --- | --- | --- |"]
-    + [f"| {w} | {startup[w]:.1f} | {walls[w]:.2f} | {own[w]:.3f} | {task[w]:.3f} | {over[w]:.3f} | "
-       f"{100 * over[w] / own[w]:.1f} % |" for w in (1, 2)] + [
+    lines += [f"| {w} | {startup[w]:.1f} | {walls[w]:.2f} | {own[w]:.3f} | {task[w]:.3f} | {over[w]:.3f} | "
+       f"{100 * over[w] / own[w]:.1f} % |" for w in (1, 2)]
+    lines += [
             "", f"Speed-up 1 -> 2 workers: **{speedup:.2f}x** (target >= 1.7x).  Engine overhead per run on one "
             f"worker: **{100 * over[1] / own[1]:.1f} %** of the run's own work (target <= 5 %).  With two workers "
             "the own work per run itself grows when the two processes compete with other jobs for the 2 cores; "
@@ -145,6 +146,7 @@ def write(args, stop, t_setup, walls, rows, startup, memory, load) -> list[str]:
             "At 1,024 workers the waves (ten of them) are few and short: the estimate is dominated by the run "
             "time of a wave and the cluster's start-up; with runs much shorter than a second the scheduler's "
             "per-task cost (about 10 s for 10,000 tasks) becomes the limit: batch several runs per task then."]
+    return lines
 
 
 if __name__ == "__main__":
