@@ -93,6 +93,9 @@ def write(args, stop, t_setup, walls, rows, startup, memory, load) -> list[str]:
     task = {w: statistics.mean(r["task_time"] for r in rows[w]) for w in rows}
     over = {w: w * walls[w] / n - own[w] for w in rows}
     speedup = walls[1] / walls[2]
+    busy = {w: n * task[w] / (w * walls[w]) for w in rows}           # fraction of the time a worker ran a task
+    sched = {w: w * walls[w] / n - task[w] for w in rows}             # scheduler, transfer, client per run
+    side = {w: task[w] - own[w] - t_setup for w in rows}              # on the worker: metrics, result, row
     by_pid: dict[float, list[float]] = {}
     for r in memory:   # table order = completion order
         by_pid.setdefault(r["pid"], []).append(r["rss_mb"])
@@ -128,6 +131,14 @@ def write(args, stop, t_setup, walls, rows, startup, memory, load) -> list[str]:
             f"worker: **{100 * over[1] / own[1]:.1f} %** of the run's own work (target <= 5 %).  With two workers "
             "the own work per run itself grows when the two processes compete with other jobs for the 2 cores; "
             "the overhead column then also holds the time a worker waited for a core.", "",
+            "Where the overhead goes (per run): "
+            + "; ".join(f"{w} worker(s): scheduler, transfer and client {1e3 * sched[w]:.1f} ms, on the worker "
+                        f"around the run (metrics, result, row) {1e3 * side[w]:.0f} ms, the run's set-up "
+                        f"{1e3 * t_setup:.0f} ms; workers busy {100 * busy[w]:.1f} % of the sweep" for w in (1, 2))
+            + ".  The set-up is the master's: every run extracts the .ssp and its FMUs into a fresh "
+            "directory (hundreds of files) and removes it afterwards; Dask's own share is the first term.  "
+            f"The speed-up is bounded by the slowdown of each run under contention: 2 x {own[1]:.3f} / "
+            f"{own[2]:.3f} = {2 * own[1] / own[2]:.2f}x, measured {speedup:.2f}x.", "",
             f"## Worker memory over a {args.memory_runs}-run sweep (2 workers, 0.5 s runs)", "",
             "Resident memory of each worker process right after each of its runs, in completion order.", "",
             "| worker pid | runs | after its first run [MiB] | runs 2nd tenth [MiB] | last tenth [MiB] | change |",
