@@ -64,7 +64,8 @@ def load_chart(full: bool, client) -> None:
            f"Telescoping from {L_MIN} m to the boom length at each speed (trapezoid, 3 s ramps, load height held "
            "by the winch), then 6 s of free sway; rated load = the largest load whose run keeps the front "
            "outrigger loaded (secant on the smallest N1 of the run, 1 % tolerance, every tried load safe "
-           f"at the value given), H = 5 ms, Jacobi, extrapolation 1. {sum(len(r.tried) for r in ratings)} runs, {wall:.0f} s wall this session.", "",
+           f"at the value given), H = 5 ms, Jacobi, extrapolation 1. {sum(len(r.tried) for r in ratings)} runs "
+           f"({wall:.0f} s wall in the last session; runs already in the table are not run again).", "",
            "| angle [deg] | boom [m] | radius [m] | static [kg] | " +
            " | ".join(f"{v} m/s [kg] (of static)" for v in SPEEDS) + " |",
            "| --- | --- | --- | --- | " + " | ".join("---" for _ in SPEEDS) + " |"]
@@ -147,7 +148,9 @@ def dynamic_factor(full: bool, client) -> None:
         df = f"{r['dynamic_factor']:.3f}" if r["status"] == "ok" else f"failed: {r['error'][:60]}"
         md.append(f"| {r['model']} | {r['v_h']:.3f} | {r['slack']:.3f} | {df} | "
                   f"{r['lift_off_time'] if r['status'] == 'ok' else math.nan:.3f} | {phi} |")
-    md += ["", f"{len(rows)} runs ({wall:.0f} s wall this session).", "", reading(rows)] + [
+    run_time = sum(r["wall_time"] or 0.0 for r in rows)
+    md += ["", f"{len(rows)} runs, {run_time:.0f} s of run time in all (sum of the runs' wall times; "
+           f"{wall:.0f} s wall in the last session).", "", reading(rows)] + [
            "", "Measured by seed 001 (Table 7) at 0.208 m/s: 1.31 tight, 1.55 loose.", "", "![dynamic factor map](dynamic_factor.png)", "",
            "Full size (the Bouc-Wen grid as large as Kelvin-Voigt's): `benchmarks/studies.py dynamic-factor --full`."]
     (DOCS / "dynamic_factor.md").write_text("\n".join(md) + "\n")
