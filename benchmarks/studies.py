@@ -83,8 +83,14 @@ def load_chart(full: bool, client) -> None:
             md.append(f"| {a:g} | {L:g} | {L * math.cos(math.radians(a)):.2f} | {s:.0f} | " + " | ".join(cells) + " |")
     ratings_ok = [r for r in ratings if r.safe and not r.failure]
     cost = [1.0 - r.safe[-1][0] / closed_form_max_load(r.angle, r.length) for r in ratings_ok]
+    groups = {}
+    for r in sorted(ratings_ok, key=lambda r: r.speed):
+        groups.setdefault((r.angle, r.length), []).append(r.safe[-1][0])
+    monotone = sum(all(a >= b for a, b in zip(g, g[1:])) for g in groups.values() if len(g) == len(SPEEDS))
     md += ["", f"Telescoping costs {100 * min(cost):.1f} to {100 * max(cost):.1f} % of the static rated load over "
-           "these points; the cost grows with the speed (the sway the ramps excite).",
+           f"these points.  The rated load falls with the speed at {monotone} of {len(groups)} radii; where it "
+           "does not, the load's sway left by the trapezoid's ramps depends on how the ramp times meet the "
+           "pendulum's period (about 6 s), not on the speed alone.",
            "", "![load chart](load_chart.png)", "",
            "Full size: `benchmarks/studies.py load-chart --full` (4 angles x 3 lengths x 3 speeds)."]
     (DOCS / "load_chart.md").write_text("\n".join(md) + "\n")
