@@ -13,23 +13,23 @@ Beside each measured limit: the analytic limit of the linear mass on a spring-da
 sampled force (cranefmu.stability: spectral radius of the step matrix; zero-order hold in closed
 form omega H < min(4 z, 1/z)), with z = b / (2 sqrt(c m)) from the rope's own damping law.
 
-Writes benchmarks/results/stability_map.{md,csv,png}.
+Every run goes through the sweep engine (cranefmu.sweep on Dask): each bisection round submits one
+run per row still open, all rows at once, so the rows bisect in parallel on the cluster's workers.
+Every run is a row of OUT/stability_map_runs.csv (keyed by its inputs): a run cut short (Ctrl-C,
+--budget) loses no finished run, and the same command resumes from them.
 
-    .venv/bin/python benchmarks/stability_map.py          # 3 stiffnesses, jacobi + gauss-seidel (144 runs,
-                                                          # 7 min alone, 14 min measured on a busy 2-core machine)
-    .venv/bin/python benchmarks/stability_map.py --full   # 7 stiffnesses, every algorithm, tighter bisection
-    .venv/bin/python benchmarks/stability_map.py --full --budget 60   # no new row after 60 min
-    .venv/bin/python benchmarks/stability_map.py --full --resume      # measure the rows still missing
+Writes OUT/stability_map.{md,csv,png} (OUT: benchmarks/results unless --output).
 
-The table and plot are rewritten after every row, so a run cut short keeps what it measured; the
-stiffnesses are visited spread over their range first (ends, middle, then between).
+    .venv/bin/python benchmarks/stability_map.py          # 3 stiffnesses, jacobi + gauss-seidel (18 rows)
+    .venv/bin/python benchmarks/stability_map.py --full   # 7 stiffnesses, every algorithm, 2 % bisection (63 rows)
+    .venv/bin/python benchmarks/stability_map.py --full --budget 60   # no new bisection round after 60 min
+    .venv/bin/python benchmarks/stability_map.py --full --scheduler tcp://host:8786   # on a cluster
 """
 from __future__ import annotations
 
 import argparse
 import csv
 import math
-import multiprocessing
 import time as clock
 from pathlib import Path
 
@@ -56,115 +56,139 @@ def axial(E: float) -> tuple[float, float, float]:
     return math.sqrt(c / MASS), b / (2.0 * math.sqrt(c * MASS)), MASS * G / c
 
 
-def one_run(E: float, h: float, algorithm: str, order: int) -> tuple[bool, float]:
-    """Run the scene at H = h; (stable?, late/early amplitude ratio); runs in a spawned child."""
-    from cranefmu.errors import CraneFmuError
-    from cranefmu.master.run import run
-
+def run_point(E: float, h: float, algorithm: str, order: int) -> dict:
+    """The inputs of one run at H = h: started 30 % of the static stretch below rest, long enough for
+    20 axial periods and 200 macro steps."""
     omega, _, stretch = axial(E)
-    period = 2.0 * math.pi / omega
-    stop = max(20.0 * period, 200.0 * h)
-    params = {"rope.E": E, "rope.zeta": ZETA, "pendulum.dimension": 1, "pendulum.start": "position",
-              "pendulum.theta0": 0.0, "pendulum.x0": 0.0,
-              "pendulum.y0": -(LENGTH + stretch * (1.0 + AMPLITUDE))}
-    try:
-        res = run("elastic_pendulum", stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=order,
-                  parameters=params, isolate=False, instability_alarm=False).result  # measure, do not alarm
-    except CraneFmuError:
-        return False, math.inf
-    swing = np.abs(res["rope.elongation"] - stretch)
+    return {"rope.E": E, "pendulum.y0": -(LENGTH + stretch * (1.0 + AMPLITUDE)), "step_size": h,
+            "stop_time": max(20.0 * 2.0 * math.pi / omega, 200.0 * h), "algorithm": algorithm, "extrapolation": order}
+
+
+def stability(result, inputs: dict) -> dict:
+    """Late/early amplitude ratio of the axial oscillation and whether the rope went slack (a sweep metric)."""
+    swing = np.abs(result["rope.elongation"] - axial(inputs["rope.E"])[2])
     q = max(1, len(swing) // 4)
-    ratio = float(swing[-q:].max() / swing[:q].max())
     # a growing oscillation soon slackens the rope and then bounces at a bounded, wild amplitude that
     # can look "decaying"; a stable run starting taut at 30 % of the static stretch never goes slack
-    return ratio < 1.0 and not np.any(res["rope.slack"] > 0.0), ratio
+    return {"ratio": float(swing[-q:].max() / swing[:q].max()), "slack": float(np.any(result["rope.slack"] > 0.0))}
 
 
-def _child(args):
-    # a fresh process per run: pythonfmu FMUs cannot be instantiated again in one process
-    ctx = multiprocessing.get_context("spawn")
-    with ctx.Pool(1) as pool:
-        return pool.apply(one_run, args)
+def stable(row: dict) -> bool:
+    """A failed run (non-finite values) is unstable."""
+    return row["status"] == "ok" and row["ratio"] < 1.0 and not row["slack"]
 
 
-def largest_stable_step(E: float, algorithm: str, order: int, rel_tol: float) -> tuple[float, float, int]:
-    """Bisection on log H between 0.01/omega (stable) and 4/omega; returns (H_lo, H_hi, runs)."""
-    omega, _, _ = axial(E)
-    lo, hi = 0.01 / omega, 4.0 / omega
-    runs = 0
-    stable_hi, _ = _child((E, hi, algorithm, order))
-    runs += 1
-    if stable_hi:
-        return hi, math.inf, runs
-    while hi / lo > 1.0 + rel_tol:
-        mid = math.sqrt(lo * hi)
-        ok, _ = _child((E, mid, algorithm, order))
-        runs += 1
-        lo, hi = (mid, hi) if ok else (lo, mid)
-    return lo, hi, runs
+class Bracket:
+    """Bisection on log H of one (E, algorithm, order) row, between 0.01/omega (stable) and 4/omega."""
+
+    def __init__(self, E: float, algorithm: str, order: int, rel_tol: float):
+        self.E, self.algorithm, self.order, self.rel_tol = E, algorithm, order, rel_tol
+        omega = axial(E)[0]
+        self.lo, self.hi, self.runs = 0.01 / omega, 4.0 / omega, 0
+        self.tried_hi = False
+
+    @property
+    def done(self) -> bool:
+        return self.tried_hi and (math.isinf(self.hi) or self.hi / self.lo <= 1.0 + self.rel_tol)
+
+    def next_step(self) -> float:
+        return self.hi if not self.tried_hi else math.sqrt(self.lo * self.hi)
+
+    def update(self, h: float, ok: bool) -> None:
+        self.runs += 1
+        if not self.tried_hi:
+            self.tried_hi = True
+            if ok:
+                self.lo, self.hi = h, math.inf
+            return
+        self.lo, self.hi = (h, self.hi) if ok else (self.lo, h)
 
 
-def rows_from_csv() -> list[dict]:
+def bisect_all(brackets: list[Bracket], out: Path, budget: float | None, client) -> bool:
+    """Bisection rounds until every bracket is done (or the budget is spent); True when all are done."""
+    from cranefmu.sweep import sweep
+    from cranefmu.sweep.metrics import Custom
+
+    metric = Custom(("ratio", "slack"), stability, ("rope.elongation", "rope.slack"))
+    fixed = {"rope.zeta": ZETA, "pendulum.dimension": 1, "pendulum.start": "position", "pendulum.theta0": 0.0,
+             "pendulum.x0": 0.0, "instability_alarm": False}
+    t0 = clock.perf_counter()
+    while True:
+        open_ = [b for b in brackets if not b.done]
+        if not open_:
+            return True
+        if budget is not None and clock.perf_counter() - t0 > 60.0 * budget:
+            return False
+        steps = [b.next_step() for b in open_]
+        points = [run_point(b.E, h, b.algorithm, b.order) for b, h in zip(open_, steps)]
+        res = sweep("elastic_pendulum", points, [metric], out / "stability_map_runs.csv", parameters=fixed,
+                    client=client)   # measure, do not alarm
+        by_inputs = {(r["rope.E"], r["step_size"], r["algorithm"], r["extrapolation"]): r for r in res.rows}
+        for b, h in zip(open_, steps):
+            b.update(h, stable(by_inputs[(b.E, h, b.algorithm, float(b.order))]))
+        print(f"round: {len(open_)} rows open, {sum(not b.done for b in brackets)} still open after it "
+              f"({res.ran} runs now, {res.skipped} from before, {res.wall_time:.1f} s)", flush=True)
+
+
+def rows_from_csv(out: Path) -> list[dict]:
     """The rows of the last run, to rewrite the table and plot without running again (--replot)."""
-    with open(RESULTS / "stability_map.csv") as f:
+    with open(out / "stability_map.csv") as f:
         return [{k: (v if k == "algorithm" else int(v) if k in ("order", "runs") else float(v)) for k, v in r.items()}
                 for r in csv.DictReader(f)]
 
 
 def main(argv: list[str] | None = None) -> None:
     from cranefmu.master.run import ALGORITHMS
+    from cranefmu.sweep.engine import connect
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--full", action="store_true", help="7 stiffnesses, every algorithm, 2 %% bisection")
     ap.add_argument("--replot", action="store_true", help="rewrite table and plot from the last CSV")
-    ap.add_argument("--budget", type=float, default=None, help="minutes: start no new row after this")
-    ap.add_argument("--resume", action="store_true", help="keep the rows of the last CSV, measure the rest")
+    ap.add_argument("--budget", type=float, default=None, help="minutes: start no new bisection round after this")
+    ap.add_argument("--output", type=Path, default=RESULTS, help="directory of the results (default "
+                    "benchmarks/results)")
+    ap.add_argument("--workers", type=int, default=None, help="local worker processes (default: the cores)")
+    ap.add_argument("--scheduler", default=None, help="address of an existing Dask cluster")
     args = ap.parse_args(argv)
+    out = args.output
     if args.replot:
-        write(rows_from_csv(), math.nan, False)
+        write(rows_from_csv(out), math.nan, False, out=out)
         return
     if args.full:
-        # spread first: a run cut short by --budget still spans the range; gauss-seidel last (with the
-        # stateless rope it repeats jacobi's recurrence)
         stiffnesses, algorithms, rel_tol = [1e9, 1e15, 1e12, 1e10, 1e14, 1e11, 1e13], ["jacobi", "iterative",
                                                                                        "gauss-seidel"], 0.02
         assert sorted(algorithms) == sorted(ALGORITHMS)
     else:
         stiffnesses, algorithms, rel_tol = [1e10, 1e11, 1e12], ["jacobi", "gauss-seidel"], 0.05
-    RESULTS.mkdir(parents=True, exist_ok=True)
-    rows = rows_from_csv() if args.resume else []
-    done = {(r["E"], r["algorithm"], r["order"]) for r in rows}
-    todo = [(E, a, o) for E in stiffnesses for a in algorithms for o in (0, 1, 2) if (E, a, o) not in done]
+    out.mkdir(parents=True, exist_ok=True)
+    brackets = [Bracket(E, a, o, rel_tol) for E in stiffnesses for a in algorithms for o in (0, 1, 2)]
+    client, cluster = connect(args.workers, args.scheduler)
     t0 = clock.perf_counter()
-    for i, (E, algorithm, order) in enumerate(todo):
-        if args.budget is not None and clock.perf_counter() - t0 > 60.0 * args.budget:
-            missing = sorted({f"{e:.0e} {a}" for e, a, _ in todo[i:]})
-            note = (f"Partial run: the time budget of {args.budget:g} min (on a 2-core machine shared with other "
-                    f"jobs, load ~9) was spent after {len(rows)} of {len(rows) + len(todo) - i} rows; not "
-                    f"measured: {'; '.join(missing)} (E [Pa], algorithm; orders 0-2 where listed).")
-            write(rows, clock.perf_counter() - t0, args.full, note)
-            print(note)
-            return
-        omega, z, _ = axial(E)
-        h_lo, h_hi, runs = largest_stable_step(E, algorithm, order, rel_tol)
-        s_analytic = stability_limit(z, order)
-        row = dict(E=E, c=stiffness(RopeParams(E=E, A=AREA, length=LENGTH), LENGTH), omega=omega, z=z,
-                   algorithm=algorithm, order=order, H_stable=h_lo, H_unstable=h_hi,
-                   omegaH_measured=omega * h_lo, omegaH_analytic=s_analytic,
-                   H_analytic=s_analytic / omega, ratio=(h_lo / (s_analytic / omega)) if s_analytic else
-                   math.nan, runs=runs)
-        rows.append(row)
-        print(f"E={E:.1e} Pa  omega={omega:7.1f}  z={z:.4f}  {algorithm:<12} order {order}: "
-              f"H in [{h_lo:.4g}, {h_hi:.4g}] s  (omega H {omega * h_lo:.3f}; analytic {s_analytic:.3f})  "
-              f"{runs} runs", flush=True)
-        write(rows, clock.perf_counter() - t0, args.full, "Still running: rows so far.")
+    try:
+        complete = bisect_all(brackets, out, args.budget, client)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
     wall = clock.perf_counter() - t0
-    write(rows, wall, args.full)
+    rows = [row_of(b) for b in brackets if b.done]
+    note = "" if complete else (f"Partial run: the time budget of {args.budget:g} min was spent with "
+                                f"{len(rows)} of {len(brackets)} rows bracketed; the same command resumes.")
+    write(rows, wall, args.full, note, out=out)
 
 
-def write(rows: list[dict], wall: float, full: bool, note: str = "") -> None:
+def row_of(b: Bracket) -> dict:
+    omega, z, _ = axial(b.E)
+    s_analytic = stability_limit(z, b.order)
+    return dict(E=b.E, c=stiffness(RopeParams(E=b.E, A=AREA, length=LENGTH), LENGTH), omega=omega, z=z,
+                algorithm=b.algorithm, order=b.order, H_stable=b.lo, H_unstable=b.hi,
+                omegaH_measured=omega * b.lo, omegaH_analytic=s_analytic, H_analytic=s_analytic / omega,
+                ratio=(b.lo / (s_analytic / omega)) if s_analytic else math.nan, runs=b.runs)
+
+
+def write(rows: list[dict], wall: float, full: bool, note: str = "", out: Path = RESULTS) -> None:
     rows = sorted(rows, key=lambda r: (r["E"], r["algorithm"], r["order"]))
-    with open(RESULTS / "stability_map.csv", "w", newline="") as f:
+    with open(out / "stability_map.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
@@ -198,12 +222,12 @@ def write(rows: list[dict], wall: float, full: bool, note: str = "") -> None:
               "limit is the same."]
     if note:
         lines += ["", note]
-    (RESULTS / "stability_map.md").write_text("\n".join(lines) + "\n")
-    plot(rows)
-    print(f"wrote {RESULTS / 'stability_map.md'}, .csv, .png ({wall:.0f} s)")
+    (out / "stability_map.md").write_text("\n".join(lines) + "\n")
+    plot(rows, out)
+    print(f"wrote {out / 'stability_map.md'}, .csv, .png ({wall:.0f} s)")
 
 
-def plot(rows: list[dict]) -> None:
+def plot(rows: list[dict], out: Path = RESULTS) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -229,7 +253,7 @@ def plot(rows: list[dict]) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(RESULTS / "stability_map.png", dpi=120)
+    fig.savefig(out / "stability_map.png", dpi=120)
 
 
 if __name__ == "__main__":

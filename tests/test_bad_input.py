@@ -6,7 +6,6 @@ Broken scenes are altered copies of the built elastic_pendulum.ssp written to a 
 """
 from __future__ import annotations
 
-from pathlib import Path
 
 import pytest
 

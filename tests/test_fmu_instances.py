@@ -12,7 +12,6 @@ script module's namespace (CraneSlave.__init_subclass__).
 from __future__ import annotations
 
 import multiprocessing
-from pathlib import Path
 
 import pytest
 

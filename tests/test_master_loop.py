@@ -1,6 +1,5 @@
 """The master loop (cranefmu.master.loop.march): an algorithm steps, the step controller accepts or
 rolls back, observers see every accepted row in order and may stop the run with a reason."""
-from types import SimpleNamespace
 
 import numpy as np
 import pytest

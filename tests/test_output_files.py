@@ -4,7 +4,6 @@ interleave; a full disk keeps the whole rows written before; targets are checked
 from __future__ import annotations
 
 import os
-import shutil
 import signal
 import subprocess
 import sys

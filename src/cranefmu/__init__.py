@@ -1,8 +1,9 @@
 """cranefmu: crane dynamics as FMI co-simulation components, and a master to run them.
 
 Public API: :func:`simulate` (run a scene or an .ssp, returns the rows), :func:`run` (the same, with
-statistics), :func:`build` (build FMUs and scenes).  Scene names resolve through
-:mod:`cranefmu.scene_catalog`, registered with the master here so the master imports nothing of it.
+statistics), :func:`build` (build FMUs and scenes), :func:`sweep` (a study of many runs on Dask).
+Scene names resolve through :mod:`cranefmu.scene_catalog`, registered with the master here so the
+master imports nothing of it.
 """
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from .master.scene_names import register_scene_resolver as _register_scene_resol
 
 __version__ = "0.1.0"
 
-__all__ = ["simulate", "run", "build", "__version__"]
+__all__ = ["simulate", "run", "build", "sweep", "__version__"]
 
 
 def _resolve_scene_name(name: str) -> Path:
@@ -33,4 +34,8 @@ def __getattr__(name: str):
     if name == "build":
         from .build import build
         return build
+    if name == "sweep":   # the package cranefmu.sweep, callable as the function (see its __init__)
+        import importlib
+
+        return importlib.import_module(".sweep", __name__)
     raise AttributeError(f"module 'cranefmu' has no attribute {name!r}")

@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from .errors import CraneFmuError
+from .sweep.command import add_parser as add_sweep_parser
 
 
 def _cmd_build(args: argparse.Namespace) -> int:
@@ -292,6 +293,7 @@ def build_parser() -> argparse.ArgumentParser:
                                            "adapter as the FMI 2.0 FMUs)")
     f3.add_argument("only", nargs="*", help="FMU names (default: all)")
     f3.set_defaults(func=_cmd_build_fmi3)
+    add_sweep_parser(sub)
     return p
 
 

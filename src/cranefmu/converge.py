@@ -120,9 +120,15 @@ def key_outputs(scene: str) -> tuple[str, ...]:
 
 
 # --- runs and reference ---------------------------------------------------------------------------
-def energy_residual(stats) -> float | None:
-    """Sum of the power bonds' total energy residuals [J] (None for a scene without power bonds)."""
-    return float(sum(abs(v) for v in stats.bond_energy.values())) if stats.bond_energy else None
+def energy_residual(totals: dict[str, float]) -> float | None:
+    """Sum of the power bonds' total energy residuals [J] (None: the scene declares no bonds)."""
+    return float(sum(abs(v) for v in totals.values())) if totals else None
+
+
+def bond_totals(result: np.ndarray) -> dict[str, float]:
+    """Each power bond's total energy residual [J] at the end of a run, from its ``bond.<name>.E`` column."""
+    return {c: float(result[c][-1]) for c in result.dtype.names
+            if c.startswith("bond.") and c.endswith(".E") and len(result)}
 
 
 def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: float | None, algorithm: str,
@@ -147,7 +153,7 @@ def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: f
     row.rejections = st.rejections
     row.wall_time = float(st.wall_time)
     row.simulated = float(t[-1] - t[0]) if len(t) else 0.0
-    row.energy_residual = energy_residual(st)
+    row.energy_residual = energy_residual(st.bond_energy)
     return row, res.result
 
 
@@ -192,19 +198,42 @@ def observed_orders(runs: list[ConvergenceRun]) -> None:
 
 def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_time: float | None, algorithm: str,
                  extrapolation: int, parameter_set: str | None = None, parameters: dict | None = None,
-                 progress=None, **run_options) -> tuple[list[ConvergenceRun], list, float | None]:
-    """Run every (H, tolerance) setting; returns the rows, the result arrays (None where failed) and the
-    stop time actually reached (the scene's own when ``stop_time`` is None)."""
+                 progress=None, workers: int | None = None, scheduler: str | None = None,
+                 **run_options) -> tuple[list[ConvergenceRun], list, float | None]:
+    """Run every (H, tolerance) setting as one sweep (:func:`cranefmu.sweep`, on a local Dask cluster of
+    ``workers`` processes or the cluster at ``scheduler``); returns the rows in the order given, the
+    result arrays (None where failed) and the stop time reached (the scene's own when ``stop_time`` is None)."""
+    import tempfile
+
+    from .sweep.engine import sweep
+
     say = progress or (lambda text: None)
+    points = [{"step_size": h} if tol is None else {"step_size": h, "adaptive": True, "tolerance": tol}
+              for h, tol in settings]
+    fixed = dict(run_options, algorithm=algorithm, extrapolation=extrapolation)
+    if stop_time is not None:
+        fixed["stop_time"] = stop_time
+    say(f"{len(points)} run(s) {algorithm} x{extrapolation} on the sweep engine ...")
     runs, results = [], []
-    for h, tol in settings:
-        say(f"run {algorithm} x{extrapolation} {'tol=%g' % tol if tol is not None else 'H=%g' % h} ...")
-        row, res = run_once(scene, stop_time, h, tol, algorithm, extrapolation, parameter_set, parameters,
-                            **run_options)
-        runs.append(row)
-        results.append(res)
-        if res is not None and stop_time is None:
-            stop_time = float(res["time"][-1])
+    with tempfile.TemporaryDirectory(prefix="cranefmu_converge_") as tmp:
+        done = sweep(scene, points, [], Path(tmp) / "runs.csv", parameters=parameters, parameter_set=parameter_set,
+                     results=Path(tmp) / "runs", workers=workers, scheduler=scheduler, **fixed)
+        rows = {(r["step_size"], r.get("tolerance")): r for r in done.rows}
+        for h, tol in settings:
+            r = rows[(h, tol)]
+            row = ConvergenceRun(h, tol, steps=int(r["steps"] or 0), wall_time=r["wall_time"] or math.nan)
+            res = None
+            if r["status"] == "ok":
+                res = np.load(Path(tmp) / "runs" / f"{r['key']}.npy")
+                row.rejections = int(r["rejections"])
+                row.simulated = float(res["time"][-1] - res["time"][0]) if len(res) else 0.0
+                row.energy_residual = energy_residual(bond_totals(res))
+                if stop_time is None:
+                    stop_time = float(res["time"][-1])
+            else:
+                row.failure = r["error"]
+            runs.append(row)
+            results.append(res)
     return runs, results, stop_time
 
 

@@ -1,0 +1,69 @@
+"""``cranefmu sweep SCENE``: the command line of :func:`cranefmu.sweep`."""
+from __future__ import annotations
+
+import argparse
+
+from ..errors import CraneFmuError
+
+
+def _settings(items: list[str]) -> dict[str, str]:
+    out = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            raise CraneFmuError(f"--set {item!r} is not allowed: write --set NAME=value (a parameter comp.var or "
+                                "a run setting such as step_size)")
+        out[key.strip()] = value.strip()
+    return out
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .engine import sweep
+
+    fixed = _settings(args.set)
+    if args.stop_time is not None:
+        fixed["stop_time"] = args.stop_time
+    if args.step is not None:
+        fixed["step_size"] = args.step
+    metrics = [m for text in args.metric for m in text.split(";") if m.strip()] or None
+    res = sweep(args.scene, args.vary, metrics, args.output, parameters=fixed, parameter_set=args.parameter_set,
+                design=args.design, samples=args.samples, seed=args.seed, results=args.results,
+                workers=args.workers, scheduler=args.scheduler, progress=False if args.no_progress else None)
+    failed = sum(r["status"] != "ok" for r in res.rows)
+    print(f"sweep of {args.scene}: {res.ran} run(s) now ({res.failed} failed), {res.skipped} already done; "
+          f"{len(res.rows)} rows in {res.path} ({failed} failed), {res.wall_time:.1f} s on {res.workers} worker(s)")
+    return 0
+
+
+def add_parser(sub) -> None:
+    """Register ``sweep`` on the subparsers ``sub`` of the cranefmu command."""
+    s = sub.add_parser("sweep", help="run a scene over a design of parameters and settings on Dask (local cluster "
+                                     "by default); one CSV row per run, resumable")
+    s.add_argument("scene", help="scene name under ssp/ or path to an .ssp file")
+    s.add_argument("--vary", action="append", default=[], metavar="NAME=VALUES",
+                   help="an input and its values: comp.var or a run setting (step_size, algorithm, extrapolation, "
+                        "adaptive, tolerance, parameter_set, ...) = v1,v2,... | start:stop:n | log:start:stop:n "
+                        "(repeatable; all combinations unless --design lhs/sobol)")
+    s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="an input fixed for every run (parameter or run setting; repeatable)")
+    s.add_argument("--parameter-set", default=None, help="a parameter set of the scene for every run")
+    s.add_argument("--stop-time", type=float, default=None, help="end of each run [s] (default: the scene's)")
+    s.add_argument("--step", type=float, default=None, help="macro step [s] of each run (default 1e-3)")
+    s.add_argument("--metric", action="append", default=[], metavar="KIND:COLUMN",
+                   help="max|min|final|mean|ptp|absmax:COLUMN, cross:COLUMN>VALUE, dynamic_factor:COLUMN[/STATIC], "
+                        "scene (repeatable; default: the scene's key metrics and key output ranges)")
+    s.add_argument("--design", default="factorial", choices=("factorial", "lhs", "sobol"),
+                   help="all combinations (default), or a Latin hypercube / Sobol sample of --samples points")
+    s.add_argument("--samples", type=int, default=None, help="points of an lhs or sobol design")
+    s.add_argument("--seed", type=int, default=0, help="seed of the lhs/sobol sample (default 0)")
+    s.add_argument("--output", default="sweep.csv", help="the table, one row per run (default sweep.csv); an "
+                   "existing table of the same sweep is resumed")
+    s.add_argument("--results", default=None, metavar="DIR", help="also write each run's full result to "
+                   "DIR/<key>.npy")
+    s.add_argument("--workers", type=int, default=None, help="worker processes of the local cluster "
+                   "(default: the cores)")
+    s.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use the Dask cluster at this address "
+                   "(e.g. tcp://10.0.0.5:8786) instead of a local one")
+    s.add_argument("--no-progress", action="store_true", help="no progress bar")
+    s.set_defaults(func=_cmd_sweep)
+

@@ -1,0 +1,255 @@
+"""The design of a sweep: which inputs vary over which values, and the list of runs it makes.
+
+An input is a scene parameter ``comp.var`` or a run setting (a field of
+:class:`cranefmu.master.run.Settings`, e.g. ``step_size``, ``algorithm``, ``extrapolation``,
+``adaptive``, ``tolerance``) or ``parameter_set``.  Values are written as
+
+- ``v1,v2,...``       a list (numbers or words);
+- ``start:stop:n``    n values evenly spaced from start to stop (both included);
+- ``log:start:stop:n`` n values evenly spaced in log10 (both > 0).
+
+A design is the full factorial of the values, or a sample of N points (Latin hypercube or Sobol,
+:mod:`scipy.stats.qmc`) in the unit cube mapped onto each input: a range linearly (log ranges in
+log10) between its ends, a list by index (floor(u k) of its k values); ``n`` of a range is then unused.
+"""
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+from dataclasses import dataclass, field
+
+from ..errors import SettingsError
+
+DESIGNS = ("factorial", "lhs", "sobol")
+# run settings a sweep may vary or fix (lists: fixed only, comma-separated in text); progress is display only
+_SETTING_TYPES = {"stop_time": float, "step_size": float, "algorithm": str, "extrapolation": int,
+                  "start_time": float, "adaptive": bool, "tolerance": float, "min_step": float, "max_step": float,
+                  "step_control": str, "coupling_tolerance": float, "max_iterations": int, "accelerator": str,
+                  "energy_alarm": float, "init_tolerance": float, "substeps": int, "instability_alarm": bool,
+                  "order": list, "stop_when": list}
+SETTINGS = tuple(_SETTING_TYPES) + ("parameter_set",)
+_TRUE, _FALSE = ("1", "true", "yes", "on"), ("0", "false", "no", "off")
+
+
+def number(text: str) -> float | None:
+    try:
+        v = float(text)
+    except ValueError:
+        return None
+    return v if math.isfinite(v) else None
+
+
+def convert(name: str, text: object) -> object:
+    """The value of input ``name`` from text: a setting to its type, a parameter to a float when it reads
+    as a number (else the text, e.g. ``rope.model=bouc_wen``)."""
+    if not isinstance(text, str):
+        return text
+    text = text.strip()
+    kind = _SETTING_TYPES.get(name)
+    if name == "parameter_set" or kind is str:
+        return text
+    if kind is list:
+        return [v.strip() for v in text.split(",") if v.strip()]
+    if kind is bool:
+        if text.lower() in _TRUE + _FALSE:
+            return text.lower() in _TRUE
+        raise SettingsError(f"{name} = {text!r} is not allowed: true or false")
+    v = number(text)
+    if kind is int:
+        if v is None or v != int(v):
+            raise SettingsError(f"{name} = {text!r} is not allowed: an integer")
+        return int(v)
+    if kind is float and v is None:
+        raise SettingsError(f"{name} = {text!r} is not allowed: a finite number")
+    return text if v is None else v
+
+
+def check_name(name: str) -> None:
+    comp, dot, var = name.partition(".")
+    if dot and comp and var:
+        return
+    if name not in SETTINGS:
+        raise SettingsError(f"input {name!r} is not allowed: a parameter 'component.variable' or a run setting, "
+                            f"one of {', '.join(SETTINGS)}")
+
+
+@dataclass(frozen=True)
+class Factor:
+    """One varied input: its values (a list), or a range [low, high] (log10 if ``log``) of ``n`` values."""
+
+    name: str
+    values: tuple = ()
+    low: float | None = None
+    high: float | None = None
+    n: int = 0
+    log: bool = False
+
+    def __post_init__(self):
+        check_name(self.name)
+        if self.low is None:
+            if not self.values:
+                raise SettingsError(f"--vary {self.name}: no values given")
+            return
+        if not (math.isfinite(self.low) and math.isfinite(self.high)):
+            raise SettingsError(f"--vary {self.name}: range {self.low}:{self.high} is not allowed: finite ends")
+        if self.log and (self.low <= 0 or self.high <= 0):
+            raise SettingsError(f"--vary {self.name}: log range {self.low:g}:{self.high:g} is not allowed: ends > 0")
+        if _SETTING_TYPES.get(self.name) not in (float, None) or self.name == "parameter_set":
+            raise SettingsError(f"--vary {self.name}: a range is not allowed for this setting, give a list")
+
+    @property
+    def levels(self) -> list:
+        """The factorial levels: the list, or n values over the range."""
+        if self.low is None:
+            return list(self.values)
+        if self.n < 1:
+            raise SettingsError(f"--vary {self.name}: a factorial design needs the number of values, "
+                                f"e.g. {self.low:g}:{self.high:g}:5")
+        if self.n == 1:
+            return [self.low]
+        if self.log:
+            a, b = math.log10(self.low), math.log10(self.high)
+            return [10.0 ** (a + (b - a) * i / (self.n - 1)) for i in range(self.n)]
+        return [self.low + (self.high - self.low) * i / (self.n - 1) for i in range(self.n)]
+
+    def at(self, u: float) -> object:
+        """The value at u in [0, 1) of a sample."""
+        if self.low is None:
+            return self.values[min(int(u * len(self.values)), len(self.values) - 1)]
+        if self.log:
+            a, b = math.log10(self.low), math.log10(self.high)
+            return 10.0 ** (a + (b - a) * u)
+        return self.low + (self.high - self.low) * u
+
+
+def parse_factor(text: str) -> Factor:
+    """'comp.var=v1,v2' | 'comp.var=start:stop:n' | 'comp.var=log:start:stop:n' (stop/n optional in samples)."""
+    name, sep, spec = str(text).partition("=")
+    name, spec = name.strip(), spec.strip()
+    if not sep or not name or not spec:
+        raise SettingsError(f"--vary {text!r} is not allowed: write NAME=v1,v2,... or NAME=start:stop:n or "
+                            "NAME=log:start:stop:n")
+    check_name(name)
+    parts = spec.split(":")
+    log = parts[0].strip().lower() == "log"
+    if log:
+        parts = parts[1:]
+    if log or (len(parts) in (2, 3) and "," not in spec):
+        nums = [number(p) for p in parts]
+        if len(parts) not in (2, 3) or any(v is None for v in nums) or (len(nums) == 3 and
+                                                                        (nums[2] < 1 or nums[2] != int(nums[2]))):
+            raise SettingsError(f"--vary {text!r} is not allowed: a range is start:stop:n (n an integer >= 1), "
+                                "log:start:stop:n for log spacing")
+        return Factor(name, low=nums[0], high=nums[1], n=int(nums[2]) if len(nums) == 3 else 0, log=log)
+    values = tuple(convert(name, v) for v in spec.split(","))
+    if len(set(map(repr, values))) != len(values):
+        raise SettingsError(f"--vary {text!r} is not allowed: each value at most once")
+    return Factor(name, values=values)
+
+
+@dataclass(frozen=True)
+class Run:
+    """One run of a sweep: the scene, its inputs (varied and fixed), and the key that names it."""
+
+    scene: str
+    inputs: dict = field(hash=False)   # name -> value: 'comp.var' parameters and run settings
+
+    @property
+    def parameters(self) -> dict:
+        return {k: v for k, v in self.inputs.items() if "." in k}
+
+    @property
+    def settings(self) -> dict:
+        return {k: v for k, v in self.inputs.items() if "." not in k and k != "parameter_set"}
+
+    @property
+    def parameter_set(self) -> str | None:
+        return self.inputs.get("parameter_set")
+
+    @property
+    def key(self) -> str:
+        """A hash of the scene and every input (sorted, values by repr): the same run has the same key
+        in any order and any session, so a resumed sweep can skip it."""
+        text = json.dumps([self.scene, sorted((k, repr(v)) for k, v in self.inputs.items())])
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+@dataclass(frozen=True)
+class Design:
+    """The varied inputs, the fixed ones, and how they are combined (full factorial or N samples)."""
+
+    factors: tuple[Factor, ...]
+    fixed: dict = field(default_factory=dict, hash=False)
+    listed: tuple = ()   # explicit points (dicts of inputs) instead of factors
+    kind: str = "factorial"
+    samples: int | None = None
+    seed: int = 0
+
+    def __post_init__(self):
+        if self.kind not in DESIGNS:
+            raise SettingsError(f"design = {self.kind!r} is not allowed: one of {', '.join(DESIGNS)}")
+        if self.listed and self.factors:
+            raise SettingsError("give either varied inputs or a list of points, not both")
+        for p in self.listed:
+            for name in p:
+                check_name(name)
+        names = [f.name for f in self.factors]
+        if len(set(names)) != len(names):
+            raise SettingsError(f"an input is varied twice: {', '.join(sorted({n for n in names if names.count(n) > 1}))}")
+        for name in self.fixed:
+            check_name(name)
+        both = (set(names) | {k for p in self.listed for k in p}) & set(self.fixed)
+        if both:
+            raise SettingsError(f"input(s) {', '.join(sorted(both))} both varied and fixed: give one")
+        if self.kind != "factorial" and (not isinstance(self.samples, int) or self.samples < 1):
+            raise SettingsError(f"samples = {self.samples!r} is not allowed with design {self.kind!r}: an integer >= 1")
+        if self.kind == "factorial" and self.samples is not None:
+            raise SettingsError("samples is only allowed with design 'lhs' or 'sobol'")
+
+    @property
+    def names(self) -> list[str]:
+        """The varied inputs in order (of listed points: every name any point has)."""
+        return list(dict.fromkeys(k for p in self.listed for k in p)) if self.listed else \
+            [f.name for f in self.factors]
+
+    def points(self) -> list[dict]:
+        """Each run's varied inputs, in a fixed order."""
+        if self.listed:
+            return [dict(p) for p in self.listed]
+        if not self.factors:
+            return [{}]
+        if self.kind == "factorial":
+            grid = itertools.product(*(f.levels for f in self.factors))
+            return [dict(zip((f.name for f in self.factors), combo)) for combo in grid]
+        from scipy.stats import qmc
+
+        d = len(self.factors)
+        sampler = qmc.LatinHypercube(d, seed=self.seed) if self.kind == "lhs" else \
+            qmc.Sobol(d, scramble=True, seed=self.seed)
+        u = sampler.random(self.samples)
+        return [{f.name: f.at(float(x)) for f, x in zip(self.factors, row)} for row in u]
+
+    def runs(self, scene: str) -> list[Run]:
+        return [Run(scene, {**self.fixed, **p}) for p in self.points()]
+
+
+def design(vary: list[str] | list[dict] | dict | None = None, fixed: dict | None = None, kind: str = "factorial",
+           samples: int | None = None, seed: int = 0) -> Design:
+    """A design from ``--vary`` texts, a dict name -> list of values, or a list of points (dicts name ->
+    value, run as given), and the fixed inputs name -> value."""
+    fixed = {k: convert(k, v) for k, v in (fixed or {}).items()}
+    if isinstance(vary, (list, tuple)) and vary and all(isinstance(p, dict) for p in vary):
+        listed = tuple({k: convert(k, v) for k, v in p.items()} for p in vary)
+        return Design((), fixed, kind=kind, samples=samples, seed=seed, listed=listed)
+    if isinstance(vary, dict):
+        factors = []
+        for k, v in vary.items():
+            if isinstance(v, str):
+                factors.append(parse_factor(f"{k}={v}"))
+            else:
+                factors.append(Factor(str(k), values=tuple(convert(k, x) for x in v)))
+    else:
+        factors = [parse_factor(t) for t in (vary or [])]
+    return Design(tuple(factors), fixed, kind=kind, samples=samples, seed=seed)

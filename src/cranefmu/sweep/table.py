@@ -1,0 +1,93 @@
+"""The sweep's table: one CSV row per run, appended and flushed as each run finishes.
+
+CSV rather than Parquet: a row is appended the moment its run finishes (Parquet files are written
+whole, so a crash or Ctrl-C would lose every row since the last rewrite), a resumed sweep reads the
+keys back with the standard library, the file is readable by any tool, and it needs no pyarrow.
+Floats are written with ``repr``, which reads back to the identical double (``pandas.read_csv``,
+``float()``), so the table is as exact as the runs.  Columns: ``key`` (hash of the run's inputs),
+the inputs, the metrics, then :data:`TAIL`.
+"""
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+from ..errors import SettingsError
+
+TAIL = ("status", "error", "stopped", "steps", "rejections", "wall_time", "task_time", "attempts", "worker")
+_TEXT = ("key", "status", "error", "stopped", "worker")   # never read as numbers (a key may look like 12e4)
+# status: ok | failed; error: the message of a failed run; stopped: why a stop condition ended the run
+# (a result, e.g. tipping); steps, rejections: accepted and rejected macro steps; wall_time [s]: the run's own (master loop); task_time [s]: on the worker,
+# scene loading, FMU set-up and metrics included; attempts: 2 when the run was retried
+
+
+def header(inputs: list[str], metrics: list[str]) -> list[str]:
+    clash = set(inputs) & (set(metrics) | set(TAIL) | {"key"})
+    if clash:
+        raise SettingsError(f"column(s) {', '.join(sorted(clash))} would be both an input and a metric or a "
+                            "status column: rename the metric")
+    return ["key", *inputs, *metrics, *TAIL]
+
+
+def cell(value) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return str(value)
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, (list, tuple)):
+        return ",".join(map(str, value))
+    return str(value)
+
+
+class Table:
+    """The CSV at ``path`` with ``columns``: opened for appending (an existing file must have the same
+    columns: it is the same sweep, resumed) and written one flushed row at a time."""
+
+    def __init__(self, path: str | Path, columns: list[str]):
+        self.path = Path(path)
+        self.columns = columns
+        self.done: set[str] = set()
+        if self.path.exists() and self.path.stat().st_size > 0:
+            with open(self.path, newline="") as f:
+                reader = csv.reader(f)
+                old = next(reader, [])
+                if old != columns:
+                    raise SettingsError(f"output {self.path} holds a different sweep (columns {', '.join(old)}); "
+                                        f"this one has {', '.join(columns)}: give another output")
+                self.done = {r[0] for r in reader if len(r) == len(columns)}
+            self._file = open(self.path, "a", newline="")
+        else:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._file = open(self.path, "w", newline="")
+            csv.writer(self._file).writerow(columns)
+            self._file.flush()
+        self._writer = csv.writer(self._file)
+
+    def write(self, row: dict) -> None:
+        self._writer.writerow([cell(row.get(c)) for c in self.columns])
+        # flushed to the OS: the row survives Ctrl-C or a crash of the client process (no fsync: at
+        # thousands of rows per minute on a large cluster its milliseconds would throttle the client)
+        self._file.flush()
+        self.done.add(row["key"])
+
+    def close(self) -> None:
+        self._file.close()
+
+
+def read(path: str | Path) -> list[dict]:
+    """The rows of a sweep table, numbers as floats (empty cells as None, other text as text)."""
+    with open(path, newline="") as f:
+        return [{k: v if k in _TEXT else _value(v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
+def _value(text: str):
+    if text == "":
+        return None
+    try:
+        v = float(text)
+    except ValueError:
+        return text
+    return v if math.isfinite(v) or text.lower() in ("nan", "inf", "-inf") else text
