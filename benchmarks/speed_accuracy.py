@@ -450,6 +450,7 @@ LIBCOSIM_ECCO_TOLERANCES = (1.0, 1e-1, 1e-2, 1e-3)
 ECCO_RANGE = 10.0
 SIDE_BEGIN, SIDE_END = "<!-- libcosim side by side: begin -->", "<!-- libcosim side by side: end -->"
 SIDE_PREFIX = "side by side: "   # CSV method prefix of the block's rows (replaced by --libcosim-only)
+REPEAT_MAX_WALL = 5.0  # [s] runs longer than this are not repeated (the noise is small against them)
 
 
 def libcosim_available() -> bool:
@@ -514,7 +515,7 @@ SIDE_MASTER = (("jacobi", 1), ("jacobi adaptive", 1), ("jacobi ecco", 1))
 def repeat_walls(s: dict, repeats: int, say) -> None:
     """Run the side-by-side settings ``repeats - 1`` more times, alternating the methods setting by
     setting (ours, libcosim's, then the monolithic sweep), and keep each setting's median wall (the
-    errors are deterministic)."""
+    errors are deterministic).  Runs longer than REPEAT_MAX_WALL are measured once."""
     import itertools
 
     scene, stop, keys = s["scene"], s["stop"], s["keys"]
@@ -533,7 +534,7 @@ def repeat_walls(s: dict, repeats: int, say) -> None:
     mono_walls = {m["rtol"]: [m["wall"]] for m in s["mono"] if "wall" in m}
     for k in range(repeats - 1):
         for row, rerun in jobs:
-            if row.failure is None:
+            if row.failure is None and row.wall_time <= REPEAT_MAX_WALL:
                 walls[id(row)].append(rerun())
         if mono_walls:
             say(f"monolithic tolerance sweep, repeat {k + 2} ...")
@@ -637,7 +638,7 @@ def side_block(done: list[dict], notes: list[str]) -> list[str]:
            "Same FMUs, same .ssp scenes, same monolithic reference (scipy, rtol 1e-10) at each run's own "
            "communication points; error = worst over the key outputs of max|y - y_ref| / range(y_ref). "
            "Wall = loading + instantiation + initialization + run, the median of the repeats (runs alternate "
-           "method by method; every run in its own spawned process pinned to one core, libcosim's worker threads "
+           f"method by method; runs over {REPEAT_MAX_WALL:g} s are measured once; every run in its own spawned process pinned to one core, libcosim's worker threads "
            "included).", "",
            f"- libcosim 0.11.2 (libcosimpy 0.0.6): fixed step = the .ssp as libcosim loads it, plain Jacobi "
            "(outputs read once after each step); values buffered by a time-series observer, one "
