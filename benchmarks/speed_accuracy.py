@@ -10,6 +10,11 @@ over the scene's key outputs of max|y - y_ref| / range(y_ref), against one tight
 (rtol 1e-10) or, where no monolithic model exists, the master's finest run; the equal-accuracy
 comparison (cheapest of each method meeting an error level); with --profile a cProfile of one run
 and the cost of one pythonfmu call; peak memory against simulated length with ``keep=False``.
+Side by side with libcosim (when libcosimpy is installed): per scene libcosim's fixed-step Jacobi at
+the same H and libcosim's ECCO with the scene's power bonds split per axis, against our fixed Jacobi
+x1, adaptive (extrapolation error) and ECCO step control, each against the same monolithic
+reference, with the wall ratios at 1 % of range (issue 16); walls are medians of --repeats runs
+taken in alternation.  --libcosim-only runs just that block and replaces it in the results files.
 
 Writes benchmarks/results/speed_accuracy.{md,csv}, speed_accuracy_<scene>.png, profile.txt.
 Every run executes in a spawned child (pythonfmu FMUs cannot be instantiated again in one process);
@@ -17,11 +22,13 @@ all processes are pinned to one core.  Compare later runs as ratios, never as ab
 
     .venv/bin/python benchmarks/speed_accuracy.py [--quick] [--profile] [--scenes a,b] [--steps ...]
         [--algorithms jacobi,gauss-seidel] [--extrapolations 0,1] [--no-target] [--cpu 0]
+        [--libcosim-only | --no-libcosim] [--repeats 3]
 """
 from __future__ import annotations
 
 import argparse
 import csv
+import importlib.util
 import math
 import multiprocessing
 import os
@@ -29,6 +36,7 @@ import platform
 import subprocess
 import sys
 import tempfile
+import statistics
 import time as clock
 from datetime import datetime, timezone
 from pathlib import Path
@@ -36,6 +44,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tests"))   # interop_hosts: the libcosim runs shared with the interop tests
 RESULTS = ROOT / "benchmarks" / "results"
 LEVELS = (1e-2, 1e-3)  # error levels (fraction of the signal's range) for the equal-accuracy comparison
 MONO_RTOLS = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
@@ -138,6 +147,8 @@ def mono_sweep(scene: str, stop: float, times: np.ndarray, reference, keys, rtol
 
     rows = []
     exact = reference.at(times)
+    # one short solve first: the lazy imports and first-call set-up are not a tolerance's cost
+    monolithic_reference(scene, min(stop, 0.01), times[times <= min(stop, 0.01)][:3], rtol=max(rtols))
     for rtol in rtols:
         t0 = clock.perf_counter()
         try:
@@ -431,6 +442,258 @@ def memory_run(scene: str, stop: float, h: float) -> dict:
             "end_rss_mb": rss_now_kb() / 1024}
 
 
+# --- libcosim side by side ------------------------------------------------------------------------------
+# libcosim's ECCO (change rates 0.2 / 1.5 and the other defaults of interop_hosts.EccoSettings, i.e.
+# libcosim's own multi-bond test) swept over its absolute tolerance [J per step and scalar bond];
+# both ECCO controllers start at the finest fixed H and stay within [H / ECCO_RANGE, H * ECCO_RANGE]
+LIBCOSIM_ECCO_TOLERANCES = (1.0, 1e-1, 1e-2, 1e-3)
+ECCO_RANGE = 10.0
+SIDE_BEGIN, SIDE_END = "<!-- libcosim side by side: begin -->", "<!-- libcosim side by side: end -->"
+SIDE_PREFIX = "side by side: "   # CSV method prefix of the block's rows (replaced by --libcosim-only)
+REPEAT_MAX_WALL = 5.0  # [s] runs longer than this are not repeated (the noise is small against them)
+
+
+def libcosim_available() -> bool:
+    return importlib.util.find_spec("libcosimpy") is not None
+
+
+def _table(time: np.ndarray, cols: dict) -> np.ndarray:
+    """A structured result array (time + columns) as the master returns it."""
+    return np.array(list(zip(time, *cols.values())), dtype=[("time", float)] + [(k, float) for k in cols])
+
+
+def _ecco_bounds(h0: float) -> dict:
+    return {"min_step": h0 / ECCO_RANGE, "max_step": h0 * ECCO_RANGE}
+
+
+def libcosim_once(scene: str, keys, stop: float, h: float, abs_tolerance: float | None):
+    """One libcosim run in a guarded child: fixed step ``h`` from the .ssp, or ECCO from ``h`` with
+    ``abs_tolerance`` [J]; returns (ConvergenceRun, result array or None)."""
+    from cranefmu import build as b
+    from cranefmu.converge import ConvergenceRun
+    from cranefmu.master.run import resolve_scene
+    from interop_hosts import libcosim_timed
+
+    row = ConvergenceRun(h, abs_tolerance)
+    try:
+        if abs_tolerance is None:
+            out = in_child(libcosim_timed, list(keys), stop, str(resolve_scene(scene)), h,
+                           timeout=max(120.0, 30 * stop))
+        else:
+            ecco = {"step": h, "abs_tolerance": abs_tolerance, **_ecco_bounds(h)}
+            out = in_child(libcosim_timed, list(keys), stop, None, None, str(b.SSP_DIR / scene), str(b.FMU_DIR),
+                           ecco, timeout=max(120.0, 60 * stop))
+    except (ChildFailed, ValueError) as err:
+        row.failure = str(err)[:200]
+        return row, None
+    row.wall_time, row.steps = out["wall"], out["steps"]
+    row.simulated = float(out["time"][-1]) if len(out["time"]) else 0.0
+    if "error" in out:
+        row.failure = out["error"]
+        return row, None
+    return row, _table(out["time"], {k: out[k] for k in keys})
+
+
+def libcosim_series(scene: str, keys, stop: float, steps: list[float], say) -> dict:
+    """libcosim fixed step at every H, libcosim ECCO at every tolerance from the finest H."""
+    out = {}
+    for name, settings in (("libcosim fixed", [(h, None) for h in steps]),
+                           ("libcosim ecco", [(min(steps), tol) for tol in LIBCOSIM_ECCO_TOLERANCES])):
+        rows, results = [], []
+        for h, tol in settings:
+            say(f"{name} {'H=%g' % h if tol is None else 'abs_tol=%g J' % tol} ...")
+            row, res = libcosim_once(scene, keys, stop, h, tol)
+            rows.append(row)
+            results.append(res)
+        out[name] = (rows, results)
+    return out
+
+
+SIDE_MASTER = (("jacobi", 1), ("jacobi adaptive", 1), ("jacobi ecco", 1))
+
+
+def repeat_walls(s: dict, repeats: int, say) -> None:
+    """Run the side-by-side settings ``repeats - 1`` more times, alternating the methods setting by
+    setting (ours, libcosim's, then the monolithic sweep), and keep each setting's median wall (the
+    errors are deterministic).  Runs longer than REPEAT_MAX_WALL are measured once."""
+    import itertools
+
+    scene, stop, keys = s["scene"], s["stop"], s["keys"]
+    methods = []  # one list of (row, rerun -> wall) per method
+    for key in SIDE_MASTER:
+        alg, ex = key[0].split()[0], key[1]
+        options = {"step_control": "ecco", **_ecco_bounds(min(s["steps"]))} if key[0].endswith("ecco") else {}
+        methods.append([(row, lambda row=row, alg=alg, ex=ex, options=options: master_runs(
+            scene, [(row.step_size, row.tolerance)], stop, alg, ex, say, **options,
+            **({"instability_alarm": False} if getattr(row, "alarm_off", False) else {}))[0][0].wall_time)
+            for row in s["series"].get(key, ([], []))[0]])
+    for rows, _ in s["libcosim"].values():
+        methods.append([(row, lambda row=row: libcosim_once(scene, keys, stop, row.step_size, row.tolerance)[0].wall_time)
+                        for row in rows])
+    jobs = [job for group in itertools.zip_longest(*methods) for job in group if job is not None]
+    walls = {id(row): [row.wall_time] for row, _ in jobs}
+    mono_walls = {m["rtol"]: [m["wall"]] for m in s["mono"] if "wall" in m}
+    for k in range(repeats - 1):
+        for row, rerun in jobs:
+            if row.failure is None and row.wall_time <= REPEAT_MAX_WALL:
+                walls[id(row)].append(rerun())
+        if mono_walls:
+            say(f"monolithic tolerance sweep, repeat {k + 2} ...")
+            try:
+                again = in_child(mono_sweep, scene, stop, s["mono_times"], s["reference"], keys, tuple(mono_walls),
+                                 timeout=900)
+            except ChildFailed:
+                again = []
+            for m in again:
+                if "wall" in m:
+                    mono_walls[m["rtol"]].append(m["wall"])
+    for row, _ in jobs:
+        row.walls = [x for x in walls[id(row)] if math.isfinite(x)]
+        if row.walls:
+            row.wall_time = statistics.median(row.walls)
+    for m in s["mono"]:
+        if m.get("rtol") in mono_walls:
+            m["walls"] = mono_walls[m["rtol"]]
+            m["wall"] = statistics.median(m["walls"])
+
+
+def alarm_retries(scene: str, stop: float, series: dict, h0: float, say) -> list[str]:
+    """Our side-by-side runs that the instability alarm stopped run again with the alarm off (as the
+    real-time target does): the error then says whether the coupling really diverged."""
+    notes = []
+    for key in SIDE_MASTER:
+        rows, results = series.get(key, ([], []))
+        for i, row in enumerate(rows):
+            if not (row.failure and "instability_alarm=False" in row.failure):
+                continue
+            alg, ex = key[0].split()[0], key[1]
+            options = {"step_control": "ecco", **_ecco_bounds(h0)} if key[0].endswith("ecco") else {}
+            again, res = master_runs(scene, [(row.step_size, row.tolerance)], stop, alg, ex, say,
+                                     instability_alarm=False, **options)
+            notes.append(f"{scene}: ours {key[0]} x{ex} {row.label} was stopped by the default instability alarm "
+                         f"({row.failure[:140]}); shown with the alarm off")
+            again[0].alarm_off = True
+            rows[i], results[i] = again[0], res[0]
+    return notes
+
+
+def side_rows(s: dict) -> list[tuple[str, str, object]]:
+    """(method, setting, ConvergenceRun) of the side-by-side block."""
+    names = {("jacobi", 1): "ours, fixed Jacobi x1", ("jacobi adaptive", 1): "ours, adaptive (extrapolation error) x1",
+             ("jacobi ecco", 1): "ours, ECCO step control x1"}
+    out = []
+    for key, name in names.items():
+        for r in s["series"].get(key, ([], []))[0]:
+            out.append((name, r.label, r))
+    for name, (rows, _) in s.get("libcosim", {}).items():
+        for r in rows:
+            out.append(("libcosim, fixed-step Jacobi" if name == "libcosim fixed" else "libcosim, ECCO",
+                        r.label if r.tolerance is None else f"abs_tol={r.tolerance:g} J", r))
+    return out
+
+
+def side_cheapest(s: dict, level: float) -> dict:
+    """Cheapest run meeting ``level`` of each side: ours (any master setting of the block), libcosim
+    fixed, libcosim ECCO, the monolithic solve."""
+    ours = [r for key in SIDE_MASTER for r in s["series"].get(key, ([], []))[0]]
+    ms = [m for m in s["mono"] if "worst" in m and m["worst"] <= level]
+    return {"ours": cheapest(ours, level), "libcosim fixed": cheapest(s["libcosim"]["libcosim fixed"][0], level),
+            "libcosim ecco": cheapest(s["libcosim"]["libcosim ecco"][0], level),
+            "monolithic": min(ms, key=lambda m: m["wall"]) if ms else None}
+
+
+def _ratio(other, ours, s: dict | None = None, rows=None) -> str:
+    """other's wall / ours at the level; where other never reaches it (``rows`` given): the ratio at
+    other's own best error instead, against ours' cheapest run at least as accurate."""
+    if other is None and rows:
+        ok = [r for r in rows if r.failure is None and math.isfinite(r.worst_rel)]
+        if not ok:
+            return "never reaches it (every run failed)"
+        best = min(ok, key=lambda r: r.worst_rel)
+        mine = cheapest([r for key in SIDE_MASTER for r in s["series"].get(key, ([], []))[0]], best.worst_rel)
+        return (f"never reaches it; at its best error {best.worst_rel:.2g} ({best.label}, {best.wall_time:.3f} s): "
+                + (f"**{best.wall_time / mine.wall_time:.2f}** (ours {mine.label}, {mine.wall_time:.3f} s)"
+                   if mine else "ours misses that too"))
+    if ours is None:
+        return "ours misses it"
+    if other is None:
+        return "never reaches it"
+    wall = other["wall"] if isinstance(other, dict) else other.wall_time
+    return f"**{wall / ours.wall_time:.2f}**"
+
+
+def side_summary(done: list[dict], level: float = LEVELS[0]) -> list[str]:
+    out = [f"### Equal accuracy ({level:g} of range): wall of the cheapest run of each side meeting it", "",
+           "Target (issue 16): libcosim / ours >= 5 (fixed and ECCO) and monolithic / ours >= 2.", "",
+           "| scene | ours (method, setting, wall s) | libcosim fixed (H, wall s) | libcosim ECCO (abs_tol, wall s) | "
+           "monolithic (rtol, wall s) | libcosim fixed / ours | libcosim ECCO / ours | monolithic / ours |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for s in done:
+        if "libcosim" not in s:
+            continue
+        c = side_cheapest(s, level)
+        o, fixed, ecco, mono = c["ours"], c["libcosim fixed"], c["libcosim ecco"], c["monolithic"]
+        name = next((f"{n.split(', ')[-1]}, {setting}" for n, setting, r in side_rows(s) if r is o), "")
+        cells = [f"{name}, {o.wall_time:.3f}" if o else "none",
+                 f"{fixed.label}, {fixed.wall_time:.3f}" if fixed else "none",
+                 f"{ecco.tolerance:g} J, {ecco.wall_time:.3f}" if ecco else "none",
+                 f"{mono['rtol']:g}, {mono['wall']:.3f}" if mono else "none",
+                 _ratio(fixed, o, s, s["libcosim"]["libcosim fixed"][0]),
+                 _ratio(ecco, o, s, s["libcosim"]["libcosim ecco"][0]), _ratio(mono, o)]
+        out.append(f"| {s['scene']} | " + " | ".join(cells) + " |")
+    return out + [""]
+
+
+def side_report(s: dict) -> list[str]:
+    """One scene's side-by-side table: every run of the block against the monolithic reference."""
+    out = [f"### {s['scene']} ({s['stop']:g} s simulated; key outputs {', '.join(s['keys'])})", "",
+           "| method | setting | worst rel err | worst key | steps | wall median [s] | walls [s] | RTF |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for name, setting, r in side_rows(s):
+        walls = ", ".join(f"{w:.3f}" for w in getattr(r, "walls", [r.wall_time]) if math.isfinite(w))
+        out.append(f"| {name} | {setting} | {fmt(r.worst_rel)} | {r.worst_key or '-'} | {r.steps} | "
+                   f"{fmt(r.wall_time, '.3f')} | {walls} | {fmt(r.real_time_factor, '.1f')} |"
+                   + (f" FAILED: {r.failure[:120]}" if r.failure else ""))
+    for m in s["mono"]:
+        if "error" in m:
+            out.append(f"| monolithic (scipy) | rtol={m['rtol']:g} | FAILED {m['error'][:80]} | | | | | |")
+        else:
+            walls = ", ".join(f"{w:.3f}" for w in m.get("walls", [m["wall"]]))
+            out.append(f"| monolithic (scipy) | rtol={m['rtol']:g} | {fmt(m['worst'])} | - | - | {m['wall']:.3f} | "
+                       f"{walls} | {s['stop'] / m['wall']:.1f} |")
+    return out + [""]
+
+
+def side_block(done: list[dict], notes: list[str]) -> list[str]:
+    """The whole side-by-side block, between markers so that --libcosim-only can replace it."""
+    h0 = {min(s["steps"]) for s in done}
+    out = [SIDE_BEGIN, "## Side by side: libcosim (fixed step and ECCO), ours, the monolithic solve", "",
+           "Same FMUs, same .ssp scenes, same monolithic reference (scipy, rtol 1e-10) at each run's own "
+           "communication points; error = worst over the key outputs of max|y - y_ref| / range(y_ref). "
+           "Wall = loading + instantiation + initialization + run, the median of the repeats (runs alternate "
+           f"method by method; runs over {REPEAT_MAX_WALL:g} s are measured once; every run in its own spawned process pinned to one core, libcosim's worker threads "
+           "included).", "",
+           f"- libcosim 0.11.2 (libcosimpy 0.0.6): fixed step = the .ssp as libcosim loads it, plain Jacobi "
+           "(outputs read once after each step); values buffered by a time-series observer, one "
+           "`simulate_until` (no Python per step).",
+           "- libcosim ECCO: the execution built from our scene reader (same components, connections, default "
+           "parameters; libcosimpy loads an .ssp only with the fixed-step algorithm), every power bond of the "
+           "scene split per axis into libcosim's scalar bonds (e.g. hook -> hook[0..2]: Fx_hook*vx_hook vs "
+           "Fx_rope*vx); EccoParams safety 0.8, change rates **0.2 / 1.5** (libcosim's own multi-bond test; "
+           "libcosimpy's defaults 0.01 / 0.2 only shrink the step), gains p 0.2 / i 0.15, rel_tolerance 1e-4 "
+           "(it multiplies the largest residual, not the carried energy, so abs_tolerance decides), "
+           f"abs_tolerance swept {', '.join(f'{t:g}' for t in LIBCOSIM_ECCO_TOLERANCES)} J; first step = the finest H "
+           f"({', '.join(f'{h:g}' for h in sorted(h0))} s), bounds H/{ECCO_RANGE:g} .. {ECCO_RANGE:g} H. Its last step "
+           "overshoots the stop time; rows after it are cut.",
+           f"- ours: fixed Jacobi x1 at the same H; adaptive Jacobi x1 with the extrapolation error control "
+           f"(tolerances {', '.join(f'{t:g}' for t in ADAPTIVE_TOLERANCES)}, default bounds); ECCO step control "
+           "(`run(..., adaptive=True, step_control=\"ecco\")`, rtol = tol, atol = 1e-3 tol J, vector bonds, same "
+           "first step and bounds as libcosim's ECCO).", "",
+           *side_summary(done), *[line for s in done if "libcosim" in s for line in side_report(s)],
+           *[f"- {n}" for s in done for n in s.get("notes", [])], *[f"- {n}" for n in notes], "", SIDE_END, ""]
+    return out
+
+
 # --- the study of one scene --------------------------------------------------------------------------
 def scene_stop(scene: str, quick: bool) -> float:
     full = {"truck_telescope": 30.0}.get(scene, 10.0)
@@ -441,7 +704,11 @@ ADAPTIVE_TOLERANCES = (1e-3, 1e-4, 1e-5)
 
 
 def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: list[float] | None = None,
-                algorithms: tuple[str, ...] | None = None, extrapolations: tuple[int, ...] = (0, 1, 2)) -> dict:
+                algorithms: tuple[str, ...] | None = None, extrapolations: tuple[int, ...] = (0, 1, 2), *,
+                fmpy: bool = True, libcosim: bool = False, repeats: int = 1) -> dict:
+    """Every run of one scene against one monolithic reference; ``fmpy``: fmpy's simulate_ssp at each
+    H; ``libcosim``: the side-by-side runs (ours with ECCO step control, libcosim fixed and ECCO),
+    their walls the median of ``repeats``."""
     from cranefmu import converge as cv
     from cranefmu.master.run import ALGORITHMS, resolve_scene
 
@@ -450,24 +717,31 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
     steps = steps or [4e-3, 2e-3, 1e-3]
     series: dict[tuple[str, int], tuple[list, list]] = {}
     for alg in algorithms or ALGORITHMS:
-        # Jacobi x0 and x1 always: the same-H comparison with fmpy and the adaptive comparison use them
-        for ex in sorted(set(extrapolations) | ({0, 1} if alg == "jacobi" else set())):
+        # Jacobi x1 always (the adaptive comparison and libcosim's same H), x0 for the same-H fmpy comparison
+        for ex in sorted(set(extrapolations) | (({0, 1} if fmpy else {1}) if alg == "jacobi" else set())):
+            if alg == "jacobi-plain" and ex:   # zero-order hold only, like libcosim
+                continue
             series[(alg, ex)] = master_runs(scene, [(h, None) for h in steps], stop, alg, ex, say)
     # adaptive Jacobi, extrapolation 1, started at the finest fixed H
     series[("jacobi adaptive", 1)] = master_runs(scene, [(min(steps), tol) for tol in ADAPTIVE_TOLERANCES],
                                                  stop, "jacobi", 1, say)
+    lc = {}
+    if libcosim:  # ours with ECCO step control from the finest H, then libcosim's runs
+        h0 = min(steps)
+        series[("jacobi ecco", 1)] = master_runs(scene, [(h0, tol) for tol in ADAPTIVE_TOLERANCES], stop, "jacobi",
+                                                 1, say, step_control="ecco", **_ecco_bounds(h0))
+        lc = libcosim_series(scene, keys, stop, steps, say)
+        notes = alarm_retries(scene, stop, series, h0, say)
     ssp = str(resolve_scene(scene))
     fm = []
-    for h in steps:
+    for h in steps if fmpy else ():
         say(f"fmpy simulate_ssp H={h:g} ...")
         try:
             fm.append(in_child(fmpy_run, ssp, scene, stop, h, keys, timeout=max(120.0, 30 * stop)))
         except ChildFailed as err:
             fm.append({"error": str(err)})
-    all_results = [r for _, rs in series.values() for r in rs if r is not None]
-    fm_results = [np.array(list(zip(f["time"], *f["cols"].values())),
-                           dtype=[("time", float)] + [(k, float) for k in f["cols"]])
-                  if "time" in f and not f.get("missing") else None for f in fm]
+    all_results = [r for _, rs in [*series.values(), *lc.values()] for r in rs if r is not None]
+    fm_results = [_table(f["time"], f["cols"]) if "time" in f and not f.get("missing") else None for f in fm]
     try:
         say("monolithic reference (child, 600 s limit) ...")
         ref = in_child(cv.Reference.monolithic, scene, keys, stop,
@@ -475,7 +749,7 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
     except (cv.CraneFmuError, ChildFailed, NotImplementedError, KeyError) as err:
         say(f"no monolithic reference ({err}); the finest co-simulation instead")
         ref = cv.Reference.finest(scene, keys, stop, min(steps) / cv.FINEST_FACTOR, "jacobi", 2, progress=say)
-    for runs, results in series.values():
+    for runs, results in [*series.values(), *lc.values()]:
         cv.evaluate(runs, results, ref)
     fm_rows, fm_late = [], []
     settle = min(1.0, stop / 3)
@@ -501,19 +775,25 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
         fm_late.append(late)
     cv.observed_orders(fm_rows)
     cv.observed_orders(fm_late)
-    mono = []
+    mono, mono_times = [], None
     if ref.kind == "monolithic":
-        finest = next(r for r in series[("jacobi", 0)][1][::-1] if r is not None)
+        fixed = series[("jacobi", 0)] if ("jacobi", 0) in series else series[("jacobi", 1)]
+        mono_times = next(r for r in fixed[1][::-1] if r is not None)["time"]
         say("monolithic tolerance sweep ...")
         try:
-            mono = in_child(mono_sweep, scene, stop, finest["time"], ref, keys,
+            mono = in_child(mono_sweep, scene, stop, mono_times, ref, keys,
                             MONO_RTOLS[:4] if quick else MONO_RTOLS, timeout=900)
         except ChildFailed as err:
             mono = [{"rtol": math.nan, "error": f"tolerance sweep: {err}"}]
-    return {"scene": scene, "stop": stop, "keys": keys, "steps": steps, "series": series, "fmpy": fm_rows,
-            "fmpy_late": fm_late, "settle": settle,
-            "fmpy_dropped": fm[0].get("dropped", []), "fmpy_first": _first_rows(fm, keys), "reference": ref,
-            "mono": mono}
+    out = {"scene": scene, "stop": stop, "keys": keys, "steps": steps, "series": series, "fmpy": fm_rows,
+           "fmpy_late": fm_late, "settle": settle,
+           "fmpy_dropped": fm[0].get("dropped", []) if fm else [], "fmpy_first": _first_rows(fm, keys),
+           "reference": ref, "mono": mono, "mono_times": mono_times}
+    if libcosim:
+        out["libcosim"], out["notes"] = lc, notes
+        if repeats > 1:
+            repeat_walls(out, repeats, say)
+    return out
 
 
 def _first_rows(fm: list[dict], keys) -> str:
@@ -649,6 +929,45 @@ def write_csv(scenes: list[dict], path: Path, target: dict | None = None) -> Non
             for m in s["mono"]:
                 w.writerow([s["scene"], "monolithic", m["rtol"], m.get("worst"), "", m.get("wall"),
                             m.get("error", "")])
+        w.writerows(side_csv_rows(scenes))
+
+
+def side_csv_rows(scenes: list[dict]) -> list[list]:
+    """The side-by-side block's rows (method prefixed with SIDE_PREFIX; walls are medians)."""
+    rows = []
+    for s in scenes:
+        if "libcosim" not in s:
+            continue
+        for name, setting, r in side_rows(s):
+            rows.append([s["scene"], f"{SIDE_PREFIX}{name} ({s['stop']:g} s)", setting, r.worst_rel, r.steps,
+                         r.wall_time, r.failure or ""])
+        for m in s["mono"]:
+            rows.append([s["scene"], f"{SIDE_PREFIX}monolithic ({s['stop']:g} s)", f"rtol={m['rtol']:g}",
+                         m.get("worst"), "", m.get("wall"), m.get("error", "")])
+    return rows
+
+
+def merge_side_results(done: list[dict], notes: list[str]) -> None:
+    """--libcosim-only: replace the side-by-side block of speed_accuracy.md (or add it) and its rows
+    of speed_accuracy.csv, leaving every other section's results as they were."""
+    md, path = RESULTS / "speed_accuracy.md", RESULTS / "speed_accuracy.csv"
+    block = "\n".join(side_block(done, notes))
+    text = md.read_text() if md.exists() else "# Speed against accuracy\n\n"
+    if SIDE_BEGIN in text and SIDE_END in text:
+        before, rest = text.split(SIDE_BEGIN, 1)
+        text = before + block.rstrip("\n") + rest.split(SIDE_END, 1)[1]
+    else:
+        text = text.rstrip("\n") + "\n\n" + block
+    md.write_text(text)
+    header, kept = ["scene", "method", "setting", "worst_rel", "steps", "wall_time", "failure"], []
+    if path.exists():
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f))
+        header, kept = rows[0], [r for r in rows[1:] if not r[1].startswith(SIDE_PREFIX)]
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(kept + side_csv_rows(done))
 
 
 def plot_scene(s: dict, path: Path) -> None:
@@ -862,6 +1181,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-target", action="store_true", help="skip the truck_telescope 30 s real-time target runs")
     ap.add_argument("--cpu", type=int, default=None, help="core to pin to (default: the last allowed)")
     ap.add_argument("--output", default=None, help="results directory (default benchmarks/results)")
+    ap.add_argument("--libcosim-only", action="store_true", help="only the side-by-side block (libcosim fixed and "
+                    "ECCO, ours fixed/adaptive/ECCO, monolithic); replaces that block in the results files")
+    ap.add_argument("--no-libcosim", action="store_true", help="skip the libcosim side-by-side runs")
+    ap.add_argument("--repeats", type=int, default=None, help="runs per side-by-side setting, wall = median "
+                    "(default 3 with --libcosim-only, else 1)")
     args = ap.parse_args(argv)
     global RESULTS
     RESULTS = Path(args.output) if args.output else RESULTS
@@ -879,6 +1203,13 @@ def main(argv: list[str] | None = None) -> int:
         print(f"[{clock.strftime('%H:%M:%S')}] {text}", file=sys.stderr, flush=True)
 
     wall0 = clock.perf_counter()
+    with_libcosim = not args.no_libcosim and libcosim_available()
+    repeats = args.repeats or (3 if args.libcosim_only else 1)
+    if args.libcosim_only:
+        if not libcosim_available():
+            print("--libcosim-only: libcosimpy is not installed (pip install -e '.[interop]')", file=sys.stderr)
+            return 2
+        return side_by_side_main(args, names, repeats, say, wall0, argv)
     head = ["# Speed against accuracy", "", *machine(), f"- mode: {'quick' if args.quick else 'full'}", "",
             "Command: `.venv/bin/python benchmarks/speed_accuracy.py " + " ".join(argv or sys.argv[1:]) + "`", "",
             "The machine is shared (2 cores, several engineers' jobs): absolute times are inflated and noisy; "
@@ -920,11 +1251,12 @@ def main(argv: list[str] | None = None) -> int:
         except Exception as err:  # reported, and the other sections still run
             body += [f"## {title}", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
         save()
+    side_notes = [f"Load when measured (uptime at the start): {load_average()}."]
     for name in names:
         try:
             s = study_scene(name, args.quick, say, args.stop_time,
                             [float(x) for x in args.steps.split(",")] if args.steps else None,
-                            algorithms, extrapolations)
+                            algorithms, extrapolations, libcosim=with_libcosim, repeats=repeats)
         except Exception as err:  # one scene failing must not lose the others
             body += [f"## {name}", "", f"FAILED: {type(err).__name__}: {str(err)[:300]}", ""]
             continue
@@ -935,9 +1267,41 @@ def main(argv: list[str] | None = None) -> int:
         summary = targets_summary(done, hot, target)
         save()
     summary = targets_summary(done, hot, target)
+    if with_libcosim and done:
+        body += side_block(done, side_notes + [f"Load at the end: {load_average()}."])
     body += [f"Benchmark wall time {clock.perf_counter() - wall0:.0f} s.", ""]
     save()
     print("\n".join(head + summary + body))
+    return 0
+
+
+def load_average() -> str:
+    """The machine's load as `uptime` prints it (the machine is shared)."""
+    try:
+        return subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+    except OSError:
+        return "load averages " + ", ".join(f"{x:.2f}" for x in os.getloadavg())
+
+
+def side_by_side_main(args, names: list[str], repeats: int, say, wall0: float, argv) -> int:
+    """--libcosim-only: the side-by-side runs of every scene, merged into the results files."""
+    steps = [float(x) for x in args.steps.split(",")] if args.steps else None
+    notes = [f"Command: `.venv/bin/python benchmarks/speed_accuracy.py {' '.join(argv or sys.argv[1:])}` "
+             f"({datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, {repeats} repeat(s)); "
+             + "; ".join(machine()[1:]).replace("- ", ""),
+             f"Load when measured (uptime at the start): {load_average()}."]
+    done = []
+    for name in names:
+        try:
+            done.append(study_scene(name, args.quick, say, args.stop_time, steps, ("jacobi",), (1,), fmpy=False,
+                                    libcosim=True, repeats=repeats))
+        except Exception as err:  # one scene failing must not lose the others
+            notes.append(f"{name} FAILED: {type(err).__name__}: {str(err)[:300]}")
+        merge_side_results(done, notes + [f"Load so far: {load_average()}."])
+    notes += [f"Load at the end: {load_average()}.",
+              f"Side-by-side wall time {clock.perf_counter() - wall0:.0f} s."]
+    merge_side_results(done, notes)
+    print("\n".join(side_block(done, notes)))
     return 0
 
 

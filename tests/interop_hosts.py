@@ -1,19 +1,205 @@
-"""Test helper: run a built scene in another master (libcosim through libcosimpy, fmpy's
-``simulate_ssp``) and read back what it applied.  Each function runs in a child process
-(``fmu_child.in_child``): pythonfmu FMUs do not survive a second instantiation in one process."""
+"""Run a built scene in another master (libcosim through libcosimpy, fmpy's ``simulate_ssp``) and
+read back what it applied; shared by the interop tests and the benchmarks (benchmarks/
+speed_accuracy.py, interop_difference.py put tests/ on sys.path).  Each run belongs in a child
+process (``fmu_child.in_child``): pythonfmu FMUs do not survive a second instantiation in one
+process.  libcosim's facts and pitfalls: docs/interop.md."""
 from __future__ import annotations
+
+import math
+import time as clock
+from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
-NS = 1_000_000_000  # libcosim's time unit: integer nanoseconds
+NS = 1_000_000_000  # libcosim's time unit: integer nanoseconds (EccoParams alone takes seconds)
 
 
 def _text(name) -> str:
     return name.decode() if isinstance(name, bytes) else str(name)
 
 
-def libcosim_run(ssp: str, step: float, steps: int, columns: list[str]) -> dict:
-    """Run ``ssp`` in libcosim (fixed step, plain Jacobi) for ``steps`` steps of ``step`` [s].
+def _catalogue(ex) -> tuple[dict, dict]:
+    """(instance name -> slave index, instance name -> {variable name -> description}) of an execution."""
+    slaves = {_text(s.name): s.index for s in ex.slave_infos()}
+    return slaves, {name: {_text(v.name): v for v in ex.slave_variables(i)} for name, i in slaves.items()}
+
+
+@dataclass(frozen=True)
+class EccoSettings:
+    """libcosim's ECCO parameters (``EccoParams``; Sadjina and Pedersen 2020), times in seconds.
+
+    Defaults: libcosim's own multi-bond test (change rates 0.2 / 1.5, safety 0.8, gains 0.2 / 0.15),
+    not libcosimpy's defaults (0.01 / 0.2), which only ever shrink the step.  libcosim's error
+    is sqrt(mean_k (dE_k / (abs_tolerance + rel_tolerance * max_k dE_k))^2) with dE_k = |P_a - P_b| dt
+    per scalar bond: the relative term scales with the residual itself, so ``abs_tolerance`` [J per
+    step] decides."""
+
+    step: float                  # first step [s]
+    min_step: float              # [s]
+    max_step: float              # [s]
+    abs_tolerance: float         # [J]
+    rel_tolerance: float = 1e-4
+    safety: float = 0.8
+    min_change: float = 0.2
+    max_change: float = 1.5
+    p_gain: float = 0.2
+    i_gain: float = 0.15
+
+    def __post_init__(self) -> None:
+        for name in ("step", "min_step", "max_step", "abs_tolerance", "safety", "min_change", "max_change"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ValueError(f"EccoSettings.{name} = {v!r} is not allowed: a finite number > 0")
+        if not self.min_step <= self.step <= self.max_step:
+            raise ValueError(f"EccoSettings: min_step {self.min_step:g} <= step {self.step:g} <= max_step "
+                             f"{self.max_step:g} is required (libcosim refuses it with a bare input check)")
+
+    def params(self):
+        from libcosimpy.CosimAlgorithm import EccoParams
+
+        return EccoParams(safety_factor=self.safety, step_size=self.step, min_step_size=self.min_step,
+                          max_step_size=self.max_step, min_change_rate=self.min_change,
+                          max_change_rate=self.max_change, abs_tolerance=self.abs_tolerance,
+                          rel_tolerance=self.rel_tolerance, p_gain=self.p_gain, i_gain=self.i_gain)
+
+
+def scalar_bonds(bonds: list[tuple[str, list[dict]]]) -> list[tuple[str, tuple[str, str, str], tuple[str, str, str]]]:
+    """Our power bonds (``Scene.bonds``: force/velocity vectors per side, a sign per side) as libcosim's
+    scalar bonds, one per axis: (name, (component, force, velocity) of side a, ... of side b).
+
+    libcosim compares |F_a v_a - F_b v_b| per pair and has no sign: a bond whose two sides carry
+    different signs cannot be expressed and is refused."""
+    out = []
+    for name, (a, b) in bonds:
+        if float(a.get("sign", "1")) != float(b.get("sign", "1")):
+            raise ValueError(f"power bond {name!r}: sides with different signs ({a.get('sign')}, {b.get('sign')}) "
+                             "cannot be a libcosim bond (it compares |P_a - P_b| of plain products)")
+        fa, va, fb, vb = (side[key].split() for side in (a, b) for key in ("force", "velocity"))
+        for i, parts in enumerate(zip(fa, va, fb, vb)):
+            label = name if len(fa) == 1 else f"{name}[{i}]"
+            out.append((label, (a["component"], parts[0], parts[1]), (b["component"], parts[2], parts[3])))
+    return out
+
+
+def libcosim_execution(scene_dir: str, fmu_dir: str, ecco: EccoSettings | None = None, step: float | None = None):
+    """An execution built from our scene reader (components, connections, default parameter set), with
+    libcosim's ECCO algorithm and the scene's bonds split per axis (``ecco``) or its fixed-step
+    algorithm (``step`` [s]).  libcosimpy loads an .ssp only into a fixed-step execution, so ECCO
+    needs this hand-built one; with a fixed step it equals ``from_ssp_file`` (tested).
+    Returns (execution, keep-alive objects)."""
+    from libcosimpy.CosimAlgorithm import CosimAlgorithm
+    from libcosimpy.CosimEnums import CosimVariableType
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    from cranefmu.master.scene import read_scene_folder
+
+    scene = read_scene_folder(Path(scene_dir), Path(fmu_dir))
+    if ecco is not None:
+        algorithm = CosimAlgorithm.create_ecco_algorithm(ecco.params())
+        ex = CosimExecution.from_algorithm(algorithm)
+    else:
+        algorithm = None
+        ex = CosimExecution.from_step_size(int(round(step * NS)))
+    keep = [algorithm]
+    index = {}
+    for comp in scene.components:
+        slave = CosimLocalSlave(str(comp.fmu), comp.name)
+        keep.append(slave)
+        index[comp.name] = ex.add_local_slave(slave)
+    _, variables = _catalogue(ex)
+    real = CosimVariableType.REAL.value
+
+    def ref(comp: str, var: str):
+        try:
+            return variables[comp][var]
+        except KeyError:
+            raise ValueError(f"libcosim: component {comp!r} has no variable {var!r}") from None
+
+    for c in scene.connections:
+        if c.factor != 1.0 or c.offset != 0.0:
+            raise ValueError(f"connection {c}: a linear transformation is not built here (libcosim needs a "
+                             "function for it)")
+        out, inp = ref(c.src, c.src_var), ref(c.dst, c.dst_var)
+        connect = ex.connect_real_variables if out.type == real else ex.connect_integer_variables
+        if connect(index[c.src], out.reference, index[c.dst], inp.reference) != 0:   # the C status: 0 = success
+            raise ValueError(f"libcosim refused the connection {c}")
+    for key, value in scene.parameters.items():
+        comp, _, var = key.partition(".")
+        v = ref(comp, var)
+        setter = {real: ex.real_initial_value, CosimVariableType.INTEGER.value: ex.integer_initial_value,
+                  CosimVariableType.BOOLEAN.value: ex.boolean_initial_value}.get(v.type, ex.string_initial_value)
+        if not setter(index[comp], v.reference, value):                               # a bool: True = success
+            raise ValueError(f"libcosim refused the initial value {key} = {value!r}")
+    if ecco is not None:
+        for label, (ca, fa, va), (cb, fb, vb) in scalar_bonds(scene.bonds):
+            if algorithm.add_power_bond(index[ca], ref(ca, fa).reference, ref(ca, va).reference,
+                                        index[cb], ref(cb, fb).reference, ref(cb, vb).reference) != 0:
+                raise ValueError(f"libcosim refused power bond {label}")
+    return ex, keep
+
+
+def libcosim_timed(columns: list[str], stop: float, ssp: str | None = None, step: float | None = None,
+                   scene_dir: str | None = None, fmu_dir: str | None = None, ecco: dict | None = None) -> dict:
+    """One libcosim run to ``stop`` [s] in a single ``simulate_until``, values buffered in C++ by a
+    time-series observer (no Python per step): fixed step ``step`` from the .ssp as libcosim loads
+    it, or ECCO (``ecco``: EccoSettings fields) on the execution built from ``scene_dir``.
+
+    Returns {"time", column...: arrays after every step up to ``stop`` (ECCO's last step overshoots
+    and is cut), "wall": s from loading to the end of the run, "steps", "end": simulated end [s],
+    "ok"; "error" when it failed}."""
+    from libcosimpy.CosimEnums import CosimVariableType
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+
+    log_output_level(CosimLogLevel.ERROR)
+    settings = EccoSettings(**ecco) if ecco is not None else None
+    smallest = settings.min_step if settings else step
+    capacity = int(stop / smallest * 1.05) + 16
+    t0 = clock.perf_counter()
+    if settings is None:
+        ex, keep = CosimExecution.from_ssp_file(ssp, step_size=int(round(step * NS))), []
+    else:
+        ex, keep = libcosim_execution(scene_dir, fmu_dir, ecco=settings)
+    slaves, variables = _catalogue(ex)
+    last = CosimObserver.create_last_value()     # ECCO reads its bond variables through it (else "not found")
+    series = CosimObserver.create_time_series(buffer_size=capacity)
+    ex.add_observer(last)
+    ex.add_observer(series)
+    real = CosimVariableType.REAL
+    refs = {}
+    for c in columns:
+        comp, _, var = c.partition(".")
+        refs[c] = (slaves[comp], variables[comp][var].reference)
+        series.start_time_series(slaves[comp], refs[c][1], real)
+    ok = ex.simulate_until(int(round(stop * NS)))
+    wall = clock.perf_counter() - t0
+    out = {"wall": wall, "ok": bool(ok), "end": ex.status().current_time / NS}
+    # from step 1: libcosimpy trims its arrays by counting zero step numbers, so a sample at step 0
+    # would cost the last one
+    cols, times = {}, None
+    for c, (i, vr) in refs.items():
+        t, _steps, values = series.time_series_real_samples(i, vr, from_step=1, sample_count=capacity)
+        if times is None:
+            times = np.asarray(t, dtype=float) / NS
+        cols[c] = np.asarray(values, dtype=float)
+    n = min([len(times)] + [len(v) for v in cols.values()])
+    keep_rows = times[:n] <= stop * (1 + 1e-9)
+    out["time"] = times[:n][keep_rows]
+    out.update({c: v[:n][keep_rows] for c, v in cols.items()})
+    out["steps"] = int(n)
+    if not ok:
+        out["error"] = f"simulate_until returned False at t = {out['end']:g} s (a step failed)"
+    del keep
+    return out
+
+
+def libcosim_run(ssp: str, step: float, steps: int, columns: list[str], scene_dir: str | None = None,
+                 fmu_dir: str | None = None) -> dict:
+    """Run ``ssp`` in libcosim (fixed step, plain Jacobi) for ``steps`` steps of ``step`` [s]; with
+    ``scene_dir`` the execution is built by :func:`libcosim_execution` instead of libcosim's SSP loader.
 
     Returns {"time": [...], column: [...]} for "component.variable" columns read after every step
     (libcosim exposes no values before its first step), "parameters": every parameter's value
@@ -24,11 +210,13 @@ def libcosim_run(ssp: str, step: float, steps: int, columns: list[str]) -> dict:
     from libcosimpy.CosimObserver import CosimObserver
 
     log_output_level(CosimLogLevel.ERROR)
-    ex = CosimExecution.from_ssp_file(ssp, step_size=int(round(step * NS)))
+    if scene_dir is None:
+        ex, keep = CosimExecution.from_ssp_file(ssp, step_size=int(round(step * NS))), []
+    else:
+        ex, keep = libcosim_execution(scene_dir, fmu_dir, step=step)
     obs = CosimObserver.create_last_value()
     ex.add_observer(obs)
-    slaves = {_text(s.name): s.index for s in ex.slave_infos()}
-    variables = {name: {_text(v.name): v for v in ex.slave_variables(i)} for name, i in slaves.items()}
+    slaves, variables = _catalogue(ex)
     real = CosimVariableType.REAL.value
 
     def read(comp: str, names: list[str]) -> list:

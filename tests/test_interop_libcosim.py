@@ -48,7 +48,11 @@ def _plain_jacobi_available() -> bool:
 # (rope top 11.00006 m, not 11.0000269 m), truck_telescope's sway angle is off by 1.1e-6 relative
 # after the first step (benchmarks/results/interop_difference.md).  Strict: a pass is news.
 _UNSETTLED_START = pytest.mark.xfail(strict=True, reason="libcosim starts from unsettled connection values")
-AGREEING = [s if s not in ("overhead_lift", "truck_telescope") else pytest.param(s, marks=_UNSETTLED_START)
+# Since the start state is derived at initialization (the pendulum hands the load to the rope,
+# docs/equilibrium.md), elastic_pendulum's rope also starts unloaded in libcosim: its hook sinks
+# 4.9e-6 m more in the first step and the swing drifts 5e-7 relative in 200 steps.
+AGREEING = [s if s not in ("overhead_lift", "truck_telescope", "elastic_pendulum")
+            else pytest.param(s, marks=_UNSETTLED_START)
             for s in SCENE_NAMES]
 
 
