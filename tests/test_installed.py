@@ -30,7 +30,6 @@ import pytest
 CHECKOUT = Path(__file__).resolve().parents[1]
 SCENE = "elastic_pendulum"
 STOP = 0.5          # s: 500 steps of the default 1 ms
-NEEDS_IN_PROCESS = "needs in-process run (wp-proc)"
 SCRIPT = textwrap.dedent(f"""\
     import numpy as np
     import cranefmu
@@ -119,14 +118,6 @@ def _csv(path: Path) -> tuple[list[str], np.ndarray]:
     return rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
 
 
-def _xfail_if_child_process_failure(res: subprocess.CompletedProcess) -> None:
-    """Today run() spawns a child that re-imports the caller's __main__ (a guard-less script runs
-    again in the child; '<stdin>' cannot be re-read): a known failure until runs are in-process."""
-    if res.returncode != 0 and ("bootstrapping phase" in res.stderr or "<stdin>" in res.stderr
-                                or "process running scene" in res.stderr):
-        pytest.xfail(NEEDS_IN_PROCESS)
-
-
 def test_the_wheel_carries_the_sources_and_is_what_runs(installed):
     import zipfile
 
@@ -177,7 +168,6 @@ def test_guardless_script_gives_the_checkout_rows(installed, checkout_rows):
     (installed.work / "plain.py").write_text(SCRIPT)
     (installed.work / "rows.npy").unlink(missing_ok=True)
     res = installed.run(str(installed.python), "plain.py")
-    _xfail_if_child_process_failure(res)
     assert res.returncode == 0, res.stderr
     _same_rows(np.load(installed.work / "rows.npy"), checkout_rows[0])
 
@@ -185,7 +175,6 @@ def test_guardless_script_gives_the_checkout_rows(installed, checkout_rows):
 def test_script_on_stdin_gives_the_checkout_rows(installed, checkout_rows):
     (installed.work / "rows.npy").unlink(missing_ok=True)
     res = installed.run(str(installed.python), "-", stdin=SCRIPT)
-    _xfail_if_child_process_failure(res)
     assert res.returncode == 0, res.stderr
     _same_rows(np.load(installed.work / "rows.npy"), checkout_rows[0])
 
