@@ -19,7 +19,7 @@ from cranefmu.master.run import run
 
 from faulty import faulty_fmu, faulty_scene
 from scene_edit import scene_ssp
-from test_signals import start, wait_for_rows
+from cli_process import start, wait_for_rows
 
 OLD = b"time,x\n0.0,1.0\n"   # what a previous run left
 

@@ -42,7 +42,7 @@ import numpy as np
 import pytest
 from fmpy.validation import validate_fmu
 
-sys.path.insert(0, str(Path(__file__).parent / "c_host"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "c_host"))
 import native  # noqa: E402  (tests/c_host/native.py)
 
 SCENE = "elastic_pendulum"
