@@ -11,6 +11,12 @@ from pathlib import Path
 STEP = 1e-3
 
 
+def cranefmu(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    """``cranefmu *args`` in a child process of this interpreter, its output captured."""
+    return subprocess.run([sys.executable, "-m", "cranefmu.cli", *args], capture_output=True, text=True, cwd=cwd,
+                          timeout=300)
+
+
 def start(tmp_path: Path, *extra: str) -> tuple[subprocess.Popen, Path, Path]:
     """The CLI on a long run in a session of its own, its TMPDIR a directory of the test's."""
     tmpdir = tmp_path / "tmp"

@@ -19,14 +19,9 @@ from cranefmu.master.run import run
 
 from faulty import faulty_fmu, faulty_scene
 from scene_edit import scene_ssp
-from cli_process import start, wait_for_rows
+from cli_process import cranefmu, start, wait_for_rows
 
 OLD = b"time,x\n0.0,1.0\n"   # what a previous run left
-
-
-def cranefmu(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "cranefmu.cli", *args], capture_output=True, text=True, cwd=cwd,
-                          timeout=300)
 
 
 def one_line_error(p: subprocess.CompletedProcess, needle: str) -> None:
