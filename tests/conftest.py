@@ -1,7 +1,18 @@
-"""Shared fixtures: the FMUs and scenes are built once per test session (only what is stale)."""
+"""Fixtures every layer shares: the FMUs and scenes are built once per test session (only what is stale).
+
+The helper modules beside this file (model_cases, scene_edit, fmu_child, interop_hosts, cli_process,
+pendulum_cases and the oscillator/faulty/c_host packages) are imported by plain name from every layer
+folder: this directory is put on sys.path here, whatever pytest's import mode (README.md)."""
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import pytest
+
+HELPERS = str(Path(__file__).resolve().parent)
+if HELPERS not in sys.path:
+    sys.path.insert(0, HELPERS)
 
 
 @pytest.fixture(scope="session")

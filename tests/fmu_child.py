@@ -26,6 +26,12 @@ def in_child(func: Callable[..., Any], *args: Any) -> Any:
         return pool.submit(func, *args).result()
 
 
+def in_pool(func: Callable[..., Any], *args: Any, timeout: float = 300.0) -> Any:
+    """``func(*args)`` in a fresh spawned process; a hang fails after ``timeout`` s instead of blocking."""
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        return pool.apply_async(func, args).get(timeout=timeout)
+
+
 class Fmu:
     """One instance of a built FMU with name-based set/get (wraps the master's FmuComponent)."""
 

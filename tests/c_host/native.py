@@ -1,4 +1,4 @@
-"""Build and run the C host (host.c) on a scene's FMUs; used by tests/test_native_hosts.py and
+"""Build and run the C host (host.c) on a scene's FMUs; used by tests/fmu/test_native_hosts.py and
 benchmarks/native_host_cost.py.
 
 pythonfmu's linux64 binary embeds CPython but does not link libpython (it leaves the symbols

@@ -3,29 +3,15 @@ the coupling satisfied at every communication point, energy error bounded (no dr
 report when it does not converge."""
 import numpy as np
 import pytest
-from scipy.optimize import brentq
 
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
-from oscillator.exact import Oscillator
-
-DAMPED = Oscillator(d1=2.0, dc=2.0, d2=2.0)
-UNDAMPED = Oscillator()
-X0 = 0.1
-Z0 = np.array([X0, 0.0, 0.0, 0.0])
-
-
-def jacobi_limit():
-    return brentq(lambda h: max(abs(np.linalg.eigvals(DAMPED.jacobi_zoh_matrix(h)))) - 1.0, 0.02, 0.2)
+from oscillator.runs import DAMPED, UNDAMPED, X0, Z0, go, jacobi_limit
 
 
 def error(res, osc):
     exact = osc.solution(res["time"], Z0)
     return np.max(np.abs(res["mass.x"] - exact[:, 0]))
-
-
-def go(ssp, h, osc, stop=3.0, **kw):
-    return run(ssp, stop_time=stop, step_size=h, parameters={**osc.parameters(), "mass.x0": X0}, **kw)
 
 
 def test_converges_beyond_the_jacobi_stability_limit(oscillator_ssp):

@@ -1,11 +1,7 @@
 """The command line: a run writes the CSV; user mistakes exit 2 with one clear line, no traceback."""
 import csv
-import subprocess
-import sys
 
-
-def cranefmu(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "cranefmu.cli", *args], capture_output=True, text=True, cwd=cwd)
+from cli_process import cranefmu
 
 
 def test_run_writes_csv_with_time_and_component_columns(built, tmp_path):

@@ -19,7 +19,7 @@ from cranefmu.master.untrusted import check_xml
 
 from scene_edit import edit_fmu_in_ssp, edit_ssp, repack, scene_ssp, symlink_entry
 
-README = Path(__file__).resolve().parent.parent / "README.md"
+README = Path(__file__).resolve().parents[2] / "README.md"
 
 XXE = b"""<?xml version="1.0"?>
 <!DOCTYPE r [<!ENTITY x SYSTEM "file://{secret}">]>
@@ -104,7 +104,7 @@ def test_check_xml_refuses_external_entity_without_reading_it(tmp_path):
 def test_check_xml_refuses_entity_expansion_and_accepts_plain_xml():
     with pytest.raises(SceneError, match="DOCTYPE"):
         check_xml(billion_laughs(), "bomb.ssv")
-    check_xml((Path(__file__).resolve().parent.parent / "ssp/elastic_pendulum/SystemStructure.ssd").read_bytes(),
+    check_xml((Path(__file__).resolve().parents[2] / "ssp/elastic_pendulum/SystemStructure.ssd").read_bytes(),
               "ok.ssd")
     with pytest.raises(SceneError, match="not well-formed"):
         check_xml(b"<a><b></a>", "broken.ssd")

@@ -17,9 +17,6 @@ import pytest
 from cranefmu.errors import ParameterSetError, SimulationError
 from cranefmu.master.results import read_csv
 
-from faulty import faulty_fmu, faulty_scene
-from scene_edit import scene_ssp
-
 STREAM_CHECK_AT = 1501  # rows recorded when the child looks at the CSV on disk (flushes every 1000)
 
 
@@ -90,12 +87,6 @@ def assert_clean(out: dict) -> None:
     freed = calls["instantiate"] - calls["fatal"]
     assert calls["terminate"] == freed and calls["freeInstance"] == freed, calls
     assert out["leftovers"] == [], out["leftovers"]
-
-
-@pytest.fixture(scope="module")
-def faulty_ssp(built, tmp_path_factory):
-    d = tmp_path_factory.mktemp("faulty")
-    return faulty_scene(scene_ssp(), faulty_fmu(d), d / "faulty.ssp")
 
 
 def test_success_frees_every_instance_and_removes_the_extracted_fmus(built, tmp_path):

@@ -14,7 +14,7 @@ from cranefmu.master.divergence import GrowthAlarm, ImbalanceAlarm
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
 from cranefmu.scenes import SCENES
-from test_extremes import G, at_rest_on_rope, one_d_pendulum
+from pendulum_cases import G, at_rest_on_rope, one_d_pendulum
 
 
 SILENT = {
@@ -97,7 +97,7 @@ def test_oscillator_jacobi_is_stopped_beyond_its_limit_or_when_far_too_coarse(os
     force swings through zero, so the energy the coupling makes up per window is ~ 1.6 omega H of what
     the bond carries: at 0.5 x the limit (stable, error 18 % of the amplitude against the exact
     solution, checked here) it is stopped as far too coarse; at 0.3 x (error 10 %) it runs."""
-    from test_master_iterative import DAMPED, Z0, go, jacobi_limit
+    from oscillator.runs import DAMPED, Z0, go, jacobi_limit
 
     h = factor * jacobi_limit()
     if not stopped:
@@ -124,7 +124,7 @@ def oscillator_without_bonds(tmp_path_factory):
 def test_scene_without_power_bonds_is_watched_by_its_connections(oscillator_without_bonds, factor, stopped):
     """No power bonds: the change per step of a coupling value grows geometrically beyond the limit
     (measured 1.02 per step at 1.1 x); the error names the connection."""
-    from test_master_iterative import DAMPED, go, jacobi_limit
+    from oscillator.runs import DAMPED, go, jacobi_limit
 
     h = factor * jacobi_limit()
     if not stopped:

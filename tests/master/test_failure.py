@@ -7,9 +7,7 @@ import pytest
 from cranefmu.errors import SimulationError
 from cranefmu.master.progress import Progress
 from cranefmu.master.run import run
-from oscillator.exact import Oscillator
-
-SINGLE = Oscillator(k1=0.0, m2=0.0, kc=100.0)   # Jacobi ZOH gains 1 + (omega H)^2 / 2 per step
+from oscillator.runs import SINGLE
 
 
 def test_blow_up_to_non_finite_names_component_time_and_advice(oscillator_ssp, tmp_path):

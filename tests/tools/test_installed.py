@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-CHECKOUT = Path(__file__).resolve().parents[1]
+CHECKOUT = Path(__file__).resolve().parents[2]
 SCENE = "elastic_pendulum"
 STOP = 0.5          # s: 500 steps of the default 1 ms
 SCRIPT = textwrap.dedent(f"""\

@@ -6,8 +6,6 @@ from __future__ import annotations
 import os
 import re
 import signal
-import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -16,37 +14,7 @@ import pytest
 
 from cranefmu.master.results import read_csv
 
-STEP = 1e-3
-
-
-def start(tmp_path: Path, *extra: str) -> tuple[subprocess.Popen, Path, Path]:
-    """The CLI on a long run in a session of its own, its TMPDIR a directory of the test's."""
-    tmpdir = tmp_path / "tmp"
-    tmpdir.mkdir(exist_ok=True)
-    out = tmp_path / "out.csv"
-    env = {**os.environ, "TMPDIR": str(tmpdir)}
-    proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "run", "elastic_pendulum", "--stop-time", "200",
-                             "--step", str(STEP), "--output", str(out), *extra], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, start_new_session=True)
-    return proc, out, tmpdir
-
-
-def rows_on_disk(part: Path) -> int:
-    try:
-        return part.read_bytes().count(b"\n") - 1
-    except FileNotFoundError:
-        return -1
-
-
-def wait_for_rows(proc: subprocess.Popen, out: Path, rows: int = 1000, timeout: float = 120.0) -> int:
-    """Wait until the run has flushed ``rows`` rows to its .part file (a known time: t >= rows * STEP)."""
-    part = out.with_name(out.name + ".part")
-    end = time.monotonic() + timeout
-    while rows_on_disk(part) < rows:
-        assert proc.poll() is None, proc.communicate()
-        assert time.monotonic() < end, "no rows appeared"
-        time.sleep(0.02)
-    return rows_on_disk(part)
+from cli_process import STEP, start, wait_for_rows
 
 
 def children(pid: int) -> list[int]:

@@ -13,8 +13,7 @@ from cranefmu.cli import main as cli
 from cranefmu.errors import ParameterSetError, SceneError, SettingsError, SimulationError
 from cranefmu.master.run import run
 
-from faulty import faulty_fmu, faulty_scene
-from scene_edit import edit_ssp, scene_ssp
+from scene_edit import edit_ssp
 
 
 def _swap(old: str, new: str):
@@ -140,9 +139,9 @@ def test_bad_run_setting(built, capsys, settings, needles):
     assert needles[0].split(" = ")[0] in _one_line_error(capsys, args)
 
 
-def test_component_failing_inside_a_step(built, tmp_path, capsys):
+def test_component_failing_inside_a_step(faulty_ssp, capsys):
     """A component error in doStep: SimulationError naming component, time, cause and advice."""
-    ssp = faulty_scene(scene_ssp(), faulty_fmu(tmp_path / "fmu"), tmp_path / "faulty.ssp")
+    ssp = faulty_ssp
     with pytest.raises(SimulationError) as err:
         run(ssp, stop_time=0.1, step_size=1e-3, parameters={"faulty.t_fail": 0.05})
     msg = str(err.value)

@@ -13,7 +13,7 @@ from cranefmu.fit_boucwen import (LoopFileError, fit_boucwen, main, make_example
                                   synthetic_loop)
 from cranefmu.physics.boucwen import BoucWenParams, simulate_path
 
-DATA = os.path.join(os.path.dirname(__file__), "data", "boucwen_loop.csv")
+DATA = os.path.join(os.path.dirname(os.path.dirname(__file__)), "data", "boucwen_loop.csv")
 P0 = BoucWenParams()
 
 

@@ -19,14 +19,9 @@ from cranefmu.master.run import run
 
 from faulty import faulty_fmu, faulty_scene
 from scene_edit import scene_ssp
-from test_signals import start, wait_for_rows
+from cli_process import cranefmu, start, wait_for_rows
 
 OLD = b"time,x\n0.0,1.0\n"   # what a previous run left
-
-
-def cranefmu(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "cranefmu.cli", *args], capture_output=True, text=True, cwd=cwd,
-                          timeout=300)
 
 
 def one_line_error(p: subprocess.CompletedProcess, needle: str) -> None:
@@ -165,8 +160,8 @@ def test_boundary_errors_name_the_component_and_the_cause(built, tmp_path):
             assert "no_such_module_xyz" in str(info.value)
 
 
-def test_a_segfault_inside_an_fmu_names_the_signal_and_the_component(built, tmp_path):
-    ssp = faulty_scene(scene_ssp(), faulty_fmu(tmp_path), tmp_path / "faulty.ssp")
+def test_a_segfault_inside_an_fmu_names_the_signal_and_the_component(faulty_ssp, tmp_path):
+    ssp = faulty_ssp
     out = tmp_path / "crash.csv"
     with pytest.raises(SimulationError) as info:
         run(ssp, stop_time=1.0, parameters={"faulty.t_segfault": 0.5}, output=out, isolate=True)

@@ -25,7 +25,7 @@ def relative_error(res, ref) -> float:
 def test_reference_wires_every_output_of_the_scene():
     mono = Monolith("truck_telescope")
     assert "chassis.N_rear" in mono.columns and "boom.x_tip" in mono.columns
-    ssd = (Path(__file__).resolve().parent.parent / "ssp" / "truck_telescope" / "SystemStructure.ssd").read_text()
+    ssd = (Path(__file__).resolve().parents[2] / "ssp" / "truck_telescope" / "SystemStructure.ssd").read_text()
     assert len(mono.links) == ssd.count("<ssd:Connection ") == 34
 
 

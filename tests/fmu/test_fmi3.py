@@ -2,9 +2,9 @@
 (cranefmu.fmi3_adapter): they pass `fmpy validate` and compute what the FMI 2.0 FMUs compute."""
 from __future__ import annotations
 
-import multiprocessing
-
 import pytest
+
+from fmu_child import in_pool as in_child
 
 pytest.importorskip("pythonfmu3")
 
@@ -25,11 +25,6 @@ def simulate(fmu: str, start_values: dict, outputs: list[str], stop: float):
     r = simulate_fmu(fmu, stop_time=stop, step_size=1e-3, output_interval=1e-3, start_values=start_values,
                      output=outputs)
     return {k: r[k].tolist() for k in ["time", *outputs]}
-
-
-def in_child(fn, *args):
-    with multiprocessing.get_context("spawn").Pool(1) as pool:
-        return pool.apply_async(fn, args).get(timeout=300)
 
 
 @pytest.mark.parametrize("name", ["Pendulum", "Rope"])

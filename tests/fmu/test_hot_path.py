@@ -13,7 +13,7 @@ from cranefmu.fmi_adapter import advance
 from cranefmu.integrators import integrate, rk4_list
 from model_cases import CASES
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.parametrize("case", [c for c in CASES if c.make().list_rhs and not c.make().frozen],

@@ -11,12 +11,8 @@ from scipy.optimize import brentq
 from cranefmu.errors import SettingsError
 from cranefmu.master.run import run
 from cranefmu.master.waveform import fed_quadratic, stencil
-from oscillator.exact import Oscillator
+from oscillator.runs import DAMPED, UNDAMPED, X0, Z0
 
-DAMPED = Oscillator(d1=2.0, dc=2.0, d2=2.0)
-UNDAMPED = Oscillator()
-X0 = 0.1
-Z0 = np.array([X0, 0.0, 0.0, 0.0])
 STOP = 3.0
 FMU_MAX_STEP = 1e-3   # OscMass/OscSpring default internal rk4 step
 

@@ -31,7 +31,6 @@ where an instance was freed) and must terminate and free every instance.
 from __future__ import annotations
 
 import json
-import multiprocessing
 import shutil
 import subprocess
 import sys
@@ -42,20 +41,14 @@ import numpy as np
 import pytest
 from fmpy.validation import validate_fmu
 
-sys.path.insert(0, str(Path(__file__).parent / "c_host"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "c_host"))
 import native  # noqa: E402  (tests/c_host/native.py)
+from fmu_child import in_pool as in_child  # noqa: E402
 
 SCENE = "elastic_pendulum"
 H = 1e-3
 STOP = 1.0
 RTOL = 1e-9
-
-
-def in_child(fn, *args, timeout: float = 300.0):
-    """Run ``fn(*args)`` in a fresh spawned process (a hang fails the test instead of blocking it)."""
-    ctx = multiprocessing.get_context("spawn")
-    with ctx.Pool(1) as pool:
-        return pool.apply_async(fn, args).get(timeout=timeout)
 
 
 def hand_placed_start() -> dict[str, str]:

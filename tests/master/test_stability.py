@@ -6,9 +6,8 @@ from scipy.optimize import brentq
 
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
-from oscillator.exact import Oscillator
+from oscillator.runs import DAMPED as OSC
 
-OSC = Oscillator(d1=2.0, dc=2.0, d2=2.0)
 N_STEPS = 400
 
 

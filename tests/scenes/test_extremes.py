@@ -7,7 +7,7 @@ Detection of explicit coupling beyond its limit uses the power bond of the hook 
 bonds") that the scene declares, with an energy alarm of 5 % of the swing energy and the default
 instability alarm (geometric growth of the residual, energy the coupling makes up against what the
 bond carries; fixed and adaptive steps): together they must stop every unstable run and leave every
-stable one alone (tests/test_instability_alarm.py: the default alone).
+stable one alone (tests/master/test_instability_alarm.py: the default alone).
 """
 from __future__ import annotations
 
@@ -22,15 +22,12 @@ from cranefmu.master.results import read_csv
 from cranefmu.master.run import ALGORITHMS, run
 from cranefmu.physics.boom import BoomModel, BoomParams
 from cranefmu.physics.chassis import ChassisModel, ChassisParams
-from cranefmu.physics.rope import RopeParams, damping, stiffness
 from cranefmu.reference import elastic_pendulum as monolithic
 from cranefmu.stability import spectral_radius, stability_limit, zoh_limit
 
+from pendulum_cases import AREA, G, LENGTH, POSITION, THETA0, at_rest_on_rope, axial, one_d_pendulum
 from scene_edit import scene_ssp
 
-G = 9.81
-LENGTH, AREA = 10.0, 5.655e-5  # the scene's rope
-THETA0 = math.radians(5.0)
 
 @pytest.fixture(scope="module")
 def bonded(built) -> Path:
@@ -38,34 +35,8 @@ def bonded(built) -> Path:
     return scene_ssp()
 
 
-def at_rest_on_rope(E: float, mass: float, theta: float = THETA0) -> dict:
-    """Parameters: rope E, hook mass and the release angle ``theta``; the FMUs derive the radial static
-    stretch (c delta = m g cos theta) and the rope's damping mass from them."""
-    return {"rope.E": E, "pendulum.mass": mass, "pendulum.theta0": theta}
-
-
-# the hook placed by hand (an axial offset from rest): the scene's derived start switched off
-POSITION = {"pendulum.start": "position", "pendulum.theta0": 0.0}
-
-
 def swing_energy(mass: float) -> float:
     return mass * G * LENGTH * (1.0 - math.cos(THETA0))  # [J]
-
-
-def axial(E: float, mass: float = 1000.0) -> tuple[float, float]:
-    """omega [rad/s] and damping ratio z on the load of the rope's axial mode (rope.zeta = 0.07)."""
-    p = RopeParams(E=E, A=AREA, length=LENGTH)
-    c = stiffness(p, LENGTH)
-    return math.sqrt(c / mass), damping(p, c, LENGTH, mass) / (2.0 * math.sqrt(c * mass))
-
-
-def one_d_pendulum(factor: float) -> tuple[dict, float, float]:
-    """elastic_pendulum made 1-D (rope axial mode only, load 30 % of the static stretch below rest):
-    (parameters, H = factor x the Jacobi zero-order-hold limit omega H = 4 z, static tension [N])."""
-    omega, z = axial(1e11)
-    stretch = 1000.0 * G / (1e11 * AREA / LENGTH)
-    params = {**POSITION, "pendulum.dimension": 1, "pendulum.x0": 0.0, "pendulum.y0": -(LENGTH + 1.3 * stretch)}
-    return params, factor * stability_limit(z, 0) / omega, 1000.0 * G
 
 
 def relative_error(res, ref: dict, name: str) -> float:

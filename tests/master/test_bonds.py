@@ -7,11 +7,7 @@ import pytest
 
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
-from oscillator.exact import Oscillator
-
-DAMPED = Oscillator(d1=2.0, dc=2.0, d2=2.0)
-# a mass on a massless spring to an anchor: omega^2 = kc / m1, all stiffness in the coupling
-SINGLE = Oscillator(k1=0.0, m2=0.0, kc=100.0)
+from oscillator.runs import DAMPED, SINGLE
 
 
 def bond_total(ssp, h, osc, **kw):
