@@ -4,7 +4,7 @@
 
 Writes docs/validation.md and docs/figures/*.png.  Most numbers come from the monolithic solve of the
 scene's own physics models (``cranefmu.reference.solve``, Radau, rtol 1e-6): the same equations the
-co-simulation runs, without the coupling error (tests/test_reference.py shows the co-simulation
+co-simulation runs, without the coupling error (tests/scenes/test_reference.py shows the co-simulation
 converging to it).  The boom-angle study of the truck crane is run by co-simulation (parameter sets
 default, luff45, luff30; Jacobi, linear extrapolation, H = 10 ms) with the monolithic numbers beside
 it.  ``--quick`` shortens the runs (for a smoke test, not for the committed report).

@@ -51,7 +51,7 @@ class CraneSlave(Fmi2Slave):
         namespace and then releases one reference to that namespace it never owned: with a script
         that defines no functions (ours), the second instance in a process used a freed dict and
         crashed.  The script's class statement runs at import and at every such re-run, so one
-        reference here per class creation balances it (tests/test_fmu_instances.py)."""
+        reference here per class creation balances it (tests/fmu/test_instances.py)."""
         super().__init_subclass__(**kwargs)
         module = sys.modules.get(cls.__module__)
         if module is not None:

@@ -147,7 +147,7 @@ def render(fmu: Path) -> str:
             f"the packages {', '.join(f'`{p}`' for p in packages) or '(none)'} (the physics is bundled in the "
             "FMU under a build-unique package name, so it never clashes with an installed cranefmu or another "
             "FMU). Tested with CPython 3.11 in fmpy, fmpy's container FMU, fmu-manipulation-toolbox's "
-            "fmucontainer and a C host (tests/test_native_hosts.py).", "",
+            "fmucontainer and a C host (tests/fmu/test_native_hosts.py).", "",
             "- **Python host** (fmpy, this project's master): nothing to set up beyond the packages, e.g. "
             f"`fmpy.simulate_fmu('{fmu.name}', stop_time=1.0, step_size=1e-3)`.",
             "- **C/C++ host** (dlopen + FMI 2.0 C API): the binary leaves libpython unresolved. Preload it and "
@@ -163,13 +163,13 @@ def render(fmu: Path) -> str:
             "across calls (a thread without one would create and destroy it in every call, 28-44 us a call measured; "
             "`CRANEFMU_KEEP_THREAD_STATE=0` turns this off). See tests/c_host/host.c for a complete host.",
             "- **Instances**: several instances (and copies unzipped twice) run side by side in one process and are "
-            "independent, and an instance can be freed and the FMU instantiated again (tests/test_fmu_instances.py). "
+            "independent, and an instance can be freed and the FMU instantiated again (tests/fmu/test_instances.py). "
             "Terminate and free every instance before the process exits.",
             "- **Parameters** are checked at initialization: a refused value fails fmi2ExitInitializationMode with "
             "a logged message naming the parameter, its value and the allowed range.",
             f"- **FMI 3.0**: `cranefmu build-fmi3 {name}` builds `fmus/{name}3.fmu` with pythonfmu3, the same "
             "variables plus the independent variable `time` (value references shifted by one), the same physics "
-            "and adapter (tests/test_fmi3.py).", ""]
+            "and adapter (tests/fmu/test_fmi3.py).", ""]
     return "\n".join(out)
 
 

@@ -70,7 +70,7 @@ class PlainJacobi(Jacobi):
     The difference from :class:`Jacobi` (feedthrough-aware): there an output that depends directly on
     its FMU's inputs (a rope force on the hook position it is fed) is read again after those inputs
     were set, so it carries the partner's new value.  Here it is read before: such a force arrives one
-    macro step late (a lag of H on top of the zero-order hold; measured in tests/test_master_loop.py).
+    macro step late (a lag of H on top of the zero-order hold; measured in tests/master/test_loop.py).
     The recorded row holds the outputs as read right after the step, as libcosim's observers see them.
     """
 

@@ -16,7 +16,7 @@ file goes through the guarded parser of :mod:`.untrusted`.  What is read (SSP 1.
 
 fmpy's ``read_ssd`` is not used: it extracts the archive a second time, parses without the guard
 and reports problems as bare exceptions.  The SSP schema is checked on the built files by the
-tests instead (tests/test_scene_reader.py).
+tests instead (tests/master/test_scene_reader.py).
 """
 from __future__ import annotations
 

@@ -13,7 +13,7 @@ quadratics on the sub-interval of the degree-q polynomial through the q + 1 near
 (this step's and the previous step's).  The projection error is orthogonal to every quadratic, so
 in the variation-of-constants integral over a sub-interval of length d it leaves O(d^3 * d^3 * d)
 (derived); with the interpolation error O(d^(q+1)) the global error is O(d^min(q+1, 6)).  Default
-q = 5: sixth order in H/m (measured 7.0 to 5.7 in tests/test_master_waveform.py).
+q = 5: sixth order in H/m (measured 7.0 to 5.7 in tests/master/test_waveform.py).
 """
 from __future__ import annotations
 

@@ -41,7 +41,7 @@ Statics settle it: with the boom at 60 deg, the tip at 10.5 m and a 2.5 t hook l
 of the simulations) the rear outrigger 2, on the boom side, carries 104.14 kN and the front
 outrigger 1 carries 77.79 kN, total 181.93 kN = (m2..m5 + m8 + m9 + 2.5 t) g.  This matches the
 initial conditions q10 = 0.00192 m, q20 = 0.00257 m; the line "N20 = 77.8 kN, N10 = 104.13 kN" has
-the labels swapped (tests/test_physics_chassis.py).
+the labels swapped (tests/physics/test_chassis.py).
 """
 from __future__ import annotations
 
