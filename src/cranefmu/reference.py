@@ -46,11 +46,6 @@ def source_scene(scene: str) -> Scene:
     return read_scene_folder(folder, FMU_DIR)
 
 
-def scene_parameters(scene: str, parameter_set: str = "default") -> dict[str, object]:
-    """The 'comp.var' -> value of a scene's parameter set (the default set, then the named set over it)."""
-    return source_scene(scene).values(parameter_set)
-
-
 def build_params(cls, component: str, values: dict) -> object:
     """The validated parameter dataclass ``cls`` of ``component`` from 'comp.var' -> value entries
     (values typed, or text converted as the scene reader converts it)."""
@@ -386,9 +381,3 @@ def solve(scene: str, stop_time: float, times: np.ndarray | None = None, paramet
     rows = np.array(rows).reshape(len(out["time"]), len(mono.columns))
     out.update({c: rows[:, j] for j, c in enumerate(mono.columns)})
     return out
-
-
-def elastic_pendulum(stop_time: float, times: np.ndarray | None = None, overrides: dict | None = None,
-                     rtol: float = 1e-11) -> dict[str, np.ndarray]:
-    """The elastic_pendulum scene as one ODE (kept for the tests written against it)."""
-    return solve("elastic_pendulum", stop_time, times, parameters=overrides, rtol=rtol)

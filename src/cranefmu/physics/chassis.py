@@ -136,12 +136,9 @@ class ChassisModel(Model):
         """Pad displacements q = gamma x_i - y [m] (down positive) and their rates."""
         return x[1] * self.x_pads - x[0], x[3] * self.x_pads - x[2]
 
-    def reactions(self, x: np.ndarray) -> np.ndarray:
-        """Soil reactions (N1, N2) [N]: unilateral spring-damper, no pull, no sticking."""
-        return np.array(self._pads(x)[2:])
-
     def _pads(self, x: np.ndarray) -> tuple[float, float, float, float]:
-        """settlements() and reactions() on plain floats, 5-10x cheaper than on 2-element arrays
+        """settlements() and the soil reactions (unilateral spring-damper, no pull, no sticking) on plain
+        floats, 5-10x cheaper than on 2-element arrays
         (the hot path: every right-hand side and every output read): q1, q2 [m], N1, N2 [N]."""
         y, gamma, vy, rate = x.tolist()
         (x1, x2), c, b = self.x_pads.tolist(), self.stiffness, self.p.damping
@@ -184,7 +181,7 @@ class ChassisModel(Model):
         return np.array([gamma * x1 - q1, gamma, 0.0, 0.0])
 
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        # plain floats: the same law as reactions() and applied_loads() (runs 40 times per macro
+        # plain floats: the same law as _pads() and applied_loads() (runs 40 times per macro
         # step under rk4)
         p = self.p
         fx, fy, mb = u.tolist()

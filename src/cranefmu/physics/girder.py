@@ -79,11 +79,6 @@ def eq10_decrement(height: float, span: float) -> float:
     return 3.8 * height / span - 0.13
 
 
-def beam_stiffness(E: float, I: float, span: float) -> float:
-    """Mid-span stiffness of a simply supported beam, 48 E I / L^3 [N/m] (for girders without a table value)."""
-    return 48.0 * E * I / span ** 3
-
-
 def modal_mass(p: GirderParams) -> float:
     """Mass moving in the fundamental girder mode, m1 + m3 [kg] (derived: the drum rides on the girder)."""
     return p.m1 + p.m3

@@ -237,9 +237,6 @@ class PendulumModel(Model):
         self._rest_tension = self._start_tension()
 
     # --- helpers ---------------------------------------------------------------------------
-    def _mask(self) -> np.ndarray:
-        return np.array(self._m)
-
     def _ground_force(self, y: float, vy: float) -> float:
         """Seed 001 eq. 7 with damper: unilateral, never pulls."""
         if not self._has_ground:
