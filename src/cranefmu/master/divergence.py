@@ -17,7 +17,8 @@ value is not enough.  Three detectors, chosen by :class:`Watch` for the run:
    orders of magnitude (truck_telescope at H = 10 ms, x1, when the telescoping stops: 1e-7 J to
    3.5e-2 J in two steps, then decaying; ratios 3.6, 52, 1e4).  ``per_step`` =
    1.01 leaves alone a slow energy gain such as an undamped Jacobi oscillator at omega H < 0.14
-   (energy factor 1 + (omega H)^2 / 2 per step, see README).  A residual at round-off level (below
+   (energy factor 1 + (omega H)^2 / 2 per step, see docs/limitations.md, "Stability of explicit
+   coupling").  A residual at round-off level (below
    ``floor`` times the largest energy the bond carried in a step so far) is not growth.
 
 2. Imbalance (power bonds, fixed or adaptive step): an instability that saturates (the rope goes

@@ -1,6 +1,6 @@
 """Power bonds: force/velocity pairs between two components, and the ECCO energy residual.
 
-Declared in the SSD (format in README.md, "Power bonds"): an ``ssc:Annotation`` of type
+Declared in the SSD (format in docs/power_bonds.md, "Declaring a bond"): an ``ssc:Annotation`` of type
 ``org.cranefmu.powerbonds`` in the System.  Per bond and step, dE = |P_a - P_b| * h [J]
 (Sadjina et al. 2017, ECCO), P = sign * sum(force_i * velocity_i) of each side, every input taken
 as the value it was fed at the end of the step and every output as read at the end of the step.

@@ -234,7 +234,7 @@ def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> No
                                 "jacobi or gauss-seidel")
     if s.adaptive and s.step_control == "ecco" and not bonds.bonds:
         raise SettingsError("step_control = 'ecco' is not allowed for this scene: it declares no power bonds "
-                            "(see README, 'Power bonds')")
+                            "(see docs/power_bonds.md, 'Declaring a bond')")
 
 
 def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor, progress: Progress,
