@@ -3,8 +3,8 @@
 Scene elastic_pendulum (1000 kg on a 10 m rope, axial period 0.264 s) pushed to the edges: a rope
 1000 times stiffer, a near-massless hook, a slack rope that snatches and goes slack again, a macro
 step ten times the rope period, a load beyond the tipping limit of the truck chassis, a long run.
-Detection of explicit coupling beyond its limit uses the power bond of the hook (README, "Power
-bonds") that the scene declares, with an energy alarm of 5 % of the swing energy and the default
+Detection of explicit coupling beyond its limit uses the power bond of the hook (docs/power_bonds.md)
+that the scene declares, with an energy alarm of 5 % of the swing energy and the default
 instability alarm (geometric growth of the residual, energy the coupling makes up against what the
 bond carries; fixed and adaptive steps): together they must stop every unstable run and leave every
 stable one alone (tests/master/test_instability_alarm.py: the default alone).
