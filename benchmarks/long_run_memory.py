@@ -1,7 +1,8 @@
 """Memory of a long streamed run: one simulated hour of elastic_pendulum at H = 1 ms, keep=False.
 
-The master runs the scene in a spawned child process (cranefmu.master.run.run); this script finds
-that child (the process whose command line holds ``spawn_main``, a child of this one) and samples
+The master runs the scene in a worker process (``run(..., isolate=True)``: ``python -m
+cranefmu.master.worker``); this script finds that child (a child of this one whose command line names
+the worker module) and samples
 its resident set size (VmRSS in /proc/<pid>/status) every ``--every`` seconds of wall time, next
 to the simulated time of the newest row on disk (the last complete line of the streamed CSV).
 Peak RSS: the largest of the samples, of VmHWM (the kernel's high-water mark of the child) and of
@@ -29,7 +30,7 @@ RESULTS = ROOT / "benchmarks" / "results"
 
 
 def spawned_children() -> list[int]:
-    """Pids of this process's children started by multiprocessing's spawn (not its resource tracker)."""
+    """Pids of this process's children that run the master's worker (cranefmu.master.worker)."""
     me = os.getpid()
     out = []
     for entry in os.listdir("/proc"):
@@ -38,7 +39,7 @@ def spawned_children() -> list[int]:
         try:
             stat = Path(f"/proc/{entry}/stat").read_text()
             ppid = int(stat.rpartition(")")[2].split()[1])
-            if ppid == me and b"spawn_main" in Path(f"/proc/{entry}/cmdline").read_bytes():
+            if ppid == me and b"cranefmu.master.worker" in Path(f"/proc/{entry}/cmdline").read_bytes():
                 out.append(int(entry))
         except (OSError, ValueError, IndexError):
             continue   # gone in between
@@ -60,9 +61,11 @@ def memory_kib(pid: int) -> tuple[int, int]:
 
 
 def newest_time(csv_path: Path) -> float:
-    """Simulated time of the last complete row on disk [s] (nan before the first one)."""
+    """Simulated time of the last complete row on disk [s] (nan before the first one).  While the
+    run goes the rows are in ``<csv>.part`` (renamed into place at the end)."""
+    part = csv_path.with_name(csv_path.name + ".part")
     try:
-        with open(csv_path, "rb") as f:
+        with open(part if part.exists() else csv_path, "rb") as f:
             f.seek(0, os.SEEK_END)
             size = f.tell()
             f.seek(max(0, size - 16384))
@@ -108,7 +111,7 @@ def main(argv: list[str] | None = None) -> None:
     def target():
         try:
             box["result"] = run(args.scene, stop_time=args.stop, step_size=args.step, output=out, keep=False,
-                                progress=False)
+                                progress=False, isolate=True)
         except BaseException as err:   # reported below, after the sampling stops
             box["error"] = err
 
