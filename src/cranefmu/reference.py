@@ -381,3 +381,9 @@ def solve(scene: str, stop_time: float, times: np.ndarray | None = None, paramet
     rows = np.array(rows).reshape(len(out["time"]), len(mono.columns))
     out.update({c: rows[:, j] for j, c in enumerate(mono.columns)})
     return out
+
+
+def elastic_pendulum(stop_time: float, times: np.ndarray | None = None, overrides: dict | None = None,
+                     rtol: float = 1e-11) -> dict[str, np.ndarray]:
+    """The elastic_pendulum scene as one ODE (the monolith the scene's tests compare against)."""
+    return solve("elastic_pendulum", stop_time, times, parameters=overrides, rtol=rtol)
