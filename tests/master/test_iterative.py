@@ -171,3 +171,52 @@ def test_stiff_rope_iterative_matches_the_monolith_at_the_tolerance_level(built)
         assert err < 1e-6 * np.ptp(ref[key]), key
     err = np.max(np.abs(np.interp(ref["time"], res["time"], res["rope.tension"]) - ref["rope.tension"]))
     assert err < 1e-8 * np.max(ref["rope.tension"])
+
+
+def test_issue_stiff_rope_at_10_ms_runs_through_and_converges_first_order(built):
+    """The issue's case (``--step 1e-2 --algorithm iterative --set rope.E=1.4e14``, extrapolation 0):
+    the rope's axial mode (890 rad/s, omega H = 8.9) is beyond any explicit or linear-interpolation
+    scheme (limit 2 sqrt(3)); degree 0 (the end value held over the step: implicit, L-stable) damps
+    it instead of following it, and follows what H resolves, the swing (1 rad/s) and the quasi-static
+    tension m g cos(theta) + m v^2 / L.  The error is then the scheme's, first order in H, not the
+    coupling tolerance's: measured over 3 s against the monolith (rtol 1e-8), swing 6.71e-4 rad at
+    H = 10 ms and 3.36e-4 at 5 ms (3.9e-3 and 1.9e-3 of its range), tension 0.804 N and 0.402 N
+    (7.2e-3 and 3.6e-3 of its range, 8e-5 of m g); 5 s runs through as well (6.8e-4 rad, 1.8 N).
+    Bound: omega H of the swing amplitude (8.7e-4 rad) and of the tension's range (1.1 N) at 10 ms;
+    order: the error ratio between 10 and 5 ms within 2 +- 0.3."""
+    from cranefmu.reference import solve
+    stop = 3.0
+    ref = solve("elastic_pendulum", stop, np.linspace(0.0, stop, 601), parameters=STIFF, rtol=1e-8)
+    errors = {}
+    for h in (1e-2, 5e-3):
+        res = run("elastic_pendulum", stop_time=stop, step_size=h, algorithm="iterative", extrapolation=0,
+                  parameters=STIFF).result
+        assert res["time"][-1] == pytest.approx(stop) and np.all(np.isfinite(res["rope.tension"]))
+        errors[h] = {key: np.max(np.abs(np.interp(ref["time"], res["time"], res[key]) - ref[key]))
+                     for key in ("pendulum.theta", "rope.tension")}
+    omega_h = 1.0 * 1e-2   # swing angular frequency sqrt(g / L) ~ 1 rad/s times H
+    assert errors[1e-2]["pendulum.theta"] < omega_h * np.max(np.abs(ref["pendulum.theta"]))
+    assert errors[1e-2]["rope.tension"] < omega_h * np.ptp(ref["rope.tension"])
+    for key in ("pendulum.theta", "rope.tension"):
+        assert errors[1e-2][key] / errors[5e-3][key] == pytest.approx(2.0, abs=0.3), key
+
+
+def test_issue_stiff_rope_at_10_ms_runs_past_where_reused_secants_diverged(built):
+    """Past t = 6.7 s, where IQN-ILS with the secants of the last 3 steps diverged (the rope's force
+    turns with the swing, old secants model a map that is gone); degree 0 keeps none.  The first-order
+    phase error grows with time: measured over 10 s 2.03e-3 rad of swing and 2.91 N of tension
+    (3.3 times the 3 s values); bound: the 3 s bound (omega H of the amplitude, of the tension's
+    range) times stop / 3 s."""
+    from cranefmu.reference import solve
+    stop = 10.0
+    res = run("elastic_pendulum", stop_time=stop, step_size=1e-2, algorithm="iterative", extrapolation=0,
+              parameters=STIFF)
+    r = res.result
+    assert r["time"][-1] == pytest.approx(stop) and np.all(np.isfinite(r["rope.tension"]))
+    assert res.stats.max_iterations <= 10   # measured 6
+    ref = solve("elastic_pendulum", stop, np.linspace(0.0, stop, 2001), parameters=STIFF, rtol=1e-8)
+    growth = 1e-2 * stop / 3.0
+    for key, size in (("pendulum.theta", np.max(np.abs(ref["pendulum.theta"]))),
+                      ("rope.tension", np.ptp(ref["rope.tension"]))):
+        err = np.max(np.abs(np.interp(ref["time"], r["time"], r[key]) - ref[key]))
+        assert err < growth * size, key
