@@ -197,9 +197,11 @@ def libcosim_timed(columns: list[str], stop: float, ssp: str | None = None, step
 
 
 def libcosim_run(ssp: str, step: float, steps: int, columns: list[str], scene_dir: str | None = None,
-                 fmu_dir: str | None = None) -> dict:
+                 fmu_dir: str | None = None, initial_values: dict | None = None) -> dict:
     """Run ``ssp`` in libcosim (fixed step, plain Jacobi) for ``steps`` steps of ``step`` [s]; with
     ``scene_dir`` the execution is built by :func:`libcosim_execution` instead of libcosim's SSP loader.
+    ``initial_values`` ("component.variable" -> value) are set as libcosim initial values before the
+    first step (e.g. the connected inputs as our initialization settled them: :func:`settled_inputs`).
 
     Returns {"time": [...], column: [...]} for "component.variable" columns read after every step
     (libcosim exposes no values before its first step), "parameters": every parameter's value
@@ -218,6 +220,13 @@ def libcosim_run(ssp: str, step: float, steps: int, columns: list[str], scene_di
     ex.add_observer(obs)
     slaves, variables = _catalogue(ex)
     real = CosimVariableType.REAL.value
+    for key, value in (initial_values or {}).items():
+        comp, _, var = key.partition(".")
+        v = variables[comp][var]
+        ok = (ex.real_initial_value(slaves[comp], v.reference, float(value)) if v.type == real else
+              ex.integer_initial_value(slaves[comp], v.reference, int(round(value))))
+        if not ok:                                                              # a bool: True = success
+            raise ValueError(f"libcosim refused the initial value {key} = {value!r}")
 
     def read(comp: str, names: list[str]) -> list:
         vs = [variables[comp][n] for n in names]
@@ -241,6 +250,23 @@ def libcosim_run(ssp: str, step: float, steps: int, columns: list[str], scene_di
         params.update({f"{comp}.{n}": value for n, value in zip(names, read(comp, names))})
     out["parameters"] = params
     out["ok"] = ok
+    return out
+
+
+def settled_inputs(connections, first_row) -> dict:
+    """Every connected input's value at t = 0 as our master's initialization settled it
+    ("component.variable" -> value): the source output's value in the first row of our run
+    (``first_row[name]``), through the connection's factor and offset.  Handed to libcosim as initial
+    values, these give it the start our initialization computed (its own exchanges no values in
+    initialization mode, so a start derived through connections stays unsettled there)."""
+    out = {}
+    for c in connections:
+        source = f"{c.src}.{c.src_var}"
+        try:
+            value = float(first_row[source])
+        except (KeyError, ValueError):
+            raise ValueError(f"connection {c}: its source {source!r} is not a recorded column of our run") from None
+        out[f"{c.dst}.{c.dst_var}"] = value * c.factor + c.offset
     return out
 
 
