@@ -60,6 +60,8 @@ class ScenePreview:
     stop_time: float | None
     columns: list[str]
     units: dict[str, str]
+    variables: dict[str, set[str]]   # component -> the names of all its variables
+    parameter_sets: tuple[str, ...]  # "default" first
 
 
 def preview(scene: str | Path) -> ScenePreview:
@@ -69,9 +71,10 @@ def preview(scene: str | Path) -> ScenePreview:
 
     ssp = resolve_scene(scene)
     workdir, loaded = extracted_scene(ssp)
-    reals, flags, units = [], [], {}
+    reals, flags, units, variables = [], [], {}, {}
     for c in loaded.components:
         md = FmuComponent(c.name, c.fmu, fmu_dir(workdir, c.name)).md
+        variables[c.name] = {v.name for v in md.modelVariables}
         for v in md.modelVariables:
             if v.causality != "output":
                 continue
@@ -82,7 +85,8 @@ def preview(scene: str | Path) -> ScenePreview:
                 units[name] = unit
     bonds = [f"bond.{n}.{e}" for n, _ in loaded.bonds for e in ("dE", "E")]
     units.update({b: "J" for b in bonds})
-    return ScenePreview(ssp, loaded.name, loaded.stop_time, reals + flags + bonds, units)
+    return ScenePreview(ssp, loaded.name, loaded.stop_time, reals + flags + bonds, units, variables,
+                        ("default", *loaded.parameter_sets))
 
 
 def _overrides(scene: Scene, parameter_set: str | None, parameters: dict | None) -> dict[tuple[str, str], object]:

@@ -11,7 +11,6 @@ from __future__ import annotations
 import logging
 import os
 import sys
-import tempfile
 import time as clock
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -53,22 +52,10 @@ class SceneFacts:
 
 def scene_facts(scene: str | Path) -> SceneFacts:
     """Build the scene if needed (on the client, once) and read its outputs and variables."""
-    from fmpy import read_model_description
+    from ..master.run import preview
 
-    from ..master.run import resolve_scene
-    from ..master.scene import load_scene
-
-    ssp = resolve_scene(scene)
-    with tempfile.TemporaryDirectory(prefix="cranefmu_sweep_") as tmp:
-        loaded = load_scene(ssp, Path(tmp))
-        columns, variables = [], {}
-        for c in loaded.components:
-            md = read_model_description(str(c.fmu), validate=False)
-            variables[c.name] = {v.name for v in md.modelVariables}
-            columns += [f"{c.name}.{v.name}" for v in md.modelVariables if v.causality == "output"]
-        columns += [f"bond.{name}.{x}" for name, _ in loaded.bonds for x in ("dE", "E")]
-        return SceneFacts(loaded.name, ssp, columns, variables, ("default", *loaded.parameter_sets),
-                          loaded.stop_time)
+    p = preview(scene)
+    return SceneFacts(p.name, p.path, p.columns, p.variables, p.parameter_sets, p.stop_time)
 
 
 def check_inputs(facts: SceneFacts, runs: list[Run]) -> None:
