@@ -232,6 +232,8 @@ class CraneSlave(Fmi2Slave):
             self._model = self._build_model()
             self._x = self._model.initial_state(self._inputs())
             self._model.check_state(self._t, self._x)
+            if self._solver == "exact":
+                self._model.prepare_exact_step()
         except (ParameterError, FloatingPointError, ValueError) as err:
             self._fail("initialization refused", err)
             raise

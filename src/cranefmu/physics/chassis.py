@@ -211,6 +211,10 @@ class ChassisModel(Model):
         big_b[2:] = self.inverse_mass @ np.array([[0.0, 1.0, 0.0], [p.h_foot, 0.0, -1.0]])
         return a, b, big_b
 
+    def prepare_exact_step(self) -> None:
+        if self._linear is None:
+            self._linear = LinearPropagator(*self.linear_system())
+
     def _step_maps(self, h: float, k: int) -> tuple[np.ndarray, np.ndarray, float]:
         """For a step h checked at k sub-points: the map of z = (x, 1, u0, r1, r2) to the end state;
         the map of z to the settlements at s = 0, h/k, ..., h (first 2(k+1) rows) and the contact

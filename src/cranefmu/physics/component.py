@@ -109,6 +109,10 @@ class Model:
         ``max_step`` [s]).  A model that overrides it offers the solver ``exact``."""
         return None
 
+    def prepare_exact_step(self) -> None:
+        """Once-per-model work of :meth:`exact_step` (a propagator, its imports), done when the FMU
+        leaves initialization so that the first step costs what every later step costs."""
+
     def after_step(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         """Hook for discrete updates at the end of a step (projection, mode switches)."""
         return x

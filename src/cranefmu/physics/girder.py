@@ -184,6 +184,10 @@ class GirderModel(Model):
             big_b[3, _FY] = 1.0 / p.m3
         return a, np.array([0.0, -p.g, 0.0, -p.g]), big_b
 
+    def prepare_exact_step(self) -> None:
+        if self._linear is None:
+            self._linear = LinearPropagator(*self.linear_system())
+
     def exact_step(self, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray,
                    r2: np.ndarray, max_step: float) -> np.ndarray | None:
         """Closed-form step of the linear model (module docstring)."""

@@ -40,6 +40,9 @@ class LinearPropagator:
         z[n + 1:n + 1 + m, n + 1 + m:n + 1 + 2 * m] = np.eye(m)
         z[n + 1 + m:n + 1 + 2 * m, n + 1 + 2 * m:] = np.eye(m)
         self.generator = z
+        from scipy.linalg import expm   # ~0.2 s cold: paid at construction, not in a step
+
+        self._expm = expm
         self.spectral_radius = float(np.max(np.abs(np.linalg.eigvals(a)), initial=0.0))
         self._cache: dict[tuple[float, int], list[np.ndarray]] = {}
         self._last: tuple | None = None   # (h as given, k, maps) of the last call
@@ -57,9 +60,7 @@ class LinearPropagator:
         key = (h, k)
         maps = self._cache.get(key)
         if maps is None:
-            from scipy.linalg import expm
-
-            sub = expm(self.generator * (h / k))
+            sub = self._expm(self.generator * (h / k))
             phi = np.eye(self.generator.shape[0])
             maps = [phi[:self.n].copy()]
             for _ in range(k):
