@@ -136,9 +136,23 @@ def _ensure_binaries(fmu: Path, model_identifier: str) -> None:
 
 def scene_fmus(scene_dir: Path) -> list[Path]:
     """FMUs a scene's SSD refers to (``source="resources/<Name>.fmu"``), as paths under fmus/."""
-    from .master.scene import read_scene_folder
+    ssd = Path(scene_dir) / "SystemStructure.ssd"
+    try:
+        key = (str(scene_dir), str(FMU_DIR), ssd.stat().st_mtime_ns)
+    except OSError:
+        key = None
+    if key is None or key not in _SCENE_FMUS:
+        from .master.scene import read_scene_folder
 
-    return sorted({c.fmu for c in read_scene_folder(scene_dir, FMU_DIR).components})
+        found = sorted({c.fmu for c in read_scene_folder(scene_dir, FMU_DIR).components})
+        if key is None:
+            return found
+        _SCENE_FMUS[key] = found
+    return list(_SCENE_FMUS[key])
+
+
+# a run checks its scene for staleness: the SSD is parsed once per version of the file (~5 ms a parse)
+_SCENE_FMUS: dict[tuple[str, str, int], list[Path]] = {}
 
 
 def ssp_is_stale(scene_dir: Path) -> bool:
