@@ -18,6 +18,7 @@ from .system import CoSystem
 
 ANNOTATION = "org.cranefmu.powerbonds"
 RESIDUAL_WARNING = 0.1   # a run warns when a bond's total residual exceeds this fraction of the energy it carried
+NEGLIGIBLE = 1e-3        # ... unless it is below this fraction of the most energy any bond of the scene carried
 
 
 @dataclass
@@ -230,11 +231,13 @@ class BondMonitor:
 
     def warnings(self, fraction: float = RESIDUAL_WARNING) -> list[str]:
         """One line per bond whose total residual exceeds ``fraction`` of the energy it carried: the
-        coupling created or destroyed that much energy at the seam (it never steers the run)."""
+        coupling created or destroyed that much energy at the seam (it never steers the run).  A bond
+        near rest whose residual is below NEGLIGIBLE of the most any bond carried is not reported."""
         out = []
+        scale = float(self.carried_total.max()) if len(self.names) else 0.0
         for k, name in enumerate(self.names):
             total, carried = float(self.total[k]), float(self.carried_total[k])
-            if total > fraction * carried:
+            if total > fraction * carried and total > NEGLIGIBLE * scale:
                 out.append(f"power bond {name} (between {self.between(k)}): energy residual {total:.3g} J is "
                            f"{total / carried if carried > 0 else math.inf:.3g} of the {carried:.3g} J it carried "
                            f"(more than {fraction:g}): the coupling adds or removes energy at this seam; "
