@@ -232,7 +232,8 @@ def test_concurrent_first_uses_share_one_cache(installed, checkout_rows):
     """Two runs starting together on an empty cache: both succeed with the checkout's rows (one builds
     under the lock, the other waits and uses its files)."""
     cache = installed.root / "cache2"
-    cmd = [str(installed.venv / "bin" / "cranefmu"), "run", SCENE, "--stop-time", str(STOP), "--no-progress"]
+    cmd = [str(installed.venv / "bin" / "cranefmu"), "run", SCENE, "--stop-time", str(STOP), "--step", str(H),
+           "--no-progress"]
     env = {**installed.env, "CRANEFMU_CACHE_DIR": str(cache)}
     procs = [subprocess.Popen([*cmd, "--output", f"c{i}.csv"], cwd=installed.work, env=env, text=True,
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE) for i in (1, 2)]
@@ -270,7 +271,7 @@ def test_a_read_only_checkout_with_stale_builds_runs_from_the_cache(built, check
         fmu_dir, ssp_dir = b._choose_build_dirs(checkout_writable=False)
         assert fmu_dir.parent.parent == tmp_path / "cache" and ssp_dir.parent == fmu_dir.parent
         b.set_build_dirs(fmu_dir, ssp_dir)
-        res = run(SCENE, stop_time=STOP, progress=False)
+        res = run(SCENE, stop_time=STOP, step_size=H, progress=False)
         assert (ssp_dir / f"{SCENE}.ssp").is_file()
         _same_rows(res.result, checkout_rows[0])
     finally:
