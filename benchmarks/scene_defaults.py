@@ -14,7 +14,8 @@ since a finer one costs more), and jacobi x1 adaptive.  A candidate passes when
   than 0.2 % (the beat of hook and payload modes moves it in the exact solution too).
 
 The chosen one is the passing candidate with the least wall time; walls within TIE (10 %) of the least
-count as equal (the machine is shared and noisy), and of those the most accurate is chosen.  Prints and writes
+count as equal (the machine is shared and noisy), and of those the most accurate is chosen; a run
+shorter than 0.5 s of wall is repeated and its least wall kept.  Prints and writes
 benchmarks/results/scene_defaults.md.
 
     nice .venv/bin/python benchmarks/scene_defaults.py [--scenes hook_sway,...]
@@ -44,6 +45,7 @@ SERIES = (("jacobi", 0), ("jacobi", 1), ("jacobi", 2), ("gauss-seidel", 1))
 STEPS = (0.05, 0.02, 0.01, 0.005, 0.004, 0.003, 0.002, 0.001)
 ADAPTIVE = ((0.01, 1e-3),)      # (first step, tolerance), jacobi x1
 MARGIN = 0.005                  # of range: half the 1 % target
+SHORT, REPEATS = 0.5, 4         # a run under SHORT [s] of wall is repeated REPEATS more times, its least wall kept
 TIE = 1.10                      # walls within this factor of the least are equal
 SWAY_GROWTH = 0.002             # hook_sway: allowed excess of the sway ratio over the reference's
 GRID = 1e-3                     # the reference is solved on this grid (every H above is a multiple)
@@ -94,11 +96,15 @@ def candidate(scene: str, stop: float, ref, keys, algorithm: str, extrapolation:
         return row
     err = errors(res.result, ref, keys)
     st = res.stats
+    wall = st.wall_time
+    for _ in range(REPEATS if wall < SHORT else 0):   # short runs: the least of several walls (noise)
+        wall = min(wall, run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
+                             progress=False, **extra).stats.wall_time)
     residual, carried = sum(st.bond_energy.values()), sum(st.bond_carried.values())
     worst_bond = max((st.bond_energy[n] / st.bond_carried[n] if st.bond_carried[n] > 0 else math.inf)
                      for n in st.bond_energy) if st.bond_energy else 0.0
-    row.update(worst=max(err.values()), worst_key=max(err, key=err.get), wall=st.wall_time, steps=st.steps,
-               rtf=stop / st.wall_time, residual=residual, carried=carried, bond_ratio=worst_bond,
+    row.update(worst=max(err.values()), worst_key=max(err, key=err.get), wall=wall, steps=st.steps,
+               rtf=stop / wall, residual=residual, carried=carried, bond_ratio=worst_bond,
                warned=bool(res.warnings), stopped=st.stopped)
     adds = worst_bond > RESIDUAL_WARNING
     if sway_ref is not None:
@@ -190,10 +196,21 @@ def main(argv: list[str] | None = None) -> int:
              "", f"Passes: worst error <= {MARGIN:g} of range, no instability alarm, every bond's residual <= "
              f"{RESIDUAL_WARNING:g} of the energy it carried (hook_sway also: sway ratio <= the reference's + "
              f"{SWAY_GROWTH:g}). Each fixed-step series stops at its first passing H. Wall includes setup.", ""]
+    sections, summary = [], ["## Summary", "",
+                             "| scene | simulated [s] | chosen | worst rel err | RTF | old default jacobi x0 1 ms |",
+                             "| --- | --- | --- | --- | --- | --- |"]
     for scene in args.scenes.split(","):
         print(f"{scene}:", flush=True)
         rows, facts = study(scene)
-        lines += table(scene, rows, facts)
+        sections += table(scene, rows, facts)
+        best = chosen(rows)
+        old = next((r for r in rows if r["label"] == "jacobi x0 H 1 ms"), None)
+        was = "not run (a coarser x0 step passed)" if old is None else old.get("failure") or \
+            (f"error {old['worst']:.3g}, RTF {old['rtf']:.1f}" + (", adds energy" if old["adds_energy"] else ""))
+        summary.append(f"| {scene} | {facts['stop']:g} | {best['label'] if best else 'none'} | "
+                       f"{best['worst']:.3g} | {best['rtf']:.1f} | {was} |" if best else
+                       f"| {scene} | {facts['stop']:g} | none | | | {was} |")
+    lines += summary + [""] + sections
     text = "\n".join(lines)
     print(text)
     RESULTS.write_text(text + "\n")

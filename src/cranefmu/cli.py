@@ -237,8 +237,9 @@ def build_parser() -> argparse.ArgumentParser:
     b.set_defaults(func=_cmd_build)
 
     r = sub.add_parser("run", help="run a scene (builds what is missing first)",
-                       description="Run a scene.  SIGINT or SIGTERM ends the run at the next step, keeps the rows "
-                       "so far in the CSV and exits 130 or 143.")
+                       description="Run a scene.  A setting not given is the scene's stored one if it stores it "
+                       "(cranefmu info SCENE), else the default shown.  SIGINT or SIGTERM ends the run at the next "
+                       "step, keeps the rows so far in the CSV and exits 130 or 143.")
     r.add_argument("scene", help="scene name under ssp/ or path to an .ssp file")
     from .master.settings import add_arguments
 
