@@ -50,6 +50,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     options = {f.name: getattr(args, f.name) for f in fields(Settings) if hasattr(args, f.name)}
     scene = preview(args.scene)
     settings = Settings.from_options(**options)
+    settings.take_stored(scene.settings)
     if settings.stop_time is None:
         settings.stop_time = scene.stop_time or 10.0
     settings.check()
@@ -116,6 +117,8 @@ def _report(res, kept: bool) -> None:
     steps = f"{st.steps} steps of {st.min_step:.3g} to {st.max_step:.3g} s, {st.rejections} rejected" \
         if s.adaptive else f"{st.steps} steps of {s.step_size:g} s"
     print(f"scene {res.scene}: {steps} to t = {simulated:g} s ({s.algorithm}, extrapolation {s.extrapolation})")
+    if s.from_scene:
+        print("  the scene's stored settings: " + ", ".join(f"{n} = {getattr(s, n)!r}" for n in s.from_scene))
     if st.stopped:
         print(st.stopped)
     print(f"wall time {st.wall_time:.3f} s (master {st.master_time:.3f} s), real-time factor "
@@ -125,7 +128,10 @@ def _report(res, kept: bool) -> None:
         print(f"  coupling iterations: {st.iterations} ({st.iterations / max(st.steps, 1):.2f} per step, "
               f"at most {st.max_iterations})")
     for name, energy in st.bond_energy.items():
-        print(f"  power bond {name}: energy residual {energy:.6g} J")
+        print(f"  power bond {name}: energy residual {energy:.6g} J of {st.bond_carried.get(name, 0.0):.6g} J "
+              "carried")
+    for line in res.warnings:
+        print(f"warning: {line}", file=sys.stderr)
     if kept:
         for label, text in summary(res.scene, res.result):
             print(f"  {label:<24} {text}")
@@ -231,8 +237,9 @@ def build_parser() -> argparse.ArgumentParser:
     b.set_defaults(func=_cmd_build)
 
     r = sub.add_parser("run", help="run a scene (builds what is missing first)",
-                       description="Run a scene.  SIGINT or SIGTERM ends the run at the next step, keeps the rows "
-                       "so far in the CSV and exits 130 or 143.")
+                       description="Run a scene.  A setting not given is the scene's stored one if it stores it "
+                       "(cranefmu info SCENE), else the default shown.  SIGINT or SIGTERM ends the run at the next "
+                       "step, keeps the rows so far in the CSV and exits 130 or 143.")
     r.add_argument("scene", help="scene name under ssp/ or path to an .ssp file")
     from .master.settings import add_arguments
 

@@ -53,6 +53,8 @@ def describe(scene: Scene) -> list[str]:
     if info and info.fidelity:
         lines.append("  fidelity switches (--set comp.var=name or code):")
         lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
+    stored = ", ".join(f"{k} = {v!r}" for k, v in scene.settings.items())
+    lines.append(f"  run settings stored in the scene (used where a run gives none): {stored or 'none'}")
     default = scene.parameters
     lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
     lines.append("  parameters (default set):")

@@ -21,7 +21,8 @@ rows = {}
 rows["here"] = cranefmu.simulate("elastic_pendulum", stop_time=0.2, step_size=1e-3)
 rows["isolated"] = cranefmu.simulate("elastic_pendulum", stop_time=0.2, step_size=1e-3, isolate=True)
 box = {}
-worker = threading.Thread(target=lambda: box.update(r=cranefmu.simulate("elastic_pendulum", stop_time=0.2)))
+worker = threading.Thread(target=lambda: box.update(r=cranefmu.simulate("elastic_pendulum", stop_time=0.2,
+                                                                                   step_size=1e-3)))
 worker.start(); worker.join()
 rows["thread"] = box["r"]
 print(json.dumps({k: [len(v), float(v["rope.tension"][-1]), float(v["pendulum.theta"][-1])] for k, v in rows.items()}))
@@ -54,10 +55,10 @@ INTERRUPTED = """
 import sys
 from cranefmu.master.run import RunInterrupted, run
 try:
-    run("elastic_pendulum", stop_time=200, output=sys.argv[1])
+    run("elastic_pendulum", stop_time=200, step_size=1e-3, output=sys.argv[1])
 except RunInterrupted as err:
     print("interrupted", len(err.result), err.output, err.signum, flush=True)
-again = run("elastic_pendulum", stop_time=0.05)
+again = run("elastic_pendulum", stop_time=0.05, step_size=1e-3)
 print("again", len(again.result), flush=True)
 """
 

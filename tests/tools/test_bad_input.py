@@ -63,7 +63,7 @@ def test_broken_scene(built, tmp_path, capsys, case):
         run(ssp, stop_time=0.01, step_size=1e-3)
     for needle in needles:
         assert needle in str(err.value), (needle, str(err.value))
-    line = _one_line_error(capsys, ["run", str(ssp), "--stop-time", "0.01"])
+    line = _one_line_error(capsys, ["run", str(ssp), "--stop-time", "0.01", "--step", "1e-3"])
     assert needles[0] in line
 
 
@@ -104,7 +104,8 @@ def test_bad_parameter(built, capsys, overrides, cls, needles):
     for needle in needles:
         assert needle in str(err.value), (needle, str(err.value))
     (key, value), = overrides.items()
-    line = _one_line_error(capsys, ["run", "elastic_pendulum", "--stop-time", "0.01", "--set", f"{key}={value}"])
+    line = _one_line_error(capsys, ["run", "elastic_pendulum", "--stop-time", "0.01", "--step", "1e-3", "--set",
+                                    f"{key}={value}"])
     assert needles[0] in line
 
 

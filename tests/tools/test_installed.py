@@ -29,12 +29,13 @@ import pytest
 
 CHECKOUT = Path(__file__).resolve().parents[2]
 SCENE = "elastic_pendulum"
-STOP = 0.5          # s: 500 steps of the default 1 ms
+STOP = 0.5          # s: 500 steps of H
+H = 1e-3            # s (the scene stores a longer step: given, so the row counts below hold)
 SCRIPT = textwrap.dedent(f"""\
     import numpy as np
     import cranefmu
 
-    rows = cranefmu.simulate({SCENE!r}, stop_time={STOP}, progress=False)
+    rows = cranefmu.simulate({SCENE!r}, stop_time={STOP}, step_size={H}, progress=False)
     np.save("rows.npy", rows)
     """)
 
@@ -109,7 +110,7 @@ def checkout_rows(built, tmp_path_factory):
     from cranefmu.master.run import run
 
     out = tmp_path_factory.mktemp("checkout") / "rows.csv"
-    return run(SCENE, stop_time=STOP, output=out, progress=False).result, out
+    return run(SCENE, stop_time=STOP, step_size=H, output=out, progress=False).result, out
 
 
 def _csv(path: Path) -> tuple[list[str], np.ndarray]:
@@ -140,7 +141,8 @@ def test_the_wheel_carries_the_sources_and_is_what_runs(installed):
 
 
 def test_cli_run_gives_the_checkout_rows(installed, checkout_rows):
-    res = installed.cranefmu("run", SCENE, "--stop-time", str(STOP), "--output", "cli.csv", "--no-progress")
+    res = installed.cranefmu("run", SCENE, "--stop-time", str(STOP), "--step", str(H), "--output", "cli.csv",
+                            "--no-progress")
     assert "results: cli.csv (501 rows" in res.stdout
     header, rows = _csv(installed.work / "cli.csv")
     ref_header, ref = _csv(checkout_rows[1])
@@ -230,7 +232,8 @@ def test_concurrent_first_uses_share_one_cache(installed, checkout_rows):
     """Two runs starting together on an empty cache: both succeed with the checkout's rows (one builds
     under the lock, the other waits and uses its files)."""
     cache = installed.root / "cache2"
-    cmd = [str(installed.venv / "bin" / "cranefmu"), "run", SCENE, "--stop-time", str(STOP), "--no-progress"]
+    cmd = [str(installed.venv / "bin" / "cranefmu"), "run", SCENE, "--stop-time", str(STOP), "--step", str(H),
+           "--no-progress"]
     env = {**installed.env, "CRANEFMU_CACHE_DIR": str(cache)}
     procs = [subprocess.Popen([*cmd, "--output", f"c{i}.csv"], cwd=installed.work, env=env, text=True,
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE) for i in (1, 2)]
@@ -268,7 +271,7 @@ def test_a_read_only_checkout_with_stale_builds_runs_from_the_cache(built, check
         fmu_dir, ssp_dir = b._choose_build_dirs(checkout_writable=False)
         assert fmu_dir.parent.parent == tmp_path / "cache" and ssp_dir.parent == fmu_dir.parent
         b.set_build_dirs(fmu_dir, ssp_dir)
-        res = run(SCENE, stop_time=STOP, progress=False)
+        res = run(SCENE, stop_time=STOP, step_size=H, progress=False)
         assert (ssp_dir / f"{SCENE}.ssp").is_file()
         _same_rows(res.result, checkout_rows[0])
     finally:

@@ -43,14 +43,14 @@ def test_a_failed_start_leaves_an_existing_csv_byte_for_byte(built, tmp_path):
 def test_a_second_run_on_the_same_file_refuses_and_the_first_keeps_a_whole_file(built, tmp_path):
     first, out, _ = start(tmp_path)
     wait_for_rows(first, out)
-    second = cranefmu("run", "elastic_pendulum", "--stop-time", "0.1", "--output", str(out))
+    second = cranefmu("run", "elastic_pendulum", "--stop-time", "0.1", "--step", "1e-3", "--output", str(out))
     one_line_error(second, "another run is writing it")
     first.send_signal(signal.SIGINT)
     _, err = first.communicate(timeout=60)
     assert first.returncode == 130, err
     rows = read_csv(out)
     assert len(rows) > 1000 and np.allclose(rows["time"], 1e-3 * np.arange(len(rows)), rtol=0, atol=1e-9)
-    again = cranefmu("run", "elastic_pendulum", "--stop-time", "0.1", "--output", str(out))   # the lock is gone
+    again = cranefmu("run", "elastic_pendulum", "--stop-time", "0.1", "--step", "1e-3", "--output", str(out))   # the lock is gone
     assert again.returncode == 0, again.stderr
     assert len(read_csv(out)) == 101
 
@@ -75,7 +75,7 @@ def tiny_disk(tmp_path):
 
 def test_a_full_disk_keeps_the_whole_rows_written_before(built, tiny_disk):
     out = tiny_disk / "out.csv"
-    p = cranefmu("run", "elastic_pendulum", "--stop-time", "5", "--output", str(out))
+    p = cranefmu("run", "elastic_pendulum", "--stop-time", "5", "--step", "1e-3", "--output", str(out))
     one_line_error(p, "No space left on device")
     rows = read_csv(out)
     assert 1 < len(rows) < 5001
@@ -122,7 +122,8 @@ def test_a_long_run_streams_its_rows_and_plots_from_the_csv(built, tmp_path, mon
 
     monkeypatch.setattr(cli, "KEEP_ROWS", 100)
     out = tmp_path / "long.csv"
-    assert cli.main(["run", "elastic_pendulum", "--stop-time", "0.5", "--in-process", "--output", str(out),
+    assert cli.main(["run", "elastic_pendulum", "--stop-time", "0.5", "--step", "1e-3", "--in-process",
+                     "--output", str(out),
                      "--plot", "rope.tension,pendulum.theta"]) == 0
     text = capsys.readouterr().out
     assert "no summary: the 501 rows were streamed" in text and f"results: {out} (501 rows" in text
@@ -154,7 +155,7 @@ def test_boundary_errors_name_the_component_and_the_cause(built, tmp_path):
         broken = _variant(fmu, tmp_path / edit.__name__ / "Faulty.fmu", edit)
         ssp = faulty_scene(scene_ssp(), broken, tmp_path / f"{edit.__name__}.ssp")
         with pytest.raises(SceneError) as info:
-            run(ssp, stop_time=0.01)
+            run(ssp, stop_time=0.01, step_size=1e-3)
         assert needle in str(info.value) and "\n" not in str(info.value)
         if edit is bad_import:
             assert "no_such_module_xyz" in str(info.value)

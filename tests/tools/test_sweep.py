@@ -50,7 +50,7 @@ def test_rows_equal_the_runs_made_one_by_one(client, tmp_path):
 
 def test_a_bad_parameter_fails_its_run_only(client, tmp_path):
     res = cranefmu.sweep("elastic_pendulum", {"rope.E": [1e11, -1.0, 2e11]}, ["max:rope.tension"],
-                         tmp_path / "s.csv", client=client, stop_time=0.2)
+                         tmp_path / "s.csv", client=client, stop_time=0.2, step_size=1e-3)
     by_e = {r["rope.E"]: r for r in res.rows}
     assert res.ran == 3 and res.failed == 1
     assert by_e[-1.0]["status"] == "failed" and "rope.E = -1.0 is out of range" in by_e[-1.0]["error"]

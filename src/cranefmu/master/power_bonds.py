@@ -17,6 +17,8 @@ from ..errors import SceneError
 from .system import CoSystem
 
 ANNOTATION = "org.cranefmu.powerbonds"
+RESIDUAL_WARNING = 0.1   # a run warns when a bond's total residual exceeds this fraction of the energy it carried
+NEGLIGIBLE = 1e-3        # ... unless it is below this fraction of the most energy any bond of the scene carried
 
 
 @dataclass
@@ -152,6 +154,7 @@ class BondMonitor:
         self.total = np.zeros(len(bonds))
         self.residual = np.zeros(len(bonds))   # of the last step [J]
         self.carried = np.zeros(len(bonds))    # energy through each bond in the last step [J]
+        self.carried_total = np.zeros(len(bonds))   # ... summed over the run [J]
         self.row = np.zeros(2 * len(bonds))
         self.growth_alarm: GrowthAlarm | None = None   # set by the run: fixed step, alarm on
         self.grown: Growth | None = None
@@ -208,6 +211,7 @@ class BondMonitor:
             self.imbalance[k] = (pa - pb) * h
             self.capacity[k] = max(capacity[2 * k], capacity[2 * k + 1]) * h
         self.total += self.residual
+        self.carried_total += self.carried
         self.row[0::2] = self.residual
         self.row[1::2] = self.total
         if self.growth_alarm is not None and self.grown is None:
@@ -220,3 +224,22 @@ class BondMonitor:
 
     def totals(self) -> dict[str, float]:
         return {n: float(e) for n, e in zip(self.names, self.total)}
+
+    def carried_totals(self) -> dict[str, float]:
+        """Energy through each bond over the run [J]: the sum over steps of max(|P_a|, |P_b|) h."""
+        return {n: float(e) for n, e in zip(self.names, self.carried_total)}
+
+    def warnings(self, fraction: float = RESIDUAL_WARNING) -> list[str]:
+        """One line per bond whose total residual exceeds ``fraction`` of the energy it carried: the
+        coupling created or destroyed that much energy at the seam (it never steers the run).  A bond
+        near rest whose residual is below NEGLIGIBLE of the most any bond carried is not reported."""
+        out = []
+        scale = float(self.carried_total.max()) if len(self.names) else 0.0
+        for k, name in enumerate(self.names):
+            total, carried = float(self.total[k]), float(self.carried_total[k])
+            if total > fraction * carried and total > NEGLIGIBLE * scale:
+                out.append(f"power bond {name} (between {self.between(k)}): energy residual {total:.3g} J is "
+                           f"{total / carried if carried > 0 else math.inf:.3g} of the {carried:.3g} J it carried "
+                           f"(more than {fraction:g}): the coupling adds or removes energy at this seam; "
+                           "a smaller step or a higher extrapolation order keeps it in check (docs/power_bonds.md)")
+        return out

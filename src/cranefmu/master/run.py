@@ -13,7 +13,7 @@ import inspect
 import math
 import tempfile
 import time as clock
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +49,7 @@ class RunResult:
     settings: Settings | None = None
     rows: int = 0                # rows recorded (also those not kept in memory)
     end_time: float = math.nan   # simulated time of the last row [s]
+    warnings: list[str] = field(default_factory=list)   # what the run found suspicious (also on stderr)
 
 
 @dataclass
@@ -62,6 +63,7 @@ class ScenePreview:
     units: dict[str, str]
     variables: dict[str, set[str]]   # component -> the names of all its variables
     parameter_sets: tuple[str, ...]  # "default" first
+    settings: dict[str, object]      # the scene's stored run settings
 
 
 def preview(scene: str | Path) -> ScenePreview:
@@ -86,7 +88,7 @@ def preview(scene: str | Path) -> ScenePreview:
     bonds = [f"bond.{n}.{e}" for n, _ in loaded.bonds for e in ("dE", "E")]
     units.update({b: "J" for b in bonds})
     return ScenePreview(ssp, loaded.name, loaded.stop_time, reals + flags + bonds, units, variables,
-                        ("default", *loaded.parameter_sets))
+                        ("default", *loaded.parameter_sets), dict(loaded.settings))
 
 
 def _overrides(scene: Scene, parameter_set: str | None, parameters: dict | None) -> dict[tuple[str, str], object]:
@@ -113,7 +115,9 @@ def run(scene: str | Path, *, parameter_set: str | None = None, parameters: dict
     a worker process (a crash inside an FMU then raises here instead of ending the caller).
     A signal that stops the run (SIGINT, e.g. Ctrl-C or a notebook's interrupt) is handled
     between steps, never inside an FMU: the run is closed and :class:`RunInterrupted` (a
-    KeyboardInterrupt) carries the rows so far.  Settings (keywords, see :class:`Settings`):
+    KeyboardInterrupt) carries the rows so far.  Settings (keywords, see :class:`Settings`; one not
+    given is the scene's stored setting if it has one, else the default below; ``cranefmu info``
+    shows a scene's):
 {settings}
     Raises a :class:`~cranefmu.errors.CraneFmuError` subclass naming what is wrong.
     """
@@ -147,6 +151,7 @@ def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, para
         workdir, loaded = extracted_scene(ssp)
         fmu_dirs = Path(tempfile.mkdtemp(prefix="run_", dir=workdir))
         fresh_fmu_dirs(workdir, loaded, fmu_dirs)   # never instantiate twice from one directory
+        settings.take_stored(loaded.settings)       # what the caller did not give, from the scene
         if settings.stop_time is None:
             settings.stop_time = loaded.stop_time or 10.0
         settings.check()
@@ -169,10 +174,11 @@ def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, para
         system.stats.wall_time = clock.perf_counter() - wall0
         system.stats.master_time = system.stats.wall_time - sum(system.stats.fmu_time.values())
         system.stats.bond_energy = bonds.totals()
+        system.stats.bond_carried = bonds.carried_totals()
         recorder.close()
         where = _finish(claim, recorder)
         result = RunResult(recorder.result(), system.stats, where, loaded.name, settings, recorder.count,
-                           recorder.last_time)
+                           recorder.last_time, bonds.warnings())
     except CraneFmuError as err:
         where = _finish(claim, recorder)
         if recorder is not None and isinstance(err, SimulationError) and recorder.count:

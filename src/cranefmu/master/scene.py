@@ -12,7 +12,10 @@ file goes through the guarded parser of :mod:`.untrusted`.  What is read (SSP 1.
   libcosim reads them) form the default set; a parameter bound twice with two values is refused.
   Other .ssv files in ``resources/`` are named parameter sets;
 - the DefaultExperiment, the power bonds (:mod:`.power_bonds`) and the stop conditions
-  (:mod:`.stop_conditions`) from their annotations.
+  (:mod:`.stop_conditions`) from their annotations;
+- the scene's stored run settings (``org.cranefmu.settings``: the attributes of one
+  ``cf:Settings`` element, named as the fields of :class:`.settings.Settings`), typed and
+  validated by :func:`.settings.stored_settings`.
 
 fmpy's ``read_ssd`` is not used: it extracts the archive a second time, parses without the guard
 and reports problems as bare exceptions.  The SSP schema is checked on the built files by the
@@ -25,7 +28,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Union
 
-from ..errors import ParameterSetError, SceneError
+from ..errors import ParameterSetError, SceneError, SettingsError
+from .settings import stored_settings
 from ..units import parse as parse_unit
 from .stop_conditions import read_stop_conditions
 from .untrusted import check_xml_files, parse_xml, safe_extract
@@ -33,6 +37,7 @@ from .untrusted import check_xml_files, parse_xml, safe_extract
 SSD_NS = "http://ssp-standard.org/SSP1/SystemStructureDescription"
 SSV_NS = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
 SSC_NS = "http://ssp-standard.org/SSP1/SystemStructureCommon"
+SETTINGS_ANNOTATION = "org.cranefmu.settings"
 TYPES = ("Real", "Integer", "Boolean", "String", "Enumeration")
 _BOOLEAN = {"true": True, "1": True, "false": False, "0": False}
 
@@ -90,6 +95,7 @@ class Scene:
     stop_time: float | None = None
     bonds: list[tuple[str, list[dict]]] = field(default_factory=list)
     stop_conditions: dict[str, str] = field(default_factory=dict)
+    settings: dict[str, object] = field(default_factory=dict)   # stored run settings (name -> typed value)
 
     @property
     def parameters(self) -> dict[str, Value]:
@@ -279,8 +285,25 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
     for ssv in sorted(resources.glob("*.ssv")):
         if ssv.name not in bound_files:
             sets[ssv.stem] = read_parameter_set(parse_xml(ssv), f"{label}: parameter set {ssv.name}")
-    return Scene(root.get("name") or system.get("name") or ssd.parent.name, ssd, components, connections, bound,
-                 sets, start, stop, read_bonds(system, label), read_stop_conditions(system, label))
+    name = root.get("name") or system.get("name") or ssd.parent.name
+    return Scene(name, ssd, components, connections, bound, sets, start, stop, read_bonds(system, label),
+                 read_stop_conditions(system, label), read_settings(system, label, stop))
+
+
+def read_settings(system, label: str, stop_time: float | None) -> dict[str, object]:
+    """The run settings a scene stores (``org.cranefmu.settings`` annotation of the System; empty if
+    absent): what ``cranefmu run SCENE`` uses for every setting not given.  A bad one is a
+    :class:`SceneError` naming the scene, the setting, its value and what is allowed."""
+    found = [el for ann in system.iter("{*}Annotation") if ann.get("type") == SETTINGS_ANNOTATION
+             for el in ann if _local(el) == "Settings"]
+    if len(found) > 1:
+        raise SceneError(f"{label}: {len(found)} stored settings ({SETTINGS_ANNOTATION}): give one cf:Settings")
+    if not found:
+        return {}
+    try:
+        return stored_settings({str(k).rpartition("}")[2]: v for k, v in found[0].attrib.items()}, stop_time)
+    except SettingsError as err:
+        raise SceneError(f"{label}: stored run settings ({SETTINGS_ANNOTATION}): {err}") from None
 
 
 def load_scene(ssp: Path, workdir: Path) -> Scene:

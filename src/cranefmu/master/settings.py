@@ -3,12 +3,18 @@
 :class:`Settings` is the single source: :func:`cranefmu.master.run.run` takes its fields as keywords
 (its signature and docstring are built from them), and ``cranefmu run`` builds its options and their
 ``--help`` from the same fields (:func:`add_arguments`).
+
+Precedence: a setting the caller gives (a keyword of ``run()``, an option of ``cranefmu run``) >
+the scene's stored settings (:func:`stored_settings`, from its ``org.cranefmu.settings`` annotation)
+> the field's default here.  :meth:`Settings.from_options` records which settings were given
+(:attr:`Settings.given`), so :meth:`Settings.take_stored` fills in only the others.
 """
 from __future__ import annotations
 
 import argparse
 import math
 from dataclasses import MISSING, dataclass, field, fields
+from typing import ClassVar
 
 from ..errors import SettingsError
 from .acceleration import ACCELERATORS
@@ -30,6 +36,10 @@ def setting(default, help: str, *, type=None, flag: str | None = None, metavar: 
 @dataclass
 class Settings:
     """Every run setting; :meth:`check` validates them once the scene's stop time is known."""
+
+    # names the caller gave (None: every field counts as given, e.g. Settings(...) built directly)
+    given: ClassVar[frozenset[str] | None] = None
+    from_scene: ClassVar[tuple[str, ...]] = ()   # names taken from the scene's stored settings
 
     stop_time: float | None = setting(None, "end of the run [s] (default: the scene's DefaultExperiment, else 10)",
                                       type=float)
@@ -80,9 +90,31 @@ class Settings:
         unknown = sorted(set(options) - known)
         if unknown:
             raise SettingsError(f"{unknown[0]} is not a run setting: one of {', '.join(sorted(known))}")
-        return cls(**options)
+        out = cls(**options)
+        out.given = frozenset(options)
+        return out
+
+    def take_stored(self, stored: dict[str, object]) -> None:
+        """Take the scene's stored settings for every setting the caller did not give."""
+        given = self.given if self.given is not None else {f.name for f in fields(self)}
+        taken = tuple(name for name in stored if name not in given)
+        for name in taken:
+            setattr(self, name, stored[name])
+        self.from_scene = taken
 
     def check(self) -> None:
+        """Refuse a bad value (or combination) with a :class:`SettingsError` naming it; a value taken
+        from the scene's stored settings says so."""
+        try:
+            self._check()
+        except SettingsError as err:
+            name = str(err).partition(" ")[0]
+            if name not in self.from_scene:
+                raise
+            raise SettingsError(f"{err} ({name} is the scene's stored setting, see cranefmu info: give "
+                                f"{name} explicitly)") from None
+
+    def _check(self) -> None:
         if not isinstance(self.instability_alarm, bool):
             raise SettingsError(f"instability_alarm = {self.instability_alarm!r} is not allowed: True or False")
         if self.stop_when is not None and (isinstance(self.stop_when, str) or
@@ -179,3 +211,47 @@ def add_arguments(parser: argparse.ArgumentParser, names: tuple[str, ...] | None
 def _comma_list(text: str) -> list[str]:
     """'a,b' -> ['a', 'b']; 'none' -> [] (stop_when: run on)."""
     return [] if text.strip().lower() == "none" else [v.strip() for v in text.split(",") if v.strip()]
+
+
+SCENE_ONLY = ("start_time", "stop_time")   # a scene states these in its DefaultExperiment
+NOT_STORED = SCENE_ONLY + ("progress",)     # display, not a numerical choice
+
+
+def stored_settings(attributes: dict[str, str], stop_time: float | None) -> dict[str, object]:
+    """A scene's stored settings from their text (the attributes of ``cf:Settings``), typed by the
+    fields' kinds and validated together as :meth:`Settings.check` does (``stop_time``: the scene's,
+    for the checks against the span).  Raises :class:`SettingsError` naming the setting, its value
+    and what is allowed."""
+    by_name = {f.name: f for f in fields(Settings)}
+    allowed = sorted(n for n in by_name if n not in NOT_STORED)
+    out: dict[str, object] = {}
+    for name, text in attributes.items():
+        if name not in allowed:
+            where = " (the scene's DefaultExperiment states it)" if name in SCENE_ONLY else ""
+            raise SettingsError(f"{name} = {text!r} is not allowed as a stored setting{where}: one of "
+                                f"{', '.join(allowed)}")
+        out[name] = _typed(by_name[name], text)
+    trial = Settings(**out)
+    trial.stop_time = stop_time if stop_time is not None else 10.0
+    trial.check()
+    return out
+
+
+_BOOL = {"true": True, "1": True, "false": False, "0": False}
+
+
+def _typed(f, text: str) -> object:
+    """``text`` as the value of setting field ``f``."""
+    form, kind = f.metadata["form"], f.metadata["type"]
+    text = text.strip()
+    if form == "list":
+        return _comma_list(text)
+    if form in ("switch", "negate", "off"):
+        if text.lower() not in _BOOL:
+            raise SettingsError(f"{f.name} = {text!r} is not allowed: true or false")
+        return _BOOL[text.lower()]
+    try:
+        return kind(text)
+    except ValueError:
+        what = {float: "a number", int: "an integer"}.get(kind, "text")
+        raise SettingsError(f"{f.name} = {text!r} is not allowed: {what}") from None

@@ -36,6 +36,7 @@ class RunStats:
     max_step: float = 0.0
     master_time: float = 0.0         # wall time outside the FMUs' doStep [s]
     bond_energy: dict[str, float] = field(default_factory=dict)  # ECCO residual total per power bond [J]
+    bond_carried: dict[str, float] = field(default_factory=dict)  # energy through each bond [J] (sum max|P| h)
     stopped: str = ""                # why a stop condition ended the run early ('' = ran to the end)
 
     def real_time_factor(self, simulated: float) -> float:

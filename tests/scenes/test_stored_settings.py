@@ -1,0 +1,120 @@
+"""Scene defaults: each scene stores the run settings ``cranefmu run SCENE`` uses where none are given
+(annotation ``org.cranefmu.settings``, chosen by benchmarks/scene_defaults.py), and they meet 1 % of
+range on the scene's key outputs against the monolithic reference (a short run of each scene)."""
+from __future__ import annotations
+
+import re
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cranefmu import cli
+from cranefmu.converge import key_outputs, monolithic_reference
+from cranefmu.errors import SceneError
+from cranefmu.master.power_bonds import RESIDUAL_WARNING
+from cranefmu.master.run import preview, resolve_scene, run
+from cranefmu.master.scene import load_scene
+from cranefmu.master.settings import Settings
+from cranefmu.scene_info import describe
+from cranefmu.scenes import hook_sway_metrics
+from scene_edit import edit_ssp
+
+# simulated span of the short run per scene [s]: long enough for the key outputs to move (the
+# overhead crane's motor starts at 0.2 s and lifts the load; the truck's boom starts telescoping)
+SPAN = {"elastic_pendulum": 3.0, "hook_sway": 3.0, "overhead_lift": 1.5, "truck_telescope": 5.0}
+TARGET = 1e-2   # of each key output's range in the reference
+# looser than converge's 1e-10: the errors below agree to 3 digits with rtol 1e-10 (elastic_pendulum,
+# hook_sway, truck_telescope) and 1e-7 (overhead_lift, whose 1e-10 solve takes minutes)
+REF_RTOL = 1e-8
+
+
+@pytest.mark.parametrize("scene", sorted(SPAN))
+def test_run_without_settings_uses_the_scene_settings_and_meets_one_percent(built, scene):
+    stored = preview(scene).settings
+    assert {"algorithm", "extrapolation", "step_size"} <= set(stored)
+    res = run(scene, stop_time=SPAN[scene], progress=False)
+    assert set(res.settings.from_scene) == set(stored)
+    for name, value in stored.items():
+        assert getattr(res.settings, name) == value
+    assert res.stats.steps == round(SPAN[scene] / stored["step_size"])
+    t = res.result["time"]
+    assert np.allclose(np.diff(t), stored["step_size"], rtol=0, atol=1e-9)
+    ref = monolithic_reference(scene, SPAN[scene], t, rtol=REF_RTOL)
+    for key in key_outputs(scene):
+        span = np.ptp(ref[key])
+        assert span > 0, key
+        err = np.max(np.abs(res.result[key] - ref[key])) / span
+        assert err <= TARGET, f"{scene} {key}: {err:.3g} of range with {stored}"
+    assert not res.warnings
+
+
+def test_explicit_settings_override_the_stored_ones(built):
+    stored = preview("elastic_pendulum").settings
+    res = run("elastic_pendulum", stop_time=0.1, step_size=1e-3, extrapolation=0, progress=False)
+    assert (res.settings.step_size, res.settings.extrapolation) == (1e-3, 0)
+    assert res.settings.algorithm == stored["algorithm"]
+    assert set(res.settings.from_scene) == set(stored) - {"step_size", "extrapolation"}
+    assert res.stats.steps == 100
+
+
+def test_a_stored_step_longer_than_the_run_is_refused_naming_it(built):
+    h = preview("elastic_pendulum").settings["step_size"]
+    with pytest.raises(Exception, match=r"step_size = .* stored setting"):
+        run("elastic_pendulum", stop_time=h / 2, progress=False)
+
+
+def test_settings_built_directly_count_as_given():
+    s = Settings(step_size=0.5)
+    s.take_stored({"step_size": 0.01, "extrapolation": 2})
+    assert (s.step_size, s.extrapolation, s.from_scene) == (0.5, 0, ())
+    s = Settings.from_options(step_size=0.5)
+    s.take_stored({"step_size": 0.01, "extrapolation": 2})
+    assert (s.step_size, s.extrapolation, s.from_scene) == (0.5, 2, ("extrapolation",))
+
+
+@pytest.mark.parametrize("attrs, named", [
+    ('extrapolation="3"', "extrapolation = 3 is not allowed: 0, 1 or 2"),
+    ('step_size="fast"', "step_size = 'fast' is not allowed: a number"),
+    ('algorithm="newton"', "algorithm = 'newton' is not allowed: one of jacobi"),
+    ('stepsize="0.01"', "stepsize = '0.01' is not allowed as a stored setting: one of accelerator"),
+    ('stop_time="5"', "stop_time = '5' is not allowed as a stored setting (the scene's DefaultExperiment"),
+    ('adaptive="maybe"', "adaptive = 'maybe' is not allowed: true or false"),
+])
+def test_a_bad_stored_setting_is_a_scene_error_naming_it(built, tmp_path, attrs, named):
+    ssp = edit_ssp(tmp_path / "bad.ssp", ssd=lambda text: re.sub(r'(<cf:Settings xmlns:cf="[^"]*")[^>]*/>',
+                                                               rf'\1 {attrs}/>', text, count=1))
+    with pytest.raises(SceneError) as err:
+        run(ssp, stop_time=0.1, progress=False)
+    assert "bad.ssp" in str(err.value) and "org.cranefmu.settings" in str(err.value)
+    assert named in str(err.value)
+
+
+def test_hook_sway_defaults_add_no_energy_and_the_old_default_is_flagged(built):
+    """Released from an offset, nothing excites the swing: its amplitude must not grow.  The scene's
+    settings keep the payload sway (last 2 s against the first 2 s of 10 s) below 1 and the bond's
+    residual far below the energy it carried; jacobi x0 at 1 ms (the old global default) pumps
+    energy in, and the run says so."""
+    res = run("hook_sway", stop_time=10.0, progress=False)
+    assert hook_sway_metrics(res.result)["sway_ratio"] < 1.0
+    assert res.stats.bond_energy["hook"] < 0.1 * RESIDUAL_WARNING * res.stats.bond_carried["hook"]
+    assert not res.warnings
+    old = run("hook_sway", stop_time=10.0, step_size=1e-3, algorithm="jacobi", extrapolation=0, progress=False)
+    assert hook_sway_metrics(old.result)["sway_ratio"] > 1.0
+    assert old.stats.bond_energy["hook"] > RESIDUAL_WARNING * old.stats.bond_carried["hook"]
+    assert len(old.warnings) == 1 and "power bond hook" in old.warnings[0]
+
+
+def test_info_and_the_command_show_the_stored_settings_and_the_warning(built, capsys):
+    with tempfile.TemporaryDirectory() as tmp:
+        lines = describe(load_scene(resolve_scene("hook_sway"), Path(tmp)))
+    stored = preview("hook_sway").settings
+    assert any(line.startswith("  run settings stored in the scene") and f"step_size = {stored['step_size']!r}"
+               in line for line in lines)
+    assert cli.main(["run", "hook_sway", "--stop-time", "10", "--step", "1e-3", "--extrapolation", "0",
+                     "--in-process", "--no-progress"]) == 0
+    out, err = capsys.readouterr()
+    assert f"the scene's stored settings: algorithm = {stored['algorithm']!r}" in out
+    assert "step_size" not in out.split("the scene's stored settings:")[1].splitlines()[0]
+    assert err.count("warning: power bond hook") == 1
