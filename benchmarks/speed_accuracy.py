@@ -477,9 +477,10 @@ def _ecco_bounds(h0: float) -> dict:
     return {"min_step": h0 / ECCO_RANGE, "max_step": h0 * ECCO_RANGE}
 
 
-def libcosim_once(scene: str, keys, stop: float, h: float, abs_tolerance: float | None):
+def libcosim_once(scene: str, keys, stop: float, h: float, abs_tolerance: float | None, start: dict | None = None):
     """One libcosim run in a guarded child: fixed step ``h`` from the .ssp, or ECCO from ``h`` with
-    ``abs_tolerance`` [J]; returns (ConvergenceRun, result array or None)."""
+    ``abs_tolerance`` [J]; ``start``: initial values of the connected inputs (our settled start,
+    :func:`settled_start`); returns (ConvergenceRun, result array or None)."""
     from cranefmu import build as b
     from cranefmu.converge import ConvergenceRun
     from cranefmu.master.run import resolve_scene
@@ -489,11 +490,11 @@ def libcosim_once(scene: str, keys, stop: float, h: float, abs_tolerance: float 
     try:
         if abs_tolerance is None:
             out = in_child(libcosim_timed, list(keys), stop, str(resolve_scene(scene)), h,
-                           timeout=max(120.0, 30 * stop))
+                           initial_values=start, timeout=max(120.0, 30 * stop))
         else:
             ecco = {"step": h, "abs_tolerance": abs_tolerance, **_ecco_bounds(h)}
             out = in_child(libcosim_timed, list(keys), stop, None, None, str(b.SSP_DIR / scene), str(b.FMU_DIR),
-                           ecco, timeout=max(120.0, 60 * stop))
+                           ecco, initial_values=start, timeout=max(120.0, 60 * stop))
     except (ChildFailed, ValueError) as err:
         row.failure = str(err)[:200]
         return row, None
@@ -505,22 +506,45 @@ def libcosim_once(scene: str, keys, stop: float, h: float, abs_tolerance: float 
     return row, _table(out["time"], {k: out[k] for k in keys})
 
 
-def libcosim_series(scene: str, keys, stop: float, steps: list[float], say) -> dict:
-    """libcosim fixed step at every H, libcosim ECCO at every tolerance from the finest H."""
+def settled_start(scene: str) -> dict:
+    """Our initialization's settled values of every connected input ("component.variable" -> value),
+    handed to libcosim as initial values: it exchanges nothing in initialization mode, so as loaded
+    a start derived through connections (the rope's hanging length, the payload's rest tension)
+    stays unsettled there (tests/tools/test_interop_libcosim.py measures that difference)."""
+    from cranefmu import build as b
+    from cranefmu.master.run import run
+    from cranefmu.master.scene import read_scene_folder
+    from interop_hosts import settled_inputs
+
+    first = run(scene, stop_time=1e-3, step_size=1e-3, isolate=False).result[0]
+    return settled_inputs(read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR).connections, first)
+
+
+def libcosim_series(scene: str, keys, stop: float, steps: list[float], say, start: dict | None) -> dict:
+    """libcosim fixed step at every H, libcosim ECCO at every tolerance from the finest H, both from
+    ``start`` (:func:`settled_start`)."""
     out = {}
     for name, settings in (("libcosim fixed", [(h, None) for h in steps]),
                            ("libcosim ecco", [(min(steps), tol) for tol in LIBCOSIM_ECCO_TOLERANCES])):
         rows, results = [], []
         for h, tol in settings:
             say(f"{name} {'H=%g' % h if tol is None else 'abs_tol=%g J' % tol} ...")
-            row, res = libcosim_once(scene, keys, stop, h, tol)
+            row, res = libcosim_once(scene, keys, stop, h, tol, start)
             rows.append(row)
             results.append(res)
         out[name] = (rows, results)
     return out
 
 
-SIDE_MASTER = (("jacobi", 1), ("jacobi adaptive", 1), ("jacobi ecco", 1))
+SIDE_MASTER = (("jacobi", 1), ("jacobi", 2), ("scene", None), ("jacobi adaptive", 1), ("jacobi ecco", 1))
+
+
+def side_settings(key: tuple, h0: float) -> tuple[str | None, int | None, dict]:
+    """(algorithm, extrapolation, options) of a SIDE_MASTER series (None: the scene's stored one)."""
+    if key[0] == "scene":
+        return None, None, {}
+    options = {"step_control": "ecco", **_ecco_bounds(h0)} if key[0].endswith("ecco") else {}
+    return key[0].split()[0], key[1], options
 
 
 def repeat_walls(s: dict, repeats: int, say) -> None:
@@ -532,14 +556,14 @@ def repeat_walls(s: dict, repeats: int, say) -> None:
     scene, stop, keys = s["scene"], s["stop"], s["keys"]
     methods = []  # one list of (row, rerun -> wall) per method
     for key in SIDE_MASTER:
-        alg, ex = key[0].split()[0], key[1]
-        options = {"step_control": "ecco", **_ecco_bounds(min(s["steps"]))} if key[0].endswith("ecco") else {}
+        alg, ex, options = side_settings(key, min(s["steps"]))
         methods.append([(row, lambda row=row, alg=alg, ex=ex, options=options: master_runs(
             scene, [(row.step_size, row.tolerance)], stop, alg, ex, say, **options,
             **({"instability_alarm": False} if getattr(row, "alarm_off", False) else {}))[0][0].wall_time)
             for row in s["series"].get(key, ([], []))[0]])
     for rows, _ in s["libcosim"].values():
-        methods.append([(row, lambda row=row: libcosim_once(scene, keys, stop, row.step_size, row.tolerance)[0].wall_time)
+        methods.append([(row, lambda row=row: libcosim_once(scene, keys, stop, row.step_size, row.tolerance,
+                                                               s["libcosim_start"])[0].wall_time)
                         for row in rows])
     jobs = [job for group in itertools.zip_longest(*methods) for job in group if job is not None]
     walls = {id(row): [row.wall_time] for row, _ in jobs}
@@ -577,8 +601,7 @@ def alarm_retries(scene: str, stop: float, series: dict, h0: float, say) -> list
         for i, row in enumerate(rows):
             if not (row.failure and "instability_alarm=False" in row.failure):
                 continue
-            alg, ex = key[0].split()[0], key[1]
-            options = {"step_control": "ecco", **_ecco_bounds(h0)} if key[0].endswith("ecco") else {}
+            alg, ex, options = side_settings(key, h0)
             again, res = master_runs(scene, [(row.step_size, row.tolerance)], stop, alg, ex, say,
                                      instability_alarm=False, **options)
             notes.append(f"{scene}: ours {key[0]} x{ex} {row.label} was stopped by the default instability alarm "
@@ -590,7 +613,9 @@ def alarm_retries(scene: str, stop: float, series: dict, h0: float, say) -> list
 
 def side_rows(s: dict) -> list[tuple[str, str, object]]:
     """(method, setting, ConvergenceRun) of the side-by-side block."""
-    names = {("jacobi", 1): "ours, fixed Jacobi x1", ("jacobi adaptive", 1): "ours, adaptive (extrapolation error) x1",
+    names = {("jacobi", 1): "ours, fixed Jacobi x1", ("jacobi", 2): "ours, fixed Jacobi x2",
+             ("scene", None): "ours, the scene's stored settings at this H",
+             ("jacobi adaptive", 1): "ours, adaptive (extrapolation error) x1",
              ("jacobi ecco", 1): "ours, ECCO step control x1"}
     out = []
     for key, name in names.items():
@@ -686,7 +711,9 @@ def side_block(done: list[dict], notes: list[str]) -> list[str]:
            "included). Ours is timed as the second run in its process (a 5-step run of the same settings first: "
            "imports and the scene's extraction done), as the monolithic sweep solves 0.01 s before it times a "
            "tolerance; libcosim's wall is its child's load + run (its FMUs' embedded Python in that process).", "",
-           f"- libcosim 0.11.2 (libcosimpy 0.0.6): fixed step = the .ssp as libcosim loads it, plain Jacobi "
+           f"- libcosim 0.11.2 (libcosimpy 0.0.6), both modes from our settled start (every connected input's value "
+           "after our initialization handed over as a libcosim initial value, as tests/tools/test_interop_libcosim.py "
+           "does; libcosim exchanges nothing in initialization mode): fixed step = the .ssp as libcosim loads it, plain Jacobi "
            "(outputs read once after each step); values buffered by a time-series observer, one "
            "`simulate_until` (no Python per step).",
            "- libcosim ECCO: the execution built from our scene reader (same components, connections, default "
@@ -751,11 +778,13 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
     series[("jacobi adaptive", 1)] = master_runs(scene, [(min(steps), tol) for tol in ADAPTIVE_TOLERANCES],
                                                  stop, "jacobi", 1, say)
     lc = {}
-    if libcosim:  # ours with ECCO step control from the finest H, then libcosim's runs
+    if libcosim:  # the scene's stored settings (algorithm, extrapolation, ...) at each H; ECCO; libcosim
+        series[("scene", None)] = master_runs(scene, [(h, None) for h in steps], stop, None, None, say)
         h0 = min(steps)
         series[("jacobi ecco", 1)] = master_runs(scene, [(h0, tol) for tol in ADAPTIVE_TOLERANCES], stop, "jacobi",
                                                  1, say, step_control="ecco", **_ecco_bounds(h0))
-        lc = libcosim_series(scene, keys, stop, steps, say)
+        start = in_child(settled_start, scene)
+        lc = libcosim_series(scene, keys, stop, steps, say, start)
         notes = alarm_retries(scene, stop, series, h0, say)
     ssp = str(resolve_scene(scene))
     fm = []
@@ -815,7 +844,7 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
            "fmpy_dropped": fm[0].get("dropped", []) if fm else [], "fmpy_first": _first_rows(fm, keys),
            "reference": ref, "mono": mono, "mono_times": mono_times}
     if libcosim:
-        out["libcosim"], out["notes"] = lc, notes
+        out["libcosim"], out["notes"], out["libcosim_start"] = lc, notes, start
         if repeats > 1:
             repeat_walls(out, repeats, say)
     return out
@@ -1318,7 +1347,7 @@ def side_by_side_main(args, names: list[str], repeats: int, say, wall0: float, a
     done = []
     for name in names:
         try:
-            done.append(study_scene(name, args.quick, say, args.stop_time.get(name, args.stop_time.get(None)), steps, ("jacobi",), (1,), fmpy=False,
+            done.append(study_scene(name, args.quick, say, args.stop_time.get(name, args.stop_time.get(None)), steps, ("jacobi",), (1, 2), fmpy=False,
                                     libcosim=True, repeats=repeats))
         except Exception as err:  # one scene failing must not lose the others
             notes.append(f"{name} FAILED: {type(err).__name__}: {str(err)[:300]}")

@@ -141,13 +141,15 @@ def libcosim_execution(scene_dir: str, fmu_dir: str, ecco: EccoSettings | None =
 
 
 def libcosim_timed(columns: list[str], stop: float, ssp: str | None = None, step: float | None = None,
-                   scene_dir: str | None = None, fmu_dir: str | None = None, ecco: dict | None = None) -> dict:
+                   scene_dir: str | None = None, fmu_dir: str | None = None, ecco: dict | None = None,
+                   initial_values: dict | None = None) -> dict:
     """One libcosim run to ``stop`` [s] in a single ``simulate_until``, values buffered in C++ by a
     time-series observer (no Python per step): fixed step ``step`` from the .ssp as libcosim loads
     it, or ECCO (``ecco``: EccoSettings fields) on the execution built from ``scene_dir``.
 
     Returns {"time", column...: arrays after every step up to ``stop`` (ECCO's last step overshoots
     and is cut), "wall": s from loading to the end of the run, "steps", "end": simulated end [s],
+    ``initial_values``: as :func:`libcosim_run`'s (set before the run, inside the timed span),
     "ok"; "error" when it failed}."""
     from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
@@ -164,6 +166,7 @@ def libcosim_timed(columns: list[str], stop: float, ssp: str | None = None, step
     else:
         ex, keep = libcosim_execution(scene_dir, fmu_dir, ecco=settings)
     slaves, variables = _catalogue(ex)
+    _set_initial_values(ex, slaves, variables, initial_values)
     last = CosimObserver.create_last_value()     # ECCO reads its bond variables through it (else "not found")
     series = CosimObserver.create_time_series(buffer_size=capacity)
     ex.add_observer(last)
@@ -220,13 +223,7 @@ def libcosim_run(ssp: str, step: float, steps: int, columns: list[str], scene_di
     ex.add_observer(obs)
     slaves, variables = _catalogue(ex)
     real = CosimVariableType.REAL.value
-    for key, value in (initial_values or {}).items():
-        comp, _, var = key.partition(".")
-        v = variables[comp][var]
-        ok = (ex.real_initial_value(slaves[comp], v.reference, float(value)) if v.type == real else
-              ex.integer_initial_value(slaves[comp], v.reference, int(round(value))))
-        if not ok:                                                              # a bool: True = success
-            raise ValueError(f"libcosim refused the initial value {key} = {value!r}")
+    _set_initial_values(ex, slaves, variables, initial_values)
 
     def read(comp: str, names: list[str]) -> list:
         vs = [variables[comp][n] for n in names]
@@ -251,6 +248,20 @@ def libcosim_run(ssp: str, step: float, steps: int, columns: list[str], scene_di
     out["parameters"] = params
     out["ok"] = ok
     return out
+
+
+def _set_initial_values(ex, slaves: dict, variables: dict, initial_values: dict | None) -> None:
+    """libcosim initial values ("component.variable" -> value) for the execution ``ex``."""
+    from libcosimpy.CosimEnums import CosimVariableType
+
+    real = CosimVariableType.REAL.value
+    for key, value in (initial_values or {}).items():
+        comp, _, var = key.partition(".")
+        v = variables[comp][var]
+        ok = (ex.real_initial_value(slaves[comp], v.reference, float(value)) if v.type == real else
+              ex.integer_initial_value(slaves[comp], v.reference, int(round(value))))
+        if not ok:                                                              # a bool: True = success
+            raise ValueError(f"libcosim refused the initial value {key} = {value!r}")
 
 
 def settled_inputs(connections, first_row) -> dict:

@@ -131,14 +131,16 @@ def bond_totals(result: np.ndarray) -> dict[str, float]:
             if c.startswith("bond.") and c.endswith(".E") and len(result)}
 
 
-def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: float | None, algorithm: str,
-             extrapolation: int, parameter_set: str | None, parameters: dict | None, **extra):
+def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: float | None, algorithm: str | None,
+             extrapolation: int | None, parameter_set: str | None, parameters: dict | None, **extra):
     """One isolated master run; returns (ConvergenceRun, result array or None)."""
     from .errors import SimulationError
     from .master.run import run
 
-    kwargs = dict(stop_time=stop_time, step_size=step_size, algorithm=algorithm, extrapolation=extrapolation,
-                  parameter_set=parameter_set, parameters=parameters, **extra)
+    kwargs = dict(stop_time=stop_time, step_size=step_size, parameter_set=parameter_set, parameters=parameters,
+                  **extra)
+    # None: not given, the scene's stored setting (else the global default) rules
+    kwargs.update({k: v for k, v in (("algorithm", algorithm), ("extrapolation", extrapolation)) if v is not None})
     if tolerance is not None:
         kwargs.update(adaptive=True, tolerance=tolerance)
     row = ConvergenceRun(step_size, tolerance)
