@@ -71,6 +71,28 @@ class _Phase:
         self.zero = np.zeros(self.sl.stop - self.sl.start)
         self.all_rates = len(rate_sel) == len(self.zero)
         self.d2_zero = False   # the set array holds zero curvatures for every group of the phase
+        # what the last exchange fed the phase's groups: (values, d1 or None, d2) of the whole phase, and
+        # each group's ``fed`` tuple then (a group fed since by push() no longer holds its tuple)
+        self.fed: tuple | None = None
+        self.feds: list[tuple] = []
+        self.wants_end = True   # some input of the phase has its end value kept (need_input_ends)
+
+
+def _shares_past(members: list, arrays: list) -> bool:
+    """Every group's last len(arrays) history values are slices of ``arrays`` (the phase's past
+    gathers, oldest first): the phase may extrapolate all its groups in one product."""
+    k = len(arrays)
+    for arr in arrays:
+        if arr is None:
+            return False
+    for g, _, _ in members:
+        hist = g.history
+        if len(hist) < k:
+            return False
+        for q, arr in zip(hist[-k:], arrays):
+            if q[1].base is not arr:
+                return False
+    return True
 
 
 class CoSystem:
@@ -304,11 +326,16 @@ class CoSystem:
             if not g.keeps_outputs:
                 stale.add(g.dst)
         phases.append(current)
-        return [_Phase(gs, at, read_view) for gs in phases if gs]
+        out = [_Phase(gs, at, read_view) for gs in phases if gs]
+        for ph in out:
+            ph.source_comps = [self.comps[i] for i in ph.sources]
+            ph.sends = [(g, a, b, self.comps[g.dst], b - a, g.dt_vrs is not None) for g, a, b in ph.members]
+        self._phases = out
+        self._mark_end_phases()
+        return out
 
     def _exchange_phase(self, ph: _Phase, t: float, p: int) -> None:
-        for i in ph.sources:
-            comp = self.comps[i]
+        for comp in ph.source_comps:
             if not comp.fresh:
                 try:
                     comp.read()
@@ -327,22 +354,21 @@ class CoSystem:
                 hist.append((t, values[a:b]))
                 if len(hist) > 3:
                     del hist[0]
-            first = first or hist
+            if first is None:
+                first = hist
         d1 = d2 = None
         if p > 0 and len(first) >= 2:
             points = first[-(p + 1):]
             arrays = [q[1].base for q in points]
-            k = len(points)
             # the phase's past values are arrays of this method, unless a history was rewritten (rollback,
             # start-up): then group by group
-            if all(arr is not None for arr in arrays) and all(
-                    len(g.history) >= k and all(q[1].base is arr for q, arr in zip(g.history[-k:], arrays))
-                    for g, _, _ in ph.members):
+            if _shares_past(ph.members, arrays):
                 w1, w2 = lagrange_weights([q[0] for q in points], t)
                 stack = np.array(arrays)
                 d1 = w1 @ stack
                 d2 = w2 @ stack if p > 1 else ph.zero  # a line has no curvature
             else:
+                ph.fed = None
                 for g, a, b in ph.members:
                     self.push(g, values[a:b], *rates(g.history[-(p + 1):], t))
                 return
@@ -353,18 +379,33 @@ class CoSystem:
             if d2 is not ph.zero or not ph.d2_zero:   # a line's zero curvature is written once
                 sv[ph.set_d2] = d2 if ph.all_rates else d2[ph.rate_sel]
                 ph.d2_zero = d2 is ph.zero
-        for g, a, b in ph.members:
-            n = b - a
+        feds = ph.feds
+        feds.clear()
+        for g, a, b, comp, n, has_rates in ph.sends:
             count = n
-            if g.dt_vrs is not None:
+            if has_rates:
                 if d1 is not None:
                     count, g.rates_set = 3 * n, True
                 elif g.rates_set:  # zero rates: sent once, then values only
                     g.set_view[n:] = 0.0
                     count, g.rates_set = 3 * n, False
-            u1 = g.zero if d1 is None else d1[a:b]
-            u2 = g.zero if d1 is None else d2[a:b]
-            self._send(g, count, values[a:b], u1, u2)
+            if d1 is None:
+                fed = (values[a:b], g.zero, g.zero)
+            else:
+                fed = (values[a:b], d1[a:b], d2[a:b])
+            try:   # comp.write, inlined: the hot path's one fmi2SetReal per group
+                status = comp._set_real(comp._c, g.set_vrs, count, g.set_values)
+                if status > 1:
+                    comp._failed("fmi2SetReal", status)
+                if g.fmi_derivatives:
+                    CoSystem._input_derivatives(comp.fmu, g, fed[1], fed[2])
+            except Exception:
+                raise self.refused(comp, "setting its inputs") from None
+            if not g.keeps_fresh:
+                comp.fresh = False
+            g.fed = fed
+            feds.append(fed)
+        ph.fed = (values, d1, d2)
 
     def _exchange_groups(self, t: float, p: int) -> None:
         """Group by group (initialization mode, where any input set may change any output)."""
@@ -381,8 +422,24 @@ class CoSystem:
             self.push(g, value, d1, d2)
 
     def capture_input_ends(self, h: float) -> None:
-        """Remember each input's fed value at the end of a step of ``h`` (before the next exchange)."""
-        for g in self._end_groups:
+        """Remember each input's fed value at the end of a step of ``h`` (before the next exchange).
+        A phase whose groups still hold what its exchange fed them is done in one expression (the same
+        operations element by element as group by group, so the same numbers)."""
+        if self._phases is None:
+            self._capture_groups(self._end_groups, h)
+            return
+        ends = self.input_end
+        for ph in self._phases:
+            if not ph.wants_end:
+                continue
+            if ph.fed is not None and all(g.fed is f for (g, _, _), f in zip(ph.members, ph.feds)):
+                u, d1, d2 = ph.fed
+                ends[ph.sl] = u if d1 is None else u + h * (d1 + 0.5 * h * d2)
+            else:
+                self._capture_groups([g for g, _, _ in ph.members], h)
+
+    def _capture_groups(self, groups: list[InputGroup], h: float) -> None:
+        for g in groups:
             u, d1, d2 = g.fed
             self.input_end[g.sl] = u if d1 is g.zero and d2 is g.zero else u + h * (d1 + 0.5 * h * d2)
 
@@ -390,6 +447,12 @@ class CoSystem:
         """Only these coupling variables' end values are read from :attr:`input_end` (default: all)."""
         wanted = set(indices)
         self._end_groups = [g for g in self.links if wanted.intersection(range(g.sl.start, g.sl.stop))]
+        self._mark_end_phases()
+
+    def _mark_end_phases(self) -> None:
+        ends = {id(g) for g in self._end_groups}
+        for ph in self._phases or ():
+            ph.wants_end = any(id(g) in ends for g, _, _ in ph.members)
 
     def coupling_values(self) -> np.ndarray:
         """The newest value of every coupling variable (the vector the iterative algorithm solves for)."""
