@@ -259,7 +259,7 @@ class ValueCheck:
 
     def step_complete(self, t: float, h: float, row: np.ndarray) -> None:
         system, bonds = self.system, self.bonds
-        if not np.all(np.isfinite(row)):
+        if not np.isfinite(row).all():
             i = int(np.flatnonzero(~np.isfinite(row))[0])
             names = system.columns + bonds.columns
             n = len(system.columns)

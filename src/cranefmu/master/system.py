@@ -317,6 +317,9 @@ class CoSystem:
                             read_view[off:off + n])
             at.append(off)
             off += n
+        self._read_view = read_view
+        self._row_gather = np.array([at[i] + j for i, (a, b) in enumerate(self._out_slices) for j in range(b - a)],
+                                    dtype=np.intp)
         phases, current, stale = [], [], set()
         for g in self.links:
             if g.src in stale:
@@ -432,11 +435,22 @@ class CoSystem:
         for ph in self._phases:
             if not ph.wants_end:
                 continue
-            if ph.fed is not None and all(g.fed is f for (g, _, _), f in zip(ph.members, ph.feds)):
-                u, d1, d2 = ph.fed
-                ends[ph.sl] = u if d1 is None else u + h * (d1 + 0.5 * h * d2)
-            else:
+            fed = ph.fed
+            if fed is not None:
+                for (g, _, _), f in zip(ph.members, ph.feds):
+                    if g.fed is not f:
+                        fed = None
+                        break
+            if fed is None:
                 self._capture_groups([g for g, _, _ in ph.members], h)
+                continue
+            u, d1, d2 = fed
+            if d1 is None:
+                ends[ph.sl] = u
+            elif d2 is ph.zero:   # 0.5 h 0.0 is +0.0 (h > 0): the same sum, one product fewer
+                ends[ph.sl] = u + h * (d1 + 0.0)
+            else:
+                ends[ph.sl] = u + h * (d1 + 0.5 * h * d2)
 
     def _capture_groups(self, groups: list[InputGroup], h: float) -> None:
         for g in groups:
@@ -469,11 +483,21 @@ class CoSystem:
 
     def outputs(self) -> np.ndarray:
         """Every Real output, then the discrete outputs of the last :meth:`flags` call (a new array)."""
-        row = self._row
-        for i, (a, b) in enumerate(self._out_slices):
-            row[a:b] = self.read(i)[:b - a]
-        row[self.n_real:] = self.flag_value
-        return row.copy()
+        return self.fill_outputs(self._row).copy()
+
+    def fill_outputs(self, row: np.ndarray) -> np.ndarray:
+        """:meth:`outputs` written into ``row`` (its first len(columns) entries); returns ``row``.
+        In step mode one gather from the buffer every component reads into."""
+        if self._phases is None:
+            for i, (a, b) in enumerate(self._out_slices):
+                row[a:b] = self.read(i)[:b - a]
+        else:
+            for i, comp in enumerate(self.comps):
+                if not comp.fresh:
+                    self.read(i)
+            row[:self.n_real] = self._read_view[self._row_gather]
+        row[self.n_real:len(self.columns)] = self.flag_value
+        return row
 
     def flags(self) -> list[int]:
         """Every Integer/Boolean output (mode flags: slack, lifted, tipping, ...)."""
