@@ -332,9 +332,37 @@ class CoSystem:
         out = [_Phase(gs, at, read_view) for gs in phases if gs]
         for ph in out:
             ph.source_comps = [self.comps[i] for i in ph.sources]
-            ph.sends = [(g, a, b, self.comps[g.dst], b - a, g.dt_vrs is not None) for g, a, b in ph.members]
+            ph.runs = self._runs(ph)
         self._phases = out
         self._mark_end_phases()
+        return out
+
+    def _runs(self, ph: _Phase) -> list[tuple]:
+        """The phase's groups in runs of consecutive groups into one destination, each run written
+        with one fmi2SetReal of values and rates where it can be (every group takes our rate inputs
+        and none the FMI derivatives: their parts of the set array are adjacent, in the order of
+        ``links``), else group by group: (component, sends, merged vrs or None, values, count)."""
+        runs: list[tuple] = []
+        for g, a, b in ph.members:
+            send = (g, a, b, self.comps[g.dst], b - a, g.dt_vrs is not None)
+            if runs and runs[-1][0] is send[3]:
+                runs[-1][1].append(send)
+            else:
+                runs.append((send[3], [send]))
+        out = []
+        for comp, sends in runs:
+            if len(sends) < 2 or not all(s[5] and not s[0].fmi_derivatives for s in sends):
+                out.append((comp, sends, None, None, 0))
+                continue
+            vrs = [vr for s in sends for vr in s[0].set_vrs]
+            start = sends[0][0].set_at
+            count = len(vrs)
+            ends = [s[0].set_at + len(s[0].set_vrs) for s in sends]
+            if [s[0].set_at for s in sends[1:]] != ends[:-1]:   # not adjacent: group by group
+                out.append((comp, sends, None, None, 0))
+                continue
+            values = (ctypes.c_double * count).from_buffer(self._set_all, start * ctypes.sizeof(ctypes.c_double))
+            out.append((comp, sends, (ctypes.c_uint * count)(*vrs), values, count))
         return out
 
     def _exchange_phase(self, ph: _Phase, t: float, p: int) -> None:
@@ -382,33 +410,48 @@ class CoSystem:
             if d2 is not ph.zero or not ph.d2_zero:   # a line's zero curvature is written once
                 sv[ph.set_d2] = d2 if ph.all_rates else d2[ph.rate_sel]
                 ph.d2_zero = d2 is ph.zero
-        feds = ph.feds
-        feds.clear()
-        for g, a, b, comp, n, has_rates in ph.sends:
-            count = n
-            if has_rates:
-                if d1 is not None:
-                    count, g.rates_set = 3 * n, True
-                elif g.rates_set:  # zero rates: sent once, then values only
-                    g.set_view[n:] = 0.0
-                    count, g.rates_set = 3 * n, False
-            if d1 is None:
-                fed = (values[a:b], g.zero, g.zero)
-            else:
-                fed = (values[a:b], d1[a:b], d2[a:b])
-            try:   # comp.write, inlined: the hot path's one fmi2SetReal per group
-                status = comp._set_real(comp._c, g.set_vrs, count, g.set_values)
-                if status > 1:
-                    comp._failed("fmi2SetReal", status)
+        for comp, sends, vrs, set_values, count in ph.runs:
+            if vrs is not None and d1 is not None:   # the run's groups in one fmi2SetReal
+                for g, a, b, _, _, _ in sends:
+                    g.rates_set = True
+                    g.fed = (values[a:b], d1[a:b], d2[a:b])
+                self._write(comp, vrs, count, set_values)
+                for g, _, _, _, _, _ in sends:
+                    if not g.keeps_fresh:
+                        comp.fresh = False
+                continue
+            for g, a, b, comp, n, has_rates in sends:
+                count = n
+                if has_rates:
+                    if d1 is not None:
+                        count, g.rates_set = 3 * n, True
+                    elif g.rates_set:  # zero rates: sent once, then values only
+                        g.set_view[n:] = 0.0
+                        count, g.rates_set = 3 * n, False
+                if d1 is None:
+                    fed = (values[a:b], g.zero, g.zero)
+                else:
+                    fed = (values[a:b], d1[a:b], d2[a:b])
+                self._write(comp, g.set_vrs, count, g.set_values)
                 if g.fmi_derivatives:
-                    CoSystem._input_derivatives(comp.fmu, g, fed[1], fed[2])
-            except Exception:
-                raise self.refused(comp, "setting its inputs") from None
-            if not g.keeps_fresh:
-                comp.fresh = False
-            g.fed = fed
-            feds.append(fed)
+                    try:
+                        CoSystem._input_derivatives(comp.fmu, g, fed[1], fed[2])
+                    except Exception:
+                        raise self.refused(comp, "setting its inputs") from None
+                if not g.keeps_fresh:
+                    comp.fresh = False
+                g.fed = fed
+        ph.feds = [g.fed for g, _, _ in ph.members]
         ph.fed = (values, d1, d2)
+
+    def _write(self, comp: FmuComponent, vrs, count: int, set_values) -> None:
+        """comp.write, inlined: the hot path's fmi2SetReal."""
+        try:
+            status = comp._set_real(comp._c, vrs, count, set_values)
+            if status > 1:
+                comp._failed("fmi2SetReal", status)
+        except Exception:
+            raise self.refused(comp, "setting its inputs") from None
 
     def _exchange_groups(self, t: float, p: int) -> None:
         """Group by group (initialization mode, where any input set may change any output)."""
