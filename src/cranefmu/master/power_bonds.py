@@ -176,6 +176,7 @@ class BondMonitor:
         self._v = np.zeros(int(offsets[-1]))
         self._reads = [(c, np.array(v, dtype=np.intp), np.array(r, dtype=np.intp)) for c, (v, r) in reads.items()]
         self._in_v, self._in_index = np.array(in_v, dtype=np.intp), np.array(in_index, dtype=np.intp)
+        self._has_inputs = bool(in_v)
         self._sides = [(int(off), s.n, s.sign) for s, off in zip(sides, offsets)]
         self.system.need_input_ends(in_index)
 
@@ -188,7 +189,7 @@ class BondMonitor:
         v, system = self._v, self.system
         for comp, vpos, rpos in self._reads:
             v[vpos] = system.read(comp)[rpos]
-        if len(self._in_v):
+        if self._has_inputs:
             v[self._in_v] = system.input_end[self._in_index]
         x = v.tolist()
         power, capacity = [], []
@@ -201,12 +202,15 @@ class BondMonitor:
                 uu += u * u
             power.append(sign * p)
             capacity.append(math.sqrt(ff * uu) if ff * uu >= 0.0 else math.nan)
+        residual, carried = [], []
         for k in range(len(self.bonds)):
             pa, pb = power[2 * k], power[2 * k + 1]
-            self.residual[k] = abs(pa - pb) * h
-            self.carried[k] = max(abs(pa), abs(pb)) * h
+            residual.append(abs(pa - pb) * h)
+            carried.append(max(abs(pa), abs(pb)) * h)
             self.imbalance[k] = (pa - pb) * h
             self.capacity[k] = max(capacity[2 * k], capacity[2 * k + 1]) * h
+        self.residual[:] = residual
+        self.carried[:] = carried
         self.total += self.residual
         self.row[0::2] = self.residual
         self.row[1::2] = self.total

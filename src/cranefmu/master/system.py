@@ -559,8 +559,11 @@ class CoSystem:
     def do_step(self, i: int, t: float, h: float) -> None:
         comp = self.comps[i]
         t0 = clock.perf_counter()
-        try:
-            comp.step(t, h)
+        try:   # comp.step, inlined
+            comp.fresh = False
+            status = comp._do_step(comp._c, t, h, 1)
+            if status > 1:
+                comp._failed("fmi2DoStep", status)
         except Exception:
             raise SimulationError(f"component {comp.name} failed in the step from t = {t:.9g} s (H = {h:.3g} s): "
                                   f"{comp.last_error()}. Try a smaller --step, --adaptive, or --algorithm "
