@@ -80,11 +80,19 @@ class _Phase:
 
 def _shares_past(members: list, arrays: list) -> bool:
     """Every group's last len(arrays) history values are slices of ``arrays`` (the phase's past
-    gathers, oldest first): the phase may extrapolate all its groups in one product."""
+    gathers, oldest first; the newest was just appended to every group by the caller): the phase may
+    extrapolate all its groups in one product."""
     k = len(arrays)
     for arr in arrays:
         if arr is None:
             return False
+    if k == 2:   # extrapolation 1: only the one past value to check
+        past = arrays[0]
+        for g, _, _ in members:
+            hist = g.history
+            if len(hist) < 2 or hist[-2][1].base is not past:
+                return False
+        return True
     for g, _, _ in members:
         hist = g.history
         if len(hist) < k:
@@ -193,6 +201,7 @@ class CoSystem:
         self._stepping = on
         self._curvature_written = True
         self._phases = None   # built at the first exchange in step mode (every read position is known then)
+        self._w_times, self._w_t, self._w = None, None, None   # the last extrapolation weights and their times
 
     def _variable_names(self, scene: Scene) -> list[str]:
         """'src.out -> dst.in' for each coupling variable, in the order of the coupling vector."""
@@ -394,7 +403,11 @@ class CoSystem:
             # the phase's past values are arrays of this method, unless a history was rewritten (rollback,
             # start-up): then group by group
             if _shares_past(ph.members, arrays):
-                w1, w2 = lagrange_weights([q[0] for q in points], t)
+                times = [q[0] for q in points]
+                if times != self._w_times or t != self._w_t:   # the phases of one step share the weights
+                    self._w_times, self._w_t = times, t
+                    self._w = lagrange_weights(times, t)
+                w1, w2 = self._w
                 stack = np.array(arrays)
                 d1 = w1 @ stack
                 d2 = w2 @ stack if p > 1 else ph.zero  # a line has no curvature
