@@ -128,6 +128,7 @@ class CoSystem:
         self.scale = np.full(n, 0.0)        # running max |value| per coupling variable
         self.input_end = np.zeros(n)        # each input's value at the end of the last step, as fed
         self._new = np.zeros(n)             # exchange: the values now
+        self._d1 = np.zeros(n)              # exchange: their slopes, where a phase extrapolated them
         self.variable_names = self._variable_names(scene)
         # recorded: every Real output; watched for events: every Integer/Boolean output
         self.out_vrs, self.columns, self.flag_vrs = [], [], []
@@ -455,6 +456,8 @@ class CoSystem:
                     comp.fresh = False
                 g.fed = fed
         ph.feds = [g.fed for g, _, _ in ph.members]
+        if d1 is not None:
+            self._d1[ph.sl] = d1
         ph.fed = (values, d1, d2)
 
     def _write(self, comp: FmuComponent, vrs, count: int, set_values) -> None:
@@ -488,15 +491,15 @@ class CoSystem:
             self._capture_groups(self._end_groups, h)
             return
         ends = self.input_end
-        for ph in self._phases:
+        valid = [self._fed_intact(ph) for ph in self._phases]
+        if self._phases and all(f is not None and f[1] is not None and f[2] is ph.zero
+                                for ph, f in zip(self._phases, valid)):
+            # every phase fed a line (extrapolation 1): all of them at once, from the exchange's vectors
+            np.add(self._new, h * (self._d1 + 0.0), out=ends)
+            return
+        for ph, fed in zip(self._phases, valid):
             if not ph.wants_end:
                 continue
-            fed = ph.fed
-            if fed is not None:
-                for (g, _, _), f in zip(ph.members, ph.feds):
-                    if g.fed is not f:
-                        fed = None
-                        break
             if fed is None:
                 self._capture_groups([g for g, _, _ in ph.members], h)
                 continue
@@ -507,6 +510,16 @@ class CoSystem:
                 ends[ph.sl] = u + h * (d1 + 0.0)
             else:
                 ends[ph.sl] = u + h * (d1 + 0.5 * h * d2)
+
+    @staticmethod
+    def _fed_intact(ph: _Phase) -> tuple | None:
+        """What the phase's last exchange fed, if every group of it still holds that (else None)."""
+        fed = ph.fed
+        if fed is not None:
+            for (g, _, _), f in zip(ph.members, ph.feds):
+                if g.fed is not f:
+                    return None
+        return fed
 
     def _capture_groups(self, groups: list[InputGroup], h: float) -> None:
         for g in groups:
