@@ -223,7 +223,7 @@ class Watch:
     def update(self, t: float, h: float) -> str | None:
         b = self.bonds
         if self.growth is not None:
-            g = self.growth.update(b.residual.tolist(), b.carried.tolist())
+            g = self.growth.update(b.residual_list, b.carried_list)
             if g is not None:
                 return (f"power bond {b.names[g.bond]} (between {b.between(g.bond)}): its energy residual grew "
                         f"{g.factor:.3g} times in the last {g.steps} steps, by t = {t:.9g} s ({g.per_step():.4g} "

@@ -156,6 +156,8 @@ class BondMonitor:
         self.growth_alarm: GrowthAlarm | None = None   # set by the run: fixed step, alarm on
         self.grown: Growth | None = None
         self.imbalance = [0.0] * len(bonds)   # signed P_a - P_b times h of the last step [J]
+        self.residual_list = [0.0] * len(bonds)   # residual and carried of the last step as lists
+        self.carried_list = [0.0] * len(bonds)
         self.capacity = [0.0] * len(bonds)    # largest |force| |velocity| of the two sides times h [J]
         self._plan()
 
@@ -211,6 +213,7 @@ class BondMonitor:
             self.capacity[k] = max(capacity[2 * k], capacity[2 * k + 1]) * h
         self.residual[:] = residual
         self.carried[:] = carried
+        self.residual_list, self.carried_list = residual, carried   # the same, as floats (for the alarm)
         self.total += self.residual
         self.row[0::2] = self.residual
         self.row[1::2] = self.total

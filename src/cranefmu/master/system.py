@@ -492,9 +492,12 @@ class CoSystem:
             return
         ends = self.input_end
         valid = [self._fed_intact(ph) for ph in self._phases]
-        if self._phases and all(f is not None and f[1] is not None and f[2] is ph.zero
-                                for ph, f in zip(self._phases, valid)):
-            # every phase fed a line (extrapolation 1): all of them at once, from the exchange's vectors
+        lines = bool(valid)
+        for ph, f in zip(self._phases, valid):
+            if f is None or f[1] is None or f[2] is not ph.zero:
+                lines = False
+                break
+        if lines:   # every phase fed a line (extrapolation 1): all at once, from the exchange's vectors
             np.add(self._new, h * (self._d1 + 0.0), out=ends)
             return
         for ph, fed in zip(self._phases, valid):
