@@ -209,6 +209,9 @@ _WEIGHTS: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
 def _lagrange_weights(ts: list[float], t: float) -> tuple[np.ndarray, np.ndarray]:
     k = len(ts)
+    if k == 2:   # a line (the loop below gives the same numbers: den = 1.0 * (t_i - t_j))
+        t0, t1 = ts
+        return np.array((1.0 / (t0 - t1), 1.0 / (t1 - t0))), np.zeros(2)
     w1, w2 = np.zeros(k), np.zeros(k)
     for i in range(k):
         others = [ts[j] for j in range(k) if j != i]

@@ -223,7 +223,7 @@ class Watch:
     def update(self, t: float, h: float) -> str | None:
         b = self.bonds
         if self.growth is not None:
-            g = self.growth.update(b.residual.tolist(), b.carried.tolist())
+            g = self.growth.update(b.residual_list, b.carried_list)
             if g is not None:
                 return (f"power bond {b.names[g.bond]} (between {b.between(g.bond)}): its energy residual grew "
                         f"{g.factor:.3g} times in the last {g.steps} steps, by t = {t:.9g} s ({g.per_step():.4g} "
@@ -259,7 +259,7 @@ class ValueCheck:
 
     def step_complete(self, t: float, h: float, row: np.ndarray) -> None:
         system, bonds = self.system, self.bonds
-        if not np.all(np.isfinite(row)):
+        if not np.isfinite(row).all():
             i = int(np.flatnonzero(~np.isfinite(row))[0])
             names = system.columns + bonds.columns
             n = len(system.columns)

@@ -14,9 +14,12 @@ from typing import Protocol
 import numpy as np
 
 from .algorithms import Algorithm
+from .step_control import FixedSteps
 
 
 class Observer(Protocol):
+    """``values``: the row, an array the loop reuses for the next row (copy what you keep)."""
+
     def simulation_initialized(self, t: float, values: np.ndarray) -> str | None:
         """The row at the start time [s]; a reason to stop at once, or None."""
 
@@ -39,14 +42,25 @@ def march(system, algorithm: Algorithm, control: StepControl, sample, observers:
     """Step from t until the controller is done or an observer stops the run; returns why it stopped
     ('' at the end).  ``sample(h)`` gives the row of every output after a step of h (None: start)."""
     reason = _first(o.simulation_initialized(t, sample(None)) for o in observers)
+    stats = system.stats
+    # a controller that never rejects nor prepares (fixed steps) and an algorithm without rollback
+    # step directly (what _attempt does for them, without its calls)
+    plain = not control.rolls_back and type(control).prepare is FixedSteps.prepare \
+        and type(control).judge is FixedSteps.judge
     while not reason and (h := control.propose(t)) is not None:
-        iterations = _attempt(system, algorithm, control, t, h)
-        if iterations is None:
-            continue
+        if plain and not algorithm.needs_snapshot:
+            iterations = algorithm.step(t, h, None)
+        else:
+            iterations = _attempt(system, algorithm, control, t, h)
+            if iterations is None:
+                continue
         t = control.advance(t, h)
-        _count(system.stats, h, iterations)
+        _count(stats, h, iterations)
         row = sample(h)
-        reason = _first(o.step_complete(t, h, row) for o in observers)
+        for o in observers:   # the first reason to stop: those after it do not see the row
+            reason = o.step_complete(t, h, row)
+            if reason:
+                break
         if not reason:
             control.accepted(h)
     return reason or ""
@@ -90,11 +104,15 @@ class Sampler:
     def __init__(self, system, bonds, adaptive: bool):
         self.system, self.bonds = system, bonds
         self.read_flags = not adaptive and bool(system.flag_names)   # the adaptive controller read them
+        self.n = len(system.columns)
+        self.row = np.zeros(self.n + len(bonds.row))   # reused: observers copy what they keep
 
     def __call__(self, h: float | None) -> np.ndarray:
         if h is not None and self.bonds.bonds:
             self.bonds.measure(h)
         if self.read_flags:
             self.system.flags()
-        values = self.system.outputs()
-        return np.concatenate((values, self.bonds.row)) if self.bonds.bonds else values
+        row = self.system.fill_outputs(self.row)
+        if self.bonds.bonds:
+            row[self.n:] = self.bonds.row
+        return row

@@ -159,6 +159,8 @@ class BondMonitor:
         self.growth_alarm: GrowthAlarm | None = None   # set by the run: fixed step, alarm on
         self.grown: Growth | None = None
         self.imbalance = [0.0] * len(bonds)   # signed P_a - P_b times h of the last step [J]
+        self.residual_list = [0.0] * len(bonds)   # residual and carried of the last step as lists
+        self.carried_list = [0.0] * len(bonds)
         self.capacity = [0.0] * len(bonds)    # largest |force| |velocity| of the two sides times h [J]
         self._plan()
 
@@ -179,6 +181,7 @@ class BondMonitor:
         self._v = np.zeros(int(offsets[-1]))
         self._reads = [(c, np.array(v, dtype=np.intp), np.array(r, dtype=np.intp)) for c, (v, r) in reads.items()]
         self._in_v, self._in_index = np.array(in_v, dtype=np.intp), np.array(in_index, dtype=np.intp)
+        self._has_inputs = bool(in_v)
         self._sides = [(int(off), s.n, s.sign) for s, off in zip(sides, offsets)]
         self.system.need_input_ends(in_index)
 
@@ -191,7 +194,7 @@ class BondMonitor:
         v, system = self._v, self.system
         for comp, vpos, rpos in self._reads:
             v[vpos] = system.read(comp)[rpos]
-        if len(self._in_v):
+        if self._has_inputs:
             v[self._in_v] = system.input_end[self._in_index]
         x = v.tolist()
         power, capacity = [], []
@@ -204,12 +207,16 @@ class BondMonitor:
                 uu += u * u
             power.append(sign * p)
             capacity.append(math.sqrt(ff * uu) if ff * uu >= 0.0 else math.nan)
+        residual, carried = [], []
         for k in range(len(self.bonds)):
             pa, pb = power[2 * k], power[2 * k + 1]
-            self.residual[k] = abs(pa - pb) * h
-            self.carried[k] = max(abs(pa), abs(pb)) * h
+            residual.append(abs(pa - pb) * h)
+            carried.append(max(abs(pa), abs(pb)) * h)
             self.imbalance[k] = (pa - pb) * h
             self.capacity[k] = max(capacity[2 * k], capacity[2 * k + 1]) * h
+        self.residual[:] = residual
+        self.carried[:] = carried
+        self.residual_list, self.carried_list = residual, carried   # the same, as floats (for the alarm)
         self.total += self.residual
         self.carried_total += self.carried
         self.row[0::2] = self.residual

@@ -21,8 +21,10 @@ class Recorder:
     """Rows of (time, values...) kept in memory (optionally) and streamed to an open file descriptor.
 
     ``name`` is how the file is called in messages (the run's target), ``path`` where it is now.  ``count`` rows were
-    recorded, ``written`` of them are on disk.
+    recorded, ``written`` of them are on disk.  The values given are copied (the caller may reuse its array).
     """
+
+    BLOCK = 1024   # rows per preallocated block in memory
 
     def __init__(self, columns: list[str], fd: int | None = None, name: str = "", keep: bool = True,
                  flush_every: int = 1000, path: str = ""):
@@ -31,7 +33,11 @@ class Recorder:
         self.name = name
         self.path = path or name    # the file on disk while the run goes on (``name`` + ".part")
         self.keep = keep
-        self.rows: list[np.ndarray] = []
+        # rows in blocks of preallocated 2-D arrays, filled row by row (no per-row array); without
+        # ``keep`` one row, overwritten
+        self._blocks: list[np.ndarray] = []
+        self._block = np.empty((self.BLOCK if keep else 1, len(self.columns)))
+        self._at = 0
         self.count = 0
         self.written = 0
         self.write_error = ""
@@ -50,10 +56,16 @@ class Recorder:
         return self.name or None
 
     def record(self, time: float, values: np.ndarray) -> None:
-        row = np.concatenate(([time], values))
+        if self._at == len(self._block):
+            if self.keep:
+                self._blocks.append(self._block)
+                self._block = np.empty_like(self._block)
+            self._at = 0
+        row = self._block[self._at]
+        row[0] = time
+        row[1:] = values
+        self._at += 1
         self.last_time = time
-        if self.keep:
-            self.rows.append(row)
         self.count += 1
         if self.fd is not None:
             self._writer.writerow(row.tolist())  # csv writes a float as repr(): every digit kept
@@ -101,7 +113,8 @@ class Recorder:
     def result(self) -> np.ndarray:
         """The kept rows as a numpy structured array with one float field per column."""
         dtype = [(c, np.float64) for c in self.columns]
-        data = np.array(self.rows) if self.rows else np.zeros((0, len(self.columns)))
+        data = np.concatenate([*self._blocks, self._block[:self._at]]) if self.keep \
+            else np.zeros((0, len(self.columns)))
         out = np.zeros(len(data), dtype=dtype)
         for i, c in enumerate(self.columns):
             out[c] = data[:, i]

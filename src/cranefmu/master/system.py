@@ -72,6 +72,36 @@ class _Phase:
         self.zero = np.zeros(self.sl.stop - self.sl.start)
         self.all_rates = len(rate_sel) == len(self.zero)
         self.d2_zero = False   # the set array holds zero curvatures for every group of the phase
+        # what the last exchange fed the phase's groups: (values, d1 or None, d2) of the whole phase, and
+        # each group's ``fed`` tuple then (a group fed since by push() no longer holds its tuple)
+        self.fed: tuple | None = None
+        self.feds: list[tuple] = []
+        self.wants_end = True   # some input of the phase has its end value kept (need_input_ends)
+
+
+def _shares_past(members: list, arrays: list) -> bool:
+    """Every group's last len(arrays) history values are slices of ``arrays`` (the phase's past
+    gathers, oldest first; the newest was just appended to every group by the caller): the phase may
+    extrapolate all its groups in one product."""
+    k = len(arrays)
+    for arr in arrays:
+        if arr is None:
+            return False
+    if k == 2:   # extrapolation 1: only the one past value to check
+        past = arrays[0]
+        for g, _, _ in members:
+            hist = g.history
+            if len(hist) < 2 or hist[-2][1].base is not past:
+                return False
+        return True
+    for g, _, _ in members:
+        hist = g.history
+        if len(hist) < k:
+            return False
+        for q, arr in zip(hist[-k:], arrays):
+            if q[1].base is not arr:
+                return False
+    return True
 
 
 class CoSystem:
@@ -99,6 +129,7 @@ class CoSystem:
         self.scale = np.full(n, 0.0)        # running max |value| per coupling variable
         self.input_end = np.zeros(n)        # each input's value at the end of the last step, as fed
         self._new = np.zeros(n)             # exchange: the values now
+        self._d1 = np.zeros(n)              # exchange: their slopes, where a phase extrapolated them
         self.variable_names = self._variable_names(scene)
         # recorded: every Real output; watched for events: every Integer/Boolean output
         self.out_vrs, self.columns, self.flag_vrs = [], [], []
@@ -172,6 +203,7 @@ class CoSystem:
         self._stepping = on
         self._curvature_written = True
         self._phases = None   # built at the first exchange in step mode (every read position is known then)
+        self._w_times, self._w_t, self._w = None, None, None   # the last extrapolation weights and their times
 
     def _variable_names(self, scene: Scene) -> list[str]:
         """'src.out -> dst.in' for each coupling variable, in the order of the coupling vector."""
@@ -296,6 +328,9 @@ class CoSystem:
                             read_view[off:off + n])
             at.append(off)
             off += n
+        self._read_view = read_view
+        self._row_gather = np.array([at[i] + j for i, (a, b) in enumerate(self._out_slices) for j in range(b - a)],
+                                    dtype=np.intp)
         phases, current, stale = [], [], set()
         for g in self.links:
             if g.src in stale:
@@ -305,11 +340,44 @@ class CoSystem:
             if not g.keeps_outputs:
                 stale.add(g.dst)
         phases.append(current)
-        return [_Phase(gs, at, read_view) for gs in phases if gs]
+        out = [_Phase(gs, at, read_view) for gs in phases if gs]
+        for ph in out:
+            ph.source_comps = [self.comps[i] for i in ph.sources]
+            ph.runs = self._runs(ph)
+        self._phases = out
+        self._mark_end_phases()
+        return out
+
+    def _runs(self, ph: _Phase) -> list[tuple]:
+        """The phase's groups in runs of consecutive groups into one destination, each run written
+        with one fmi2SetReal of values and rates where it can be (every group takes our rate inputs
+        and none the FMI derivatives: their parts of the set array are adjacent, in the order of
+        ``links``), else group by group: (component, sends, merged vrs or None, values, count)."""
+        runs: list[tuple] = []
+        for g, a, b in ph.members:
+            send = (g, a, b, self.comps[g.dst], b - a, g.dt_vrs is not None)
+            if runs and runs[-1][0] is send[3]:
+                runs[-1][1].append(send)
+            else:
+                runs.append((send[3], [send]))
+        out = []
+        for comp, sends in runs:
+            if len(sends) < 2 or not all(s[5] and not s[0].fmi_derivatives for s in sends):
+                out.append((comp, sends, None, None, 0))
+                continue
+            vrs = [vr for s in sends for vr in s[0].set_vrs]
+            start = sends[0][0].set_at
+            count = len(vrs)
+            ends = [s[0].set_at + len(s[0].set_vrs) for s in sends]
+            if [s[0].set_at for s in sends[1:]] != ends[:-1]:   # not adjacent: group by group
+                out.append((comp, sends, None, None, 0))
+                continue
+            values = (ctypes.c_double * count).from_buffer(self._set_all, start * ctypes.sizeof(ctypes.c_double))
+            out.append((comp, sends, (ctypes.c_uint * count)(*vrs), values, count))
+        return out
 
     def _exchange_phase(self, ph: _Phase, t: float, p: int) -> None:
-        for i in ph.sources:
-            comp = self.comps[i]
+        for comp in ph.source_comps:
             if not comp.fresh:
                 try:
                     comp.read()
@@ -328,22 +396,25 @@ class CoSystem:
                 hist.append((t, values[a:b]))
                 if len(hist) > 3:
                     del hist[0]
-            first = first or hist
+            if first is None:
+                first = hist
         d1 = d2 = None
         if p > 0 and len(first) >= 2:
             points = first[-(p + 1):]
             arrays = [q[1].base for q in points]
-            k = len(points)
             # the phase's past values are arrays of this method, unless a history was rewritten (rollback,
             # start-up): then group by group
-            if all(arr is not None for arr in arrays) and all(
-                    len(g.history) >= k and all(q[1].base is arr for q, arr in zip(g.history[-k:], arrays))
-                    for g, _, _ in ph.members):
-                w1, w2 = lagrange_weights([q[0] for q in points], t)
+            if _shares_past(ph.members, arrays):
+                times = [q[0] for q in points]
+                if times != self._w_times or t != self._w_t:   # the phases of one step share the weights
+                    self._w_times, self._w_t = times, t
+                    self._w = lagrange_weights(times, t)
+                w1, w2 = self._w
                 stack = np.array(arrays)
                 d1 = w1 @ stack
                 d2 = w2 @ stack if p > 1 else ph.zero  # a line has no curvature
             else:
+                ph.fed = None
                 for g, a, b in ph.members:
                     self.push(g, values[a:b], *rates(g.history[-(p + 1):], t))
                 return
@@ -354,18 +425,50 @@ class CoSystem:
             if d2 is not ph.zero or not ph.d2_zero:   # a line's zero curvature is written once
                 sv[ph.set_d2] = d2 if ph.all_rates else d2[ph.rate_sel]
                 ph.d2_zero = d2 is ph.zero
-        for g, a, b in ph.members:
-            n = b - a
-            count = n
-            if g.dt_vrs is not None:
-                if d1 is not None:
-                    count, g.rates_set = 3 * n, True
-                elif g.rates_set:  # zero rates: sent once, then values only
-                    g.set_view[n:] = 0.0
-                    count, g.rates_set = 3 * n, False
-            u1 = g.zero if d1 is None else d1[a:b]
-            u2 = g.zero if d1 is None else d2[a:b]
-            self._send(g, count, values[a:b], u1, u2)
+        for comp, sends, vrs, set_values, count in ph.runs:
+            if vrs is not None and d1 is not None:   # the run's groups in one fmi2SetReal
+                for g, a, b, _, _, _ in sends:
+                    g.rates_set = True
+                    g.fed = (values[a:b], d1[a:b], d2[a:b])
+                self._write(comp, vrs, count, set_values)
+                for g, _, _, _, _, _ in sends:
+                    if not g.keeps_fresh:
+                        comp.fresh = False
+                continue
+            for g, a, b, comp, n, has_rates in sends:
+                count = n
+                if has_rates:
+                    if d1 is not None:
+                        count, g.rates_set = 3 * n, True
+                    elif g.rates_set:  # zero rates: sent once, then values only
+                        g.set_view[n:] = 0.0
+                        count, g.rates_set = 3 * n, False
+                if d1 is None:
+                    fed = (values[a:b], g.zero, g.zero)
+                else:
+                    fed = (values[a:b], d1[a:b], d2[a:b])
+                self._write(comp, g.set_vrs, count, g.set_values)
+                if g.fmi_derivatives:
+                    try:
+                        CoSystem._input_derivatives(comp.fmu, g, fed[1], fed[2])
+                    except Exception:
+                        raise self.refused(comp, "setting its inputs") from None
+                if not g.keeps_fresh:
+                    comp.fresh = False
+                g.fed = fed
+        ph.feds = [g.fed for g, _, _ in ph.members]
+        if d1 is not None:
+            self._d1[ph.sl] = d1
+        ph.fed = (values, d1, d2)
+
+    def _write(self, comp: FmuComponent, vrs, count: int, set_values) -> None:
+        """comp.write, inlined: the hot path's fmi2SetReal."""
+        try:
+            status = comp._set_real(comp._c, vrs, count, set_values)
+            if status > 1:
+                comp._failed("fmi2SetReal", status)
+        except Exception:
+            raise self.refused(comp, "setting its inputs") from None
 
     def _exchange_groups(self, t: float, p: int) -> None:
         """Group by group (initialization mode, where any input set may change any output)."""
@@ -382,8 +485,48 @@ class CoSystem:
             self.push(g, value, d1, d2)
 
     def capture_input_ends(self, h: float) -> None:
-        """Remember each input's fed value at the end of a step of ``h`` (before the next exchange)."""
-        for g in self._end_groups:
+        """Remember each input's fed value at the end of a step of ``h`` (before the next exchange).
+        A phase whose groups still hold what its exchange fed them is done in one expression (the same
+        operations element by element as group by group, so the same numbers)."""
+        if self._phases is None:
+            self._capture_groups(self._end_groups, h)
+            return
+        ends = self.input_end
+        valid = [self._fed_intact(ph) for ph in self._phases]
+        lines = bool(valid)
+        for ph, f in zip(self._phases, valid):
+            if f is None or f[1] is None or f[2] is not ph.zero:
+                lines = False
+                break
+        if lines:   # every phase fed a line (extrapolation 1): all at once, from the exchange's vectors
+            np.add(self._new, h * (self._d1 + 0.0), out=ends)
+            return
+        for ph, fed in zip(self._phases, valid):
+            if not ph.wants_end:
+                continue
+            if fed is None:
+                self._capture_groups([g for g, _, _ in ph.members], h)
+                continue
+            u, d1, d2 = fed
+            if d1 is None:
+                ends[ph.sl] = u
+            elif d2 is ph.zero:   # 0.5 h 0.0 is +0.0 (h > 0): the same sum, one product fewer
+                ends[ph.sl] = u + h * (d1 + 0.0)
+            else:
+                ends[ph.sl] = u + h * (d1 + 0.5 * h * d2)
+
+    @staticmethod
+    def _fed_intact(ph: _Phase) -> tuple | None:
+        """What the phase's last exchange fed, if every group of it still holds that (else None)."""
+        fed = ph.fed
+        if fed is not None:
+            for (g, _, _), f in zip(ph.members, ph.feds):
+                if g.fed is not f:
+                    return None
+        return fed
+
+    def _capture_groups(self, groups: list[InputGroup], h: float) -> None:
+        for g in groups:
             u, d1, d2 = g.fed
             self.input_end[g.sl] = u if d1 is g.zero and d2 is g.zero else u + h * (d1 + 0.5 * h * d2)
 
@@ -391,6 +534,12 @@ class CoSystem:
         """Only these coupling variables' end values are read from :attr:`input_end` (default: all)."""
         wanted = set(indices)
         self._end_groups = [g for g in self.links if wanted.intersection(range(g.sl.start, g.sl.stop))]
+        self._mark_end_phases()
+
+    def _mark_end_phases(self) -> None:
+        ends = {id(g) for g in self._end_groups}
+        for ph in self._phases or ():
+            ph.wants_end = any(id(g) in ends for g, _, _ in ph.members)
 
     def coupling_values(self) -> np.ndarray:
         """The newest value of every coupling variable (the vector the iterative algorithm solves for)."""
@@ -407,11 +556,21 @@ class CoSystem:
 
     def outputs(self) -> np.ndarray:
         """Every Real output, then the discrete outputs of the last :meth:`flags` call (a new array)."""
-        row = self._row
-        for i, (a, b) in enumerate(self._out_slices):
-            row[a:b] = self.read(i)[:b - a]
-        row[self.n_real:] = self.flag_value
-        return row.copy()
+        return self.fill_outputs(self._row).copy()
+
+    def fill_outputs(self, row: np.ndarray) -> np.ndarray:
+        """:meth:`outputs` written into ``row`` (its first len(columns) entries); returns ``row``.
+        In step mode one gather from the buffer every component reads into."""
+        if self._phases is None:
+            for i, (a, b) in enumerate(self._out_slices):
+                row[a:b] = self.read(i)[:b - a]
+        else:
+            for i, comp in enumerate(self.comps):
+                if not comp.fresh:
+                    self.read(i)
+            row[:self.n_real] = self._read_view[self._row_gather]
+        row[self.n_real:len(self.columns)] = self.flag_value
+        return row
 
     def flags(self) -> list[int]:
         """Every Integer/Boolean output (mode flags: slack, lifted, tipping, ...)."""
@@ -430,8 +589,11 @@ class CoSystem:
     def do_step(self, i: int, t: float, h: float) -> None:
         comp = self.comps[i]
         t0 = clock.perf_counter()
-        try:
-            comp.step(t, h)
+        try:   # comp.step, inlined
+            comp.fresh = False
+            status = comp._do_step(comp._c, t, h, 1)
+            if status > 1:
+                comp._failed("fmi2DoStep", status)
         except Exception:
             raise SimulationError(f"component {comp.name} failed in the step from t = {t:.9g} s (H = {h:.3g} s): "
                                   f"{comp.last_error()}. Try a smaller --step, --adaptive, or --algorithm "
