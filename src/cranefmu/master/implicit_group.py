@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .algorithms import Iterative, _nominals
+from .coupling import lagrange_weights
 from ..errors import SettingsError
 from .residual import CouplingCriterion
 from .system import CoSystem
@@ -51,7 +52,8 @@ class ImplicitGroup(Iterative):
     needs_snapshot = False   # it snapshots the group's FMUs itself
 
     PERTURBATION = 1e-6   # relative to each value's size: the finite-difference step of the Jacobian
-    STALE = 2             # Newton steps after which the frozen Jacobian is estimated anew
+    STALE = 2             # Newton steps after which the Jacobian is estimated anew
+    BROYDEN = True        # update the Newton matrix from every iteration's secant
 
     def __init__(self, system: CoSystem, names: list[str], degree: int, tolerance: float, max_iterations: int,
                  accelerator: str = "iqn-ils"):
@@ -132,6 +134,25 @@ class ImplicitGroup(Iterative):
         self.criterion.start(now)
         return u, scale
 
+    def _feed(self, t: float, h: float, u: np.ndarray) -> None:
+        """The group's internal inputs follow the polynomial through the past values and the iterate
+        (degree 0: the iterate held), its rates computed for the whole vector at once."""
+        if self.degree > 2 or self.degree == 0 or len(self.pairs[0][0].history) < self.degree + 1:
+            return super()._feed(t, h, u) if self.degree else self._hold(u)
+        past = [np.concatenate([g.history[-j][1] for g, _ in self.pairs]) for j in range(self.degree, 0, -1)]
+        times = [self.pairs[0][0].history[-j][0] for j in range(self.degree, 0, -1)]
+        w1, w2 = lagrange_weights([*times, t + h], t)
+        stack = np.array([*past, u])
+        d1, d2 = w1 @ stack, w2 @ stack
+        s, now = self.system, past[-1]
+        for g, sl in self.pairs:
+            s.push(g, now[sl], d1[sl], d2[sl])
+
+    def _hold(self, u: np.ndarray) -> None:
+        s = self.system
+        for g, sl in self.pairs:
+            s.push(g, u[sl], g.zero, g.zero)
+
     def _evaluate(self, t: float, h: float, u: np.ndarray) -> np.ndarray:
         """G(u): the group's FMUs step from the snapshot's state with the internal inputs following
         ``u``; the internal values they give at t + h."""
@@ -139,8 +160,29 @@ class ImplicitGroup(Iterative):
         self._feed(t, h, u)
         for i in self.index:
             s.do_step(i, t, h)
-        s.capture_input_ends(h)
         return self._image(t + h)
+
+    def _image(self, t1: float) -> np.ndarray:
+        """G(u) at t1; a value is fed on only where its destination has an output that depends on it
+        directly (read later in this image); the others' inputs are fed anew before the next use."""
+        s = self.system
+        out = np.empty(self.n)
+        for g, sl in self.pairs:
+            value = s.pull(g)
+            out[sl] = value
+            if not g.keeps_outputs:
+                s.push(g, value, g.zero, g.zero)
+        return out
+
+    def _broyden(self, du: np.ndarray, dr: np.ndarray) -> None:
+        """Good Broyden update of the Newton matrix from one secant (du, dr = change of G(u) - u),
+        both scaled: the frozen Jacobian follows a slowly turning map without new estimates."""
+        m, at = self.newton
+        du, dr = du / at, dr / at
+        mdr = m @ dr
+        den = float(du @ mdr)
+        if den != 0.0 and np.isfinite(den):   # M = -(dF/du)^-1:  M+ = M - (du + M dr) du^T M / (du^T M dr)
+            m -= np.outer(du + mdr, du @ m) / den
 
     def _estimate(self, t: float, h: float, u: np.ndarray, gu: np.ndarray, scale: np.ndarray, snapshot) -> None:
         """The Newton matrix (I - J)^-1 of the map's Jacobian J = dG/du (scaled by ``scale``), by one
@@ -166,29 +208,30 @@ class ImplicitGroup(Iterative):
         try:
             u, scale = self._start(t, h)
             self.span, errors = (t, h), []
+            s.capture_input_ends(h)   # the group's inputs from outside as fed; its own ends are u (below)
             gu = self._evaluate(t, h, u)
             evaluations = 1
             for k in range(1, self.max_iterations + 1):
-                if k > 1:
+                if k > 1 or self.newton is not None:
                     done, worst = self._converged(u, gu, scale, errors)
                     if done:
-                        if k > self.STALE:     # the frozen Jacobian no longer fits: a new one next step
+                        if k > self.STALE:     # the Jacobian no longer fits: a new one next step
                             self.newton = None
+                        s.input_end[self.at] = u   # the end value of every input polynomial is the iterate
                         s.exchange(t + h)
                         return evaluations
                 if self.newton is None or k > self.STALE + 1:
                     self._estimate(t, h, u, gu, scale, group)
                     evaluations += self.n
-                elif k == 1:
-                    done, worst = self._converged(u, gu, scale, errors)
-                    if done:
-                        s.exchange(t + h)
-                        return evaluations
                 m, at = self.newton
                 self._restore(group)
-                u = u + at * (m @ ((gu - u) / at))
-                gu = self._evaluate(t, h, u)
+                r = gu - u
+                u_next = u + at * (m @ (r / at))
+                gu_next = self._evaluate(t, h, u_next)
                 evaluations += 1
+                if self.BROYDEN:
+                    self._broyden(u_next - u, (gu_next - u_next) - r)
+                u, gu = u_next, gu_next
             raise self._not_converged(k, u, gu, scale, worst)
         finally:
             self._free(group[0])
