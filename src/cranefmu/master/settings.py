@@ -69,8 +69,9 @@ class Settings:
                                       form="negate", flag_help="do not stop a run whose explicit coupling is "
                                       "unstable (the alarm is on by default)")
     implicit: list[str] | None = setting(None, "jacobi: couple these power bonds or components implicitly (their "
-                                         "components form one group, iterated to coupling_tolerance each step with "
-                                         "rollback of only its FMUs; degree = extrapolation), the rest explicitly",
+                                         "components form one group, solved by Newton to coupling_tolerance each "
+                                         "step with rollback of only its FMUs; degree = extrapolation), the rest "
+                                         "explicitly; e.g. foot_heave,tip",
                                          metavar="NAMES", form="list")
     stop_when: list[str] | None = setting(None, "end the run (as a result) at the first output time where one "
                                           "of these outputs 'component.variable' is non-zero (default: the "
