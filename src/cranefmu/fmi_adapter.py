@@ -311,7 +311,14 @@ class CraneSlave(Fmi2Slave):
 
     # --- state ----------------------------------------------------------------------------------
     def _get_fmu_state(self) -> dict[str, Any]:
-        state = {v.name: v.getter() for v in self.vars.values() if v.causality != Fmi2Causality.output}
+        names = self.__dict__.get("_state_names")
+        if names is None:   # every variable but the outputs, listed once
+            names = self._state_names = [v.name for v in self.vars.values() if v.causality != Fmi2Causality.output]
+        d = self.__dict__
+        try:   # the values live in the instance's attributes: read them directly (a getter call each cost 2x)
+            state = {n: d[n] for n in names}
+        except KeyError:
+            state = {n: getattr(self, n) for n in names}
         state["__x"] = [float(v) for v in self._x]
         state["__t"] = self._t
         state["__initialized"] = self._initialized
@@ -321,11 +328,17 @@ class CraneSlave(Fmi2Slave):
         values = dict(state)
         self._x = np.array(values.pop("__x"), dtype=float)
         self._t = float(values.pop("__t"))
+        was_initialized = self._initialized
         self._initialized = bool(values.pop("__initialized"))
+        # the model holds only the parameters (and caches keyed by their arguments, e.g. the chassis's
+        # matrix exponentials): with the same parameters it is kept, a rollback then costs no rebuild
+        # (measured: the rebuild was 3/4 of a chassis rollback's cost)
+        same = was_initialized and self._model is not None and all(
+            values[n] == getattr(self, n) for n in self._param_names if n in values)
         for name, value in values.items():
             setattr(self, name, value)
         self._u = self._rates_now = None
-        if self._initialized:
+        if self._initialized and not same:
             self._model = self._build_model()
             self._fixed_values = self._fixed_parameters()
         self._outputs_stale = True

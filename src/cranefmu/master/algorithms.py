@@ -160,12 +160,15 @@ class Iterative(Algorithm):
         # iterations a step, at most 6).  Dropping them only when the residual grows tripped the
         # power-bond alarm at 0.1-16 s (not understood yet): not used.
         self.acc = ACCELERATORS[accelerator](**({"reuse": 0} if accelerator == "iqn-ils" and degree == 0 else {}))
-        self.index = range(len(system.comps))
+        self.index = range(len(system.comps))          # the components iterated
+        self.pairs = list(zip(system.links, system.slices))   # the links iterated, their slice of u
+        self.n = system.n_coupling
+        self.names = system.variable_names
         self.criterion = CouplingCriterion(tolerance, _nominals(system))
 
     def _feed(self, t: float, h: float, u: np.ndarray) -> None:
         s = self.system
-        for g, sl in zip(s.links, s.slices):
+        for g, sl in self.pairs:
             if self.degree == 0:  # implicit zero-order hold: the end value over the whole step
                 zero = np.zeros(sl.stop - sl.start)
                 s.push(g, u[sl], zero, zero)
@@ -176,8 +179,8 @@ class Iterative(Algorithm):
     def _image(self, t1: float) -> np.ndarray:
         """G(u): the coupling values the FMUs give at t1 (fed along in feedthrough order)."""
         s = self.system
-        out = np.empty(s.n_coupling)
-        for g, sl in zip(s.links, s.slices):
+        out = np.empty(self.n)
+        for g, sl in self.pairs:
             value = s.pull(g)
             out[sl] = value
             zero = np.zeros_like(value)
@@ -203,9 +206,9 @@ class Iterative(Algorithm):
 
     def _not_converged(self, k: int, u: np.ndarray, gu: np.ndarray, scale: np.ndarray,
                        worst: int) -> SimulationError:
-        s, (t, h) = self.system, self.span
-        n = max(s.n_coupling, 1)
-        name = s.variable_names[worst % n] if s.variable_names else "?"
+        t, h = self.span
+        n = max(self.n, 1)
+        name = self.names[worst % n] if self.names else "?"
         size = max(scale[worst], abs(u[worst]), abs(gu[worst]))
         change = abs(gu[worst] - u[worst])
         return SimulationError(f"iterative coupling did not converge in the step from t = {t:.9g} s (H = {h:.3g} s): "
@@ -214,16 +217,25 @@ class Iterative(Algorithm):
                                f"{self.tolerance:g} relative + {self.criterion.floor[worst % n]:.3g} absolute). "
                                "Try a smaller --step, or --adaptive.")
 
-    def step(self, t: float, h: float, snapshot=None) -> int:
+    def _start(self, t: float, h: float) -> tuple[np.ndarray, np.ndarray]:
+        """(first iterate u at t + h, the values' sizes); the criterion takes in the values at t."""
         s = self.system
         u = s.predicted(t, h, order=min(self.degree, 2))
         scale = self._scale()
         self.criterion.start(s.coupling_values())
+        return u, scale
+
+    def _restore(self, snapshot) -> None:
+        self.system.restore(snapshot)
+
+    def step(self, t: float, h: float, snapshot=None) -> int:
+        s = self.system
+        u, scale = self._start(t, h)
         self.acc.start_step()
         self.span, errors = (t, h), []
         for k in range(1, self.max_iterations + 1):
             if k > 1:
-                s.restore(snapshot)
+                self._restore(snapshot)
                 u = scale * self.acc.next(u / scale, gu / scale)
             self._feed(t, h, u)
             for i in self.index:
@@ -298,7 +310,12 @@ def make_algorithm(system: CoSystem, s) -> Algorithm:
             raise SettingsError(f"extrapolation = {s.extrapolation!r} is not allowed with algorithm = 'jacobi-plain' "
                                 "(libcosim's zero-order hold): use 0, or algorithm 'jacobi'")
         return PlainJacobi(system)
-    if s.algorithm == "jacobi":
+    if s.algorithm == "jacobi" and s.implicit:
+        from .implicit_group import ImplicitGroup
+
+        algo = ImplicitGroup(system, s.implicit, degree=s.extrapolation, tolerance=s.coupling_tolerance,
+                             max_iterations=s.max_iterations, accelerator=s.accelerator)
+    elif s.algorithm == "jacobi":
         algo = Jacobi(system)
     elif s.algorithm == "gauss-seidel":
         algo = GaussSeidel(system, s.order)

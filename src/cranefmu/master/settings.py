@@ -78,6 +78,11 @@ class Settings:
                                       "residual grows geometrically, or a coupling value's change per step)",
                                       form="negate", flag_help="do not stop a run whose explicit coupling is "
                                       "unstable (the alarm is on by default)")
+    implicit: list[str] | None = setting(None, "jacobi: couple these power bonds or components implicitly (their "
+                                         "components form one group, solved by Newton to coupling_tolerance each "
+                                         "step with rollback of only its FMUs; degree = extrapolation), the rest "
+                                         "explicitly; e.g. foot_heave,tip",
+                                         metavar="NAMES", form="list")
     stop_when: list[str] | None = setting(None, "end the run (as a result) at the first output time where one "
                                           "of these outputs 'component.variable' is non-zero (default: the "
                                           "scene's own stop conditions; 'none' or [] runs on)", metavar="VARS",
@@ -121,6 +126,13 @@ class Settings:
                                            not all(isinstance(v, str) for v in self.stop_when)):
             raise SettingsError(f"stop_when = {self.stop_when!r} is not allowed: a list of output names "
                                 "'component.variable' (empty: run on)")
+        if self.implicit is not None:
+            if isinstance(self.implicit, str) or not all(isinstance(v, str) and v for v in self.implicit):
+                raise SettingsError(f"implicit = {self.implicit!r} is not allowed: a list of power-bond or "
+                                    "component names")
+            if self.implicit and self.algorithm != "jacobi":
+                raise SettingsError(f"implicit = {self.implicit!r} is not allowed with algorithm = "
+                                    f"{self.algorithm!r}: only with 'jacobi' (iterative couples everything implicitly)")
         for name in ("start_time", "stop_time", "step_size", "tolerance", "coupling_tolerance", "init_tolerance"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):

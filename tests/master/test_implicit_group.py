@@ -1,0 +1,88 @@
+"""The implicit group (``implicit=``): stable where Jacobi's alarm trips, converging at the order of
+its degree, the rest of the system explicit and unchanged; bad names refused by name."""
+import numpy as np
+import pytest
+
+from cranefmu.converge import key_outputs
+from cranefmu.errors import SettingsError, SimulationError
+from cranefmu.master.run import run
+from oscillator.runs import DAMPED, X0, Z0, go, jacobi_limit
+
+BOTH = ["mass", "spring"]
+
+
+def error(res, osc=DAMPED):
+    exact = osc.solution(res["time"], Z0)
+    return np.max(np.abs(res["mass.x"] - exact[:, 0]))
+
+
+def test_group_is_stable_where_the_jacobi_alarm_trips(oscillator_ssp):
+    h = 1.7 * jacobi_limit()
+    with pytest.raises(SimulationError, match="unstable"):
+        go(oscillator_ssp, h, DAMPED, stop=60 * h)
+    res = go(oscillator_ssp, h, DAMPED, stop=60 * h, implicit=BOTH, extrapolation=1)
+    amp = np.abs(res.result["mass.x"])
+    assert amp[-15:].max() < 0.2 * amp[:15].max()   # decays like the damped exact solution
+    assert error(res.result) < 0.3 * X0
+
+
+@pytest.mark.parametrize("degree, order", [(0, 1.0), (1, 2.0)])
+def test_error_falls_with_the_order_of_the_degree(oscillator_ssp, degree, order):
+    """Degree 0 holds the iterate (backward-Euler-like, first order); degree 1 interpolates linearly
+    between the past value and the iterate (trapezoid-like, second order)."""
+    h1 = 0.9 * jacobi_limit()
+    errs = [error(go(oscillator_ssp, h, DAMPED, stop=3.0, implicit=BOTH, extrapolation=degree,
+                     coupling_tolerance=1e-10).result) for h in (h1 / 2, h1 / 4)]
+    observed = np.log(errs[0] / errs[1]) / np.log(2.0)
+    assert observed == pytest.approx(order, abs=0.3)
+
+
+def test_group_matches_iterative_coupling_of_the_same_system(oscillator_ssp):
+    """Both FMUs in the group: the same fixed point as the whole-system iterative coupling."""
+    h = 1.2 * jacobi_limit()
+    a = go(oscillator_ssp, h, DAMPED, implicit=BOTH, extrapolation=0, coupling_tolerance=1e-12).result
+    b = go(oscillator_ssp, h, DAMPED, algorithm="iterative", extrapolation=0, coupling_tolerance=1e-12).result
+    assert np.max(np.abs(a["mass.x"] - b["mass.x"])) < 1e-9 * X0
+
+
+def test_empty_group_is_plain_jacobi_bit_for_bit(oscillator_ssp):
+    a = go(oscillator_ssp, 0.05, DAMPED, extrapolation=1).result
+    b = go(oscillator_ssp, 0.05, DAMPED, extrapolation=1, implicit=[]).result
+    assert all(np.array_equal(a[k], b[k]) for k in a.dtype.names)
+
+
+@pytest.mark.parametrize("names, allowed", [(["nope"], "mass, spring"), (["mass"], "two that exchange")])
+def test_bad_names_are_refused_by_name(oscillator_ssp, names, allowed):
+    with pytest.raises(SettingsError, match=allowed) as info:
+        go(oscillator_ssp, 0.05, DAMPED, implicit=names)
+    assert repr(names[0]) in str(info.value) or names[0] in str(info.value)
+
+
+def test_only_with_jacobi(oscillator_ssp):
+    with pytest.raises(SettingsError, match="only with 'jacobi'"):
+        go(oscillator_ssp, 0.05, DAMPED, algorithm="gauss-seidel", implicit=BOTH)
+
+
+TRUCK = dict(stop_time=13.0, algorithm="jacobi", extrapolation=1, progress=False)
+
+
+def test_truck_foot_bond_implicit_runs_at_20_ms_where_jacobi_trips(built):
+    """truck_telescope at H = 20 ms: Jacobi's alarm trips through the soil-stiff foot bond (t ~ 11 s);
+    with foot_heave implicit the run goes through and agrees with Jacobi at 10 ms (0.05 % of range
+    from the monolith, benchmarks/results/implicit_bond.md) to 0.5 % of each key output's range."""
+    with pytest.raises(SimulationError, match="foot_"):
+        run("truck_telescope", step_size=0.02, **TRUCK)
+    imp = run("truck_telescope", step_size=0.02, implicit=["foot_heave"], coupling_tolerance=1e-5, **TRUCK)
+    fine = run("truck_telescope", step_size=0.01, **TRUCK).result
+    assert imp.stats.iterations / imp.stats.steps < 3   # one Newton correction with a frozen Jacobian
+    res = imp.result
+    for k in key_outputs("truck_telescope"):
+        ref = fine[k][::2]
+        assert np.max(np.abs(res[k] - ref)) < 5e-3 * np.ptp(ref), k
+
+
+def test_unknown_truck_name_lists_bonds_and_components(built):
+    with pytest.raises(SettingsError) as info:
+        run("truck_telescope", step_size=0.02, implicit=["foot_heav"], **TRUCK)
+    msg = str(info.value)
+    assert "'foot_heav'" in msg and "foot_heave" in msg and "foot_tilt" in msg and "chassis" in msg
