@@ -204,12 +204,18 @@ class Watch:
     ``bonds`` is the run's :class:`~.power_bonds.BondMonitor` (measured for this step), ``system``
     its :class:`~.system.CoSystem`."""
 
-    def __init__(self, system, bonds, adaptive: bool):
+    def __init__(self, system, bonds, adaptive: bool, solved: set[int] | frozenset[int] = frozenset()):
+        """``solved``: components whose values among themselves are solved implicitly (an implicit
+        group): a bond between two of them carries the iteration's residual, not an explicit
+        coupling's, and is not watched (its convergence is the iteration's criterion)."""
         self.system, self.bonds = system, bonds
-        n = len(bonds.bonds)
+        watched = [k for k, b in enumerate(bonds.bonds) if not (b.a.comp in solved and b.b.comp in solved)]
+        # None: every bond (the lists go to the detectors as they are)
+        self.watched = None if len(watched) == len(bonds.bonds) else watched
+        n = len(watched)
         self.growth = GrowthAlarm(n) if n and not adaptive else None
         self.imbalance = ImbalanceAlarm(n) if n else None
-        self.increments = IncrementAlarm(system.n_coupling) if not n and system.n_coupling else None
+        self.increments = IncrementAlarm(system.n_coupling) if not bonds.bonds and system.n_coupling else None
 
     def simulation_initialized(self, t: float, values) -> None:
         return None
@@ -221,16 +227,20 @@ class Watch:
             raise SimulationError(alarm)
 
     def update(self, t: float, h: float) -> str | None:
-        b = self.bonds
+        b, w = self.bonds, self.watched
         if self.growth is not None:
-            g = self.growth.update(b.residual_list, b.carried_list)
+            g = (self.growth.update(b.residual_list, b.carried_list) if w is None else
+                 self.growth.update([b.residual_list[k] for k in w], [b.carried_list[k] for k in w]))
             if g is not None:
+                g.bond = g.bond if w is None else w[g.bond]
                 return (f"power bond {b.names[g.bond]} (between {b.between(g.bond)}): its energy residual grew "
                         f"{g.factor:.3g} times in the last {g.steps} steps, by t = {t:.9g} s ({g.per_step():.4g} "
                         "per step, geometric): the explicit coupling is unstable at this step size. " + ADVICE)
         if self.imbalance is not None:
-            m = self.imbalance.update(b.imbalance, b.capacity)
+            m = (self.imbalance.update(b.imbalance, b.capacity) if w is None else
+                 self.imbalance.update([b.imbalance[k] for k in w], [b.capacity[k] for k in w]))
             if m is not None:
+                m.bond = m.bond if w is None else w[m.bond]
                 return (f"power bond {b.names[m.bond]} (between {b.between(m.bond)}): in each of the last "
                         f"{m.steps // self.imbalance.window} windows of {self.imbalance.window} steps up to "
                         f"t = {t:.9g} s the coupling created or destroyed at least {m.ratio:.0%} of the energy "

@@ -160,7 +160,7 @@ def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, para
         _refuse_connected_inputs(system, parameters)
         bonds = BondMonitor(system, resolve(system, loaded.bonds))
         _check_capabilities(system, settings, bonds)
-        watch = Watch(system, bonds, settings.adaptive) if settings.instability_alarm else None
+        watch = Watch(system, bonds, settings.adaptive, _solved(system, settings)) if settings.instability_alarm else None
         recorder = Recorder(system.columns + bonds.columns, claim.fd if claim else None,
                             str(claim.target) if claim else "", keep=keep,
                             path=str(claim.part or claim.target) if claim else "")
@@ -245,6 +245,15 @@ def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> No
     if s.adaptive and s.step_control == "ecco" and not bonds.bonds:
         raise SettingsError("step_control = 'ecco' is not allowed for this scene: it declares no power bonds "
                             "(see docs/power_bonds.md, 'Declaring a bond')")
+
+
+def _solved(system: CoSystem, s: Settings) -> set[int]:
+    """Components of the run's implicit group (none without one)."""
+    if not s.implicit or s.algorithm != "jacobi":
+        return set()
+    from .implicit_group import group_members
+
+    return set(group_members(system, list(s.implicit)))
 
 
 def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor, progress: Progress,
