@@ -103,6 +103,11 @@ class Settings:
         """Take the scene's stored settings for every setting the caller did not give."""
         given = self.given if self.given is not None else {f.name for f in fields(self)}
         taken = tuple(name for name in stored if name not in given)
+        if "algorithm" in given and stored.get("algorithm", self.algorithm) != self.algorithm:
+            # the caller chose another algorithm: the scene's settings made for its own one do not carry over
+            # (an implicit group is Jacobi's; jacobi-plain holds values, extrapolation 0)
+            mine = {"implicit"} | ({"extrapolation"} if self.algorithm == "jacobi-plain" else set())
+            taken = tuple(name for name in taken if name not in mine)
         for name in taken:
             setattr(self, name, stored[name])
         self.from_scene = taken
