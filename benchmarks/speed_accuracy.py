@@ -79,6 +79,8 @@ def warm_run_once(scene: str, stop: float, h: float, tol, algorithm: str, extrap
     the scene's extraction done, as the monolithic sweep solves 0.01 s before it times a tolerance."""
     from cranefmu import converge as cv
 
+    if algorithm is not None:   # a named algorithm means its explicit form, not the scene's stored implicit group
+        options.setdefault("implicit", [])
     cv.run_once(scene, 5 * h, h, None, algorithm, extrapolation, *args,
                 **{k: v for k, v in options.items() if k != "tolerance"})
     return cv.run_once(scene, stop, h, tol, algorithm, extrapolation, *args, **options)
@@ -210,7 +212,7 @@ def profile_run(scene: str, stop: float, h: float, algorithm: str, extrapolation
     t0 = clock.perf_counter()
     prof.enable()
     res = run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
-              keep=False, isolate=False, instability_alarm=False)
+              keep=False, isolate=False, instability_alarm=False, implicit=[])
     prof.disable()
     total = clock.perf_counter() - t0
     st = pstats.Stats(prof)
@@ -300,7 +302,7 @@ def fmi_split(scene: str, stop: float, h: float, algorithm: str, extrapolation: 
     runmod._loop = timed_loop
     try:
         res = runmod.run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
-                         keep=False, isolate=False, **options)
+                         keep=False, isolate=False, **{"implicit": [], **options})
     finally:
         runmod._loop, fmi1._FMU._loadFunctions = inner, load
     # the timer's own cost per call, to say how much of "inside FMI" it adds
@@ -371,7 +373,7 @@ def unprofiled_split(scene: str, stop: float, h: float, algorithm: str, extrapol
     from cranefmu.master.run import run
 
     res = run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
-              keep=False, isolate=False)
+              keep=False, isolate=False, implicit=[])
     return {"wall": res.stats.wall_time, "fmu_time": dict(res.stats.fmu_time), "steps": res.stats.steps}
 
 

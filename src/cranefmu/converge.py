@@ -141,6 +141,8 @@ def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: f
                   **extra)
     # None: not given, the scene's stored setting (else the global default) rules
     kwargs.update({k: v for k, v in (("algorithm", algorithm), ("extrapolation", extrapolation)) if v is not None})
+    if algorithm is not None:   # a study of a named algorithm studies its explicit form, not a stored implicit group
+        kwargs.setdefault("implicit", [])
     if tolerance is not None:
         kwargs.update(adaptive=True, tolerance=tolerance)
     row = ConvergenceRun(step_size, tolerance)

@@ -105,8 +105,9 @@ class Settings:
         taken = tuple(name for name in stored if name not in given)
         if "algorithm" in given and stored.get("algorithm", self.algorithm) != self.algorithm:
             # the caller chose another algorithm: the scene's settings made for its own one do not carry over
-            # (an implicit group is Jacobi's; jacobi-plain holds values, extrapolation 0)
-            mine = {"implicit"} | ({"extrapolation"} if self.algorithm == "jacobi-plain" else set())
+            # (an implicit group is Jacobi's, its tolerance is not an iterative run's; jacobi-plain holds
+            # values, extrapolation 0)
+            mine = ALGORITHM_TIED | ({"extrapolation"} if self.algorithm == "jacobi-plain" else set())
             taken = tuple(name for name in taken if name not in mine)
         for name in taken:
             setattr(self, name, stored[name])
@@ -253,6 +254,9 @@ def stored_settings(attributes: dict[str, str], stop_time: float | None) -> dict
     trial.check()
     return out
 
+
+# settings that tune one algorithm's coupling: a stored one is not taken when the caller picks another algorithm
+ALGORITHM_TIED = frozenset({"implicit", "coupling_tolerance", "max_iterations", "accelerator", "order", "substeps"})
 
 _BOOL = {"true": True, "1": True, "false": False, "0": False}
 
