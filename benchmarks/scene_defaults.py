@@ -84,9 +84,14 @@ def errors(result: np.ndarray, ref: dict[str, np.ndarray], keys: tuple[str, ...]
 
 
 def candidate(scene: str, stop: float, ref, keys, algorithm: str, extrapolation: int, h: float,
-              tolerance: float | None, sway_ref: float | None) -> dict:
-    label = f"{algorithm} x{extrapolation} " + (f"adaptive tol {tolerance:g}" if tolerance else f"H {h * 1e3:g} ms")
+              tolerance: float | None, sway_ref: float | None, parameters: dict | None = None,
+              settings: dict | None = None, label: str | None = None) -> dict:
+    """One run against the reference; ``parameters`` override the scene's, ``settings`` are further
+    run settings (e.g. implicit, coupling_tolerance)."""
+    label = label or f"{algorithm} x{extrapolation} " + (f"adaptive tol {tolerance:g}" if tolerance
+                                                         else f"H {h * 1e3:g} ms")
     extra = dict(adaptive=True, tolerance=tolerance) if tolerance else {}
+    extra.update(settings or {}, parameters=parameters)
     row = dict(label=label, algorithm=algorithm, extrapolation=extrapolation, step_size=h, tolerance=tolerance)
     try:
         res = run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
@@ -104,7 +109,7 @@ def candidate(scene: str, stop: float, ref, keys, algorithm: str, extrapolation:
     worst_bond = max((st.bond_energy[n] / st.bond_carried[n] if st.bond_carried[n] > 0 else math.inf)
                      for n in st.bond_energy) if st.bond_energy else 0.0
     row.update(worst=max(err.values()), worst_key=max(err, key=err.get), wall=wall, steps=st.steps,
-               rtf=stop / wall, residual=residual, carried=carried, bond_ratio=worst_bond,
+               rtf=stop / wall, evaluations=st.iterations, residual=residual, carried=carried, bond_ratio=worst_bond,
                warned=bool(res.warnings), stopped=st.stopped)
     adds = worst_bond > RESIDUAL_WARNING
     if sway_ref is not None:
@@ -211,10 +216,15 @@ def main(argv: list[str] | None = None) -> int:
                        f"{best['worst']:.3g} | {best['rtf']:.1f} | {was} |" if best else
                        f"| {scene} | {facts['stop']:g} | none | | | {was} |")
     lines += summary + [""] + sections
+    return publish(lines, RESULTS)
+
+
+def publish(lines: list[str], path: Path) -> int:
+    """Print the results and write them to ``path`` (markdown)."""
     text = "\n".join(lines)
     print(text)
-    RESULTS.write_text(text + "\n")
-    print(f"written {RESULTS}")
+    path.write_text(text + "\n")
+    print(f"written {path}")
     return 0
 
 

@@ -411,8 +411,8 @@ def advance(model: Model, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1:
         if solver == EXACT:
             x1 = model.exact_step(t, x, h, u0, r1, r2, max_step)
             solver = "rk4"
-        if x1 is None and solver == "rk4" and not moving and model.list_rhs:   # rk4 on plain floats
-            x1 = np.array(rk4_list(lambda ti, xi: model.derivatives_list(ti, xi, u0), t, x.tolist(), h, max_step))
+        if x1 is None and solver == "rk4" and model.list_rhs:   # rk4 on plain floats
+            x1 = np.array(rk4_list(_list_rhs(model, t, u0, r1, r2, moving), t, x.tolist(), h, max_step))
         if x1 is None:
             if moving:
                 def rhs(ti: float, xi: np.ndarray) -> np.ndarray:
@@ -427,6 +427,22 @@ def advance(model: Model, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1:
     if x1 is not x:  # the unchanged state of a frozen or stateless model was checked when it was made
         model.check_state(t1, x1)
     return x1
+
+
+def _list_rhs(model: Model, t: float, u0: np.ndarray, r1: np.ndarray, r2: np.ndarray, moving: bool):
+    """The model's right-hand side on plain floats with the inputs u0 + s r1 + s^2/2 r2 at s = ti - t:
+    the same operations per component in the same order as the array form in :func:`advance` (so the
+    same result to the last bit), without four numpy temporaries per stage (input rates set by an
+    extrapolating master made each rk4 step cost 1.7x the step with still inputs)."""
+    if not moving:
+        return lambda ti, xi: model.derivatives_list(ti, xi, u0)
+    u, d1, d2 = u0.tolist(), r1.tolist(), r2.tolist()
+
+    def rhs(ti: float, xi: list[float]) -> list[float]:
+        s = ti - t
+        half = 0.5 * s
+        return model.derivatives_list(ti, xi, [a + s * (b + half * c) for a, b, c in zip(u, d1, d2)])
+    return rhs
 
 
 def _values_getter(names: list[str]):

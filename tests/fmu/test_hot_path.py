@@ -30,6 +30,29 @@ def test_rk4_on_lists_gives_the_bits_of_rk4_on_arrays(case):
     assert not np.array_equal(x, m.initial_state(m.default_inputs()))   # the state did move
 
 
+@pytest.mark.parametrize("case", [c for c in CASES if c.make().list_rhs and not c.make().frozen],
+                         ids=lambda c: c.id)
+def test_step_with_input_rates_on_lists_gives_the_bits_of_rk4_on_arrays(case):
+    """Inputs moving as u0 + s r1 + s^2/2 r2 (an extrapolating master sets the rates): advance()
+    steps on plain floats and gives the state rk4 on arrays gives, to the last bit."""
+    m, u = case.make(), case.u()
+    x = m.initial_state(m.default_inputs())
+    r1 = np.linspace(0.3, 1.1, u.size) * (1.0 + np.abs(u))
+    r2 = np.linspace(-2.0, 0.7, u.size) * (1.0 + np.abs(u))
+    h, sub = 2e-3, 1e-4
+    for k in range(5):   # macro steps of 2 ms, 0.1 ms sub-steps (the drive's shafts are stiff)
+        t = 0.37 + k * h
+
+        def rhs(tt, xx):
+            s = tt - t
+            return m.derivatives(tt, xx, u + s * (r1 + 0.5 * s * r2))
+        on_arrays = m.after_step(t + h, integrate(rhs, t, x, h, "rk4", max_step=sub), u + h * (r1 + 0.5 * h * r2))
+        on_lists = advance(m, t, x, h, u, r1, r2, "rk4", 1e-6, sub)
+        assert np.array_equal(on_lists, on_arrays), f"step {k}"
+        assert not np.array_equal(on_lists, advance(m, t, x, h, u, None, None, "rk4", 1e-6, sub))  # rates used
+        x = on_arrays
+
+
 @pytest.mark.parametrize("case", CASES, ids=lambda c: c.id)
 def test_output_list_is_output_values_as_floats(case):
     m, u = case.make(), case.u()

@@ -257,6 +257,25 @@ def test_rigid_sling_equations_agree_with_newton_on_the_payload():
         assert np.allclose(de[9:12], ap_newton, rtol=1e-9, atol=1e-9)
 
 
+@pytest.mark.parametrize("dimension", [1, 2, 3])
+def test_rigid_sling_without_ground_and_drag_gives_the_bits_of_the_general_equations(dimension):
+    # the written-out right-hand side of the free rigid sling (hook_sway) is the general one with the
+    # zero forces left out: the same numbers to the last bit, at any state and rope force
+    rng = np.random.default_rng(11)
+    model = _model(payload="rigid", dimension=dimension, mass=3.0, m_payload=10.0, L_sling=0.5)
+    assert model._free_rigid
+    for _ in range(20):
+        x = np.concatenate((rng.uniform(-1, 1, 3) + [0.0, -10.0, 0.0], rng.uniform(-2, 2, 3),
+                            rng.uniform(-1.4, 1.4, 2), rng.uniform(-3, 3, 2))).tolist()
+        u = _u(*rng.uniform(-300.0, 300.0, 3) + [0.0, 130.0, 0.0]).tolist()
+        ah, ddth, ddph, _, _, _, _ = model._rigid(x, u)
+        general = [x[3], x[4], x[5], *ah, x[8] if dimension >= 2 else 0.0, x[9] if dimension == 3 else 0.0,
+                   ddth, ddph]
+        assert np.array_equal(model.derivatives_list(0.0, x, u), general)
+    assert not _model(payload="rigid", dimension=3, m_payload=10.0, drag_coefficient=0.5)._free_rigid
+    assert not _model(payload="rigid", dimension=3, m_payload=10.0, ground="spring_damper")._free_rigid
+
+
 def test_rigid_sling_force_balances_payload():
     # payload pendulum with a hook pulled so that it cannot move vertically: S from the module
     # equals the payload's centripetal + gravity demand  m_p (g cos(theta) + L theta'^2) at the bottom

@@ -234,6 +234,9 @@ class PendulumModel(Model):
         self._k_load = half * p.drag_area
         self._k_hook = half * p.drag_area_hook if p.payload != "none" else 0.0
         self._has_ground = p.ground != "none"
+        # rigid sling without ground or drag (hook_sway): the right-hand side written out (_rigid_free)
+        self._free_rigid = p.payload == "rigid" and not self._has_ground and self._k_load == 0.0 \
+            and self._k_hook == 0.0
         self._rest_tension = self._start_tension()
 
     # --- helpers ---------------------------------------------------------------------------
@@ -292,6 +295,32 @@ class PendulumModel(Model):
             ddph = (ep[0] * r[0] + ep[1] * r[1] + ep[2] * r[2] - L * sp * cp * dth * dth) / L \
                 if p.dimension == 3 else 0.0
         return ah, ddth, ddph, s, n, e, vp
+
+    def _rigid_free(self, x: list[float], u: list[float]) -> list[float]:
+        """:meth:`derivatives_list` of :meth:`_rigid` without ground and drag (f_p = g_vec, F_h = F_rope +
+        m_h g_vec): the same operations on the same values in the same order, so the same bits, without
+        the calls for the zero forces and the payload velocity (the FMU's rk4 calls this 4 times per
+        sub-step; 1.9 -> 1.2 us per call)."""
+        p, m = self.p, self._m
+        L, g, mh = p.L_sling, p.g, p.mass
+        th, ph, dth, dph = x[6], x[7], x[8], x[9]
+        st, ct, sp, cp = math.sin(th), math.cos(th), math.sin(ph), math.cos(ph)
+        e0, e1, e2 = st * cp, -ct * cp, sp
+        m0, m1, m2 = m
+        fh0, fh1, fh2 = (u[0] + 0.0) * m0, (u[1] - mh * g + 0.0) * m1, (u[2] + 0.0) * m2
+        fp0, fp1, fp2 = 0.0 * m0, (0.0 - g) * m1, 0.0 * m2
+        w2 = L * (cp * cp * dth * dth + dph * dph)
+        s = self._mu * (e0 * (fp0 - fh0 / mh) + e1 * (fp1 - fh1 / mh) + e2 * (fp2 - fh2 / mh) + w2)
+        a0, a1, a2 = (fh0 + s * e0) / mh * m0, (fh1 + s * e1) / mh * m1, (fh2 + s * e2) / mh * m2
+        r0, r1, r2 = fp0 - a0, fp1 - a1, fp2 - a2
+        dim = p.dimension
+        if dim == 1:
+            return [x[3], x[4], x[5], a0, a1, a2, 0.0, 0.0, 0.0, 0.0]
+        ddth = (ct * cp * r0 + st * cp * r1 + 2.0 * L * sp * cp * dth * dph) / (L * cp * cp)
+        if dim == 2:
+            return [x[3], x[4], x[5], a0, a1, a2, dth, 0.0, ddth, 0.0]
+        ddph = (-st * sp * r0 + ct * sp * r1 + cp * r2 - L * sp * cp * dth * dth) / L
+        return [x[3], x[4], x[5], a0, a1, a2, dth, dph, ddth, ddph]
 
     def _elastic(self, x: np.ndarray, u: np.ndarray):
         """Elastic sling: hook and payload accelerations, S and N (see module doc)."""
@@ -413,6 +442,8 @@ class PendulumModel(Model):
             mass = p.mass
             return [x[3], x[4], x[5], fx / mass * m[0], (fy / mass - p.g) * m[1], fz / mass * m[2]]
         x, u = _floats(x), _floats(u)
+        if self._free_rigid:
+            return self._rigid_free(x, u)
         if p.payload == "rigid":
             ah, ddth, ddph, _, _, _, _ = self._rigid(x, u)
             dth = x[8] if p.dimension >= 2 else 0.0
