@@ -90,7 +90,12 @@ def build_trivial(n_in: int, n_out: int, workdir: Path) -> Path:
 
     script = workdir / f"{trivial_name(n_in, n_out)}.py"
     script.write_text(trivial_source(n_in, n_out))
-    return FmuBuilder.build_FMU(script, dest=workdir)
+    fmu = Path(FmuBuilder.build_FMU(script, dest=workdir))
+    # the builder leaves the binaries out when `pythonfmu` is an FMU's resource copy (one ran in this process)
+    from cranefmu.build import _ensure_binaries
+
+    _ensure_binaries(fmu, fmu.stem)
+    return fmu
 
 
 # --- scenes -------------------------------------------------------------------------------------
@@ -189,7 +194,7 @@ def configuration(row: dict, slave) -> str:
     cls = physics_class(row["fmu"])
     p = row["params"]
     switches = [f"{n}={p.get(n, d)}" for n, d, _ in cls.Params.field_specs() if isinstance(d, str)]
-    return " ".join([f"solver={slave.solver} max_step={slave.max_step:g}"] + switches)
+    return " ".join([f"solver={slave._named('solver')} max_step={slave.max_step:g}"] + switches)
 
 
 def measure_fmi(rows: list[dict], trivial: dict[tuple[int, int], Path], workdir: Path, rounds: int, batch: int,
@@ -296,7 +301,7 @@ def breakdown(row: dict, n: int = 1500) -> None:
         return deriv(ti, xi, ui)
 
     def step():
-        return advance(model, t, x, h, ua, None, None, s.solver, s.rtol, s.max_step)
+        return advance(model, t, x, h, ua, None, None, s._named("solver"), s.rtol, s.max_step)
 
     setattr(model, name, counting)
     step()
