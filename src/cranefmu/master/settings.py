@@ -49,8 +49,8 @@ class Settings:
                              "rollback; jacobi-plain: libcosim's fixed-step Jacobi, no feedthrough re-read)", type=str)
     extrapolation: int = setting(0, "order of the polynomial the coupling inputs follow inside a step: 0, 1, 2 "
                                  "(iterative: degree of the interpolation; 0 holds the end value over the "
-                                 "step, an implicit, L-stable coupling for stiff seams that damps modes H cannot "
-                                 "resolve)", type=int)
+                                 "step, an implicit coupling that damps a stiff spring's modes H cannot resolve; "
+                                 "first order)", type=int)
     start_time: float = setting(0.0, "start of the run [s]", type=float)
     adaptive: bool = setting(False, "control the macro step (step_size is the first step)", form="switch")
     tolerance: float = setting(1e-3, "adaptive: relative local error of the coupling values per step", type=float)
