@@ -41,20 +41,18 @@ MAX_ROWS = 10_000_000     # default --max-rows: a larger run is refused before i
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from dataclasses import fields
+    from dataclasses import fields, replace
 
     from .master.output_file import check_directory, check_target
     from .master.run import preview, run
+    from .master.runspec import resolve
     from .master.settings import Settings
 
     options = {f.name: getattr(args, f.name) for f in fields(Settings) if hasattr(args, f.name)}
-    scene = preview(args.scene)
-    settings = Settings.from_options(**options)
-    settings.take_stored(scene.settings)
-    if settings.stop_time is None:
-        settings.stop_time = scene.stop_time or 10.0
-    settings.check()
-    rows = settings.rows_expected()
+    spec = resolve(args.scene, parameter_set=args.parameter_set, parameters=_parse_set(args.set),
+                   output=args.output, isolate=not args.in_process, **options)
+    scene = preview(spec.ssp)
+    rows = spec.settings.rows_expected()
     if rows > args.max_rows:
         raise CraneFmuError(f"this run would record {rows:.3g} rows ({rows * len(scene.columns) * 20 / 1e9:.3g} GB "
                             f"of CSV), more than --max-rows {args.max_rows:g}: give a larger --step or a shorter "
@@ -69,8 +67,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         from .master.extracted import clear
 
         clear()
-    res = run(scene.path, parameter_set=args.parameter_set, parameters=_parse_set(args.set), output=args.output,
-              keep=keep, isolate=not args.in_process, **options)
+    res = run(replace(spec, keep=keep))
     _report(res, keep)
     if prefix is not None:
         from .master.plot import write_plots
@@ -117,8 +114,8 @@ def _report(res, kept: bool) -> None:
     steps = f"{st.steps} steps of {st.min_step:.3g} to {st.max_step:.3g} s, {st.rejections} rejected" \
         if s.adaptive else f"{st.steps} steps of {s.step_size:g} s"
     print(f"scene {res.scene}: {steps} to t = {simulated:g} s ({s.algorithm}, extrapolation {s.extrapolation})")
-    if s.from_scene:
-        print("  the scene's stored settings: " + ", ".join(f"{n} = {getattr(s, n)!r}" for n in s.from_scene))
+    for line in res.spec.describe():
+        print("  " + line)
     if st.stopped:
         print(st.stopped)
     print(f"wall time {st.wall_time:.3f} s (master {st.master_time:.3f} s), real-time factor "
@@ -142,15 +139,12 @@ def _report(res, kept: bool) -> None:
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
-    import tempfile
-
+    from .master.extracted import extracted_scene
     from .master.run import resolve_scene
-    from .master.scene import load_scene
     from .scene_info import describe
 
-    ssp = resolve_scene(args.scene)
-    with tempfile.TemporaryDirectory(prefix="cranefmu_info_") as tmp:
-        print("\n".join(describe(load_scene(ssp, Path(tmp)))))
+    _, scene = extracted_scene(resolve_scene(args.scene))   # the guarded extract a run uses
+    print("\n".join(describe(scene)))
     return 0
 
 

@@ -120,6 +120,13 @@ def key_outputs(scene: str) -> tuple[str, ...]:
 
 
 # --- runs and reference ---------------------------------------------------------------------------
+def study_form(algorithm: str | None, run_options: dict) -> dict:
+    """The settings every run of a study and its ``finest`` reference share: a study of a named
+    algorithm studies its explicit form, not a scene's stored implicit group (``implicit=[]`` unless
+    given)."""
+    return dict(run_options, implicit=run_options.get("implicit", [])) if algorithm is not None else dict(run_options)
+
+
 def energy_residual(totals: dict[str, float]) -> float | None:
     """Sum of the power bonds' total energy residuals [J] (None: the scene declares no bonds)."""
     return float(sum(abs(v) for v in totals.values())) if totals else None
@@ -138,11 +145,9 @@ def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: f
     from .master.run import run
 
     kwargs = dict(stop_time=stop_time, step_size=step_size, parameter_set=parameter_set, parameters=parameters,
-                  **extra)
+                  **study_form(algorithm, extra))
     # None: not given, the scene's stored setting (else the global default) rules
     kwargs.update({k: v for k, v in (("algorithm", algorithm), ("extrapolation", extrapolation)) if v is not None})
-    if algorithm is not None:   # a study of a named algorithm studies its explicit form, not a stored implicit group
-        kwargs.setdefault("implicit", [])
     if tolerance is not None:
         kwargs.update(adaptive=True, tolerance=tolerance)
     row = ConvergenceRun(step_size, tolerance)
@@ -308,6 +313,7 @@ def study(scene: str, steps: list[float], algorithm: str = "jacobi", extrapolati
     steps = sorted(steps, reverse=True)
     settings = [(h, None) for h in steps] + [(min(steps) if steps else 1e-3, tol)
                                               for tol in sorted(tolerances, reverse=True)]
+    run_options = study_form(algorithm, run_options)
     runs, results, stop_time = run_settings(scene, settings, stop_time, algorithm, extrapolation, parameter_set,
                                             parameters, progress, **run_options)
     if stop_time is None:

@@ -8,13 +8,12 @@ from .master.scene import Scene
 def _fmu_facts(scene: Scene) -> tuple[dict[str, str], dict[str, dict[int, str]], dict[str, list[str]]]:
     """Units ("comp.var" -> unit), switch names ("comp.var" -> {code: name}) and output labels per
     component, from the FMUs' model descriptions."""
-    from fmpy import read_model_description
-
     from .master.fmu import fmu_switch_names
+    from .master.scene import model_description
 
     units, switches, outputs = {}, {}, {}
     for c in scene.components:
-        md = read_model_description(str(c.fmu), validate=False)
+        md = model_description(c.fmu)   # the XML guard before fmpy
         for var, items in fmu_switch_names(c.fmu).items():
             switches[f"{c.name}.{var}"] = {code: name for name, code in items.items()}
         outputs[c.name] = []
@@ -31,6 +30,19 @@ def _value(key: str, value, units: dict[str, str], switches: dict[str, dict[int,
         return f"{value} ({switches[key][value]})"
     unit = units.get(key, "")
     return f"{value!r} {unit}".rstrip() if isinstance(value, float) else f"{value} {unit}".rstrip()
+
+
+def _settings_lines(scene: Scene) -> list[str]:
+    """The scene's stored run settings, the algorithm they were measured for, and where each setting of
+    a run given no options comes from (the rule of :mod:`cranefmu.master.runspec`)."""
+    from .master.runspec import choose
+
+    values, sources, _, stored_for = choose({}, scene.settings, scene.stop_time)
+    stored = ", ".join(f"{k} = {v!r}" for k, v in scene.settings.items())
+    chosen = ", ".join(f"{k} = {values[k]!r} ({sources[k]})" for k in values if sources[k] != "default")
+    return [f"  run settings stored in the scene (used where a run gives none; measured for {stored_for}: a run "
+            f"naming another algorithm takes that algorithm's defaults instead): {stored or 'none'}",
+            f"  a run given no settings: {chosen or 'all defaults'}"]
 
 
 def describe(scene: Scene) -> list[str]:
@@ -53,8 +65,7 @@ def describe(scene: Scene) -> list[str]:
     if info and info.fidelity:
         lines.append("  fidelity switches (--set comp.var=name or code):")
         lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
-    stored = ", ".join(f"{k} = {v!r}" for k, v in scene.settings.items())
-    lines.append(f"  run settings stored in the scene (used where a run gives none): {stored or 'none'}")
+    lines += _settings_lines(scene)
     default = scene.parameters
     lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
     lines.append("  parameters (default set):")

@@ -16,7 +16,6 @@ from cranefmu.errors import SceneError
 from cranefmu.master.power_bonds import RESIDUAL_WARNING
 from cranefmu.master.run import preview, resolve_scene, run
 from cranefmu.master.scene import load_scene
-from cranefmu.master.settings import Settings
 from cranefmu.scene_info import describe
 from cranefmu.scenes import hook_sway_metrics
 from scene_edit import edit_ssp
@@ -35,7 +34,7 @@ def test_run_without_settings_uses_the_scene_settings_and_meets_one_percent(buil
     stored = preview(scene).settings
     assert {"algorithm", "extrapolation", "step_size"} <= set(stored)
     res = run(scene, stop_time=SPAN[scene], progress=False)
-    assert set(res.settings.from_scene) == set(stored)
+    assert {k for k, v in res.spec.sources.items() if v == "scene"} == set(stored) | {"stop_time"}
     for name, value in stored.items():
         assert getattr(res.settings, name) == value
     assert res.stats.steps == round(SPAN[scene] / stored["step_size"])
@@ -55,7 +54,7 @@ def test_explicit_settings_override_the_stored_ones(built):
     res = run("elastic_pendulum", stop_time=0.1, step_size=1e-3, extrapolation=0, progress=False)
     assert (res.settings.step_size, res.settings.extrapolation) == (1e-3, 0)
     assert res.settings.algorithm == stored["algorithm"]
-    assert set(res.settings.from_scene) == set(stored) - {"step_size", "extrapolation"}
+    assert {k for k, v in res.spec.sources.items() if v == "scene"} == set(stored) - {"step_size", "extrapolation"}
     assert res.stats.steps == 100
 
 
@@ -63,15 +62,6 @@ def test_a_stored_step_longer_than_the_run_is_refused_naming_it(built):
     h = preview("elastic_pendulum").settings["step_size"]
     with pytest.raises(Exception, match=r"step_size = .* stored setting"):
         run("elastic_pendulum", stop_time=h / 2, progress=False)
-
-
-def test_settings_built_directly_count_as_given():
-    s = Settings(step_size=0.5)
-    s.take_stored({"step_size": 0.01, "extrapolation": 2})
-    assert (s.step_size, s.extrapolation, s.from_scene) == (0.5, 0, ())
-    s = Settings.from_options(step_size=0.5)
-    s.take_stored({"step_size": 0.01, "extrapolation": 2})
-    assert (s.step_size, s.extrapolation, s.from_scene) == (0.5, 2, ("extrapolation",))
 
 
 @pytest.mark.parametrize("attrs, named", [
@@ -115,6 +105,6 @@ def test_info_and_the_command_show_the_stored_settings_and_the_warning(built, ca
     assert cli.main(["run", "hook_sway", "--stop-time", "10", "--step", "1e-3", "--extrapolation", "0",
                      "--in-process", "--no-progress"]) == 0
     out, err = capsys.readouterr()
-    assert f"the scene's stored settings: algorithm = {stored['algorithm']!r}" in out
-    assert "step_size" not in out.split("the scene's stored settings:")[1].splitlines()[0]
+    header = out.split("  settings: ")[1].splitlines()[0]
+    assert f"algorithm = {stored['algorithm']!r} (scene)" in header and "step_size = 0.001 (given)" in header
     assert err.count("warning: power bond hook") == 1

@@ -2,7 +2,8 @@
 
 The worker is a fresh ``python -m cranefmu.master.worker``: it never imports the caller's
 ``__main__`` (multiprocessing's spawn and forkserver do, which breaks guard-less scripts and
-``python -``).  The job goes in on the worker's stdin, which the parent holds open for the whole
+``python -``).  The job (the resolved :class:`.runspec.RunSpec`, pickled whole: the worker decides
+no setting again) goes in on the worker's stdin, which the parent holds open for the whole
 run: when the parent dies, the worker reads end-of-file and stops, so no worker outlives its
 parent.  The worker writes into the CSV claim the parent holds (the file descriptor is inherited,
 so is the lock), keeps its temporary files in a directory of the parent's, and reports through a
@@ -21,26 +22,28 @@ import sys
 import tempfile
 import threading
 import time as clock
+from dataclasses import replace
 from pathlib import Path
 
 from ..errors import SimulationError
 from .interrupt import STOP_SIGNALS, RunInterrupted, signal_name
 from .output_file import OutputFile
+from .runspec import RunSpec
 
 GRACE = 0.7        # seconds a signalled worker gets to close its run before it is killed
 TAIL_BYTES = 8192  # of the worker's stderr, kept for the message if it dies
 
 
-def run_isolated(ssp: Path, settings, parameter_set, parameters, claim: OutputFile | None, keep: bool,
-                 signals: tuple[int, ...] | None = None):
-    """Run in a worker; returns its RunResult or raises what it raised (a death as SimulationError).
+def run_isolated(spec: RunSpec, claim: OutputFile | None, signals: tuple[int, ...] | None = None):
+    """Run ``spec`` in a worker; returns its RunResult or raises what it raised (a death as SimulationError).
     ``signals`` (default :data:`.interrupt.STOP_SIGNALS`) received meanwhile are passed on to it."""
-    if settings.progress is None:   # the worker's stderr is a pipe: decide for it
-        settings.progress = bool(getattr(sys.stderr, "isatty", lambda: False)())
+    if spec.settings.progress is None:   # the worker's stderr is a pipe: decide for it
+        spec = replace(spec, settings=replace(spec.settings,
+                                              progress=bool(getattr(sys.stderr, "isatty", lambda: False)())))
+    ssp = spec.ssp
     jobdir = Path(tempfile.mkdtemp(prefix="cranefmu_run_"))
     outcome = jobdir / "outcome.pickle"
-    job = dict(ssp=str(ssp), settings=settings, parameter_set=parameter_set, parameters=parameters, keep=keep,
-               outcome=str(outcome), claim=(str(claim.target), str(claim.part) if claim.part else None, claim.fd)
+    job = dict(spec=spec, outcome=str(outcome), claim=(str(claim.target), str(claim.part) if claim.part else None, claim.fd)
                if claim is not None else None)
     proc = None
     try:

@@ -5,7 +5,8 @@ The pieces: :mod:`.system` (the FMUs and the values between them), :mod:`.initia
 controller), observers that never steer (:mod:`.results` recorder, :mod:`.power_bonds` monitor,
 :mod:`.progress`) and one that stops (:mod:`.interrupt`).  A run executes in the caller's process
 (as fmpy's do); ``isolate=True`` runs it in a worker process (:mod:`.isolated`).  Settings are
-defined once in :mod:`.settings`.
+defined once in :mod:`.settings`; a run request is resolved once into a :class:`.runspec.RunSpec`
+(:func:`.runspec.resolve`), which every path below takes.
 """
 from __future__ import annotations
 
@@ -20,24 +21,25 @@ import numpy as np
 
 from .algorithms import make_algorithm
 from .divergence import ValueCheck, Watch
-from ..errors import CraneFmuError, ParameterSetError, SettingsError, SimulationError
+from ..errors import CraneFmuError, SettingsError, SimulationError
 from .extracted import discard, extracted_scene, fresh_fmu_dirs
 from .fmu import forget_extracted
 from .initialization import initialize
 from .interrupt import Interrupt, RunInterrupted, signal_name
 from .loop import Sampler, march
 from .output_file import OutputFile
-from .power_bonds import BondMonitor, resolve
+from .power_bonds import BondMonitor, resolve as resolve_bonds
 from .progress import Progress
 from .results import Recorder
-from .scene import Scene
 from .scene_names import resolve_scene
+from .runspec import RunSpec, resolve
 from .settings import ALGORITHMS, Settings, describe
 from .step_control import make_step_control
 from .stop_conditions import StopWatch
 from .system import CoSystem, RunStats
 
-__all__ = ["run", "simulate", "preview", "RunResult", "RunStats", "Settings", "ALGORITHMS", "RunInterrupted"]
+__all__ = ["run", "simulate", "preview", "execute", "resolve", "RunSpec", "RunResult", "RunStats", "Settings",
+           "ALGORITHMS", "RunInterrupted"]
 
 
 @dataclass
@@ -50,6 +52,7 @@ class RunResult:
     rows: int = 0                # rows recorded (also those not kept in memory)
     end_time: float = math.nan   # simulated time of the last row [s]
     warnings: list[str] = field(default_factory=list)   # what the run found suspicious (also on stderr)
+    spec: RunSpec | None = None  # the request run: settings with where each came from
 
 
 @dataclass
@@ -91,23 +94,10 @@ def preview(scene: str | Path) -> ScenePreview:
                         ("default", *loaded.parameter_sets), dict(loaded.settings))
 
 
-def _overrides(scene: Scene, parameter_set: str | None, parameters: dict | None) -> dict[tuple[str, str], object]:
-    values: dict[str, object] = scene.values(parameter_set)
-    values.update(parameters or {})
-    names = {c.name for c in scene.components}
-    out = {}
-    for key, value in values.items():
-        comp, _, var = str(key).partition(".")
-        if comp not in names or not var:
-            raise ParameterSetError(f"parameter {key!r} must be 'component.variable' with a component of "
-                                    f"{scene.name}: {', '.join(sorted(names))}")
-        out[(comp, var)] = value
-    return out
-
-
-def run(scene: str | Path, *, parameter_set: str | None = None, parameters: dict | None = None,
+def run(scene: str | Path | RunSpec, *, parameter_set: str | None = None, parameters: dict | None = None,
         output: str | Path | None = None, keep: bool = True, isolate: bool = False, **settings) -> RunResult:
-    """Run a scene (name or .ssp path) and return its results and statistics.
+    """Run a scene (name, .ssp path, or a :class:`RunSpec` from :func:`resolve`, then with no other
+    argument) and return its results and statistics.
 
     parameter_set: a .ssv of the scene; parameters: {"comp.var": value} overrides; output: CSV
     written as the run goes (into ``output + '.part'``, renamed into place at the end; a second run
@@ -116,49 +106,53 @@ def run(scene: str | Path, *, parameter_set: str | None = None, parameters: dict
     A signal that stops the run (SIGINT, e.g. Ctrl-C or a notebook's interrupt) is handled
     between steps, never inside an FMU: the run is closed and :class:`RunInterrupted` (a
     KeyboardInterrupt) carries the rows so far.  Settings (keywords, see :class:`Settings`; one not
-    given is the scene's stored setting if it has one, else the default below; ``cranefmu info``
-    shows a scene's):
+    given is the scene's stored setting if it has one, unless the run names another algorithm than
+    the scene's, else the default below; see :mod:`.runspec`; ``cranefmu info`` shows a scene's):
 {settings}
     Raises a :class:`~cranefmu.errors.CraneFmuError` subclass naming what is wrong.
     """
-    options = Settings.from_options(**settings)
-    ssp = resolve_scene(scene)  # build in the caller, once
-    claim = OutputFile.claim(output, ssp) if output is not None else None  # before anything runs
+    if isinstance(scene, RunSpec):
+        given = dict(settings, parameter_set=parameter_set, parameters=parameters, output=output)
+        if any(v is not None for v in given.values()) or not keep or isolate:
+            raise SettingsError("run(spec) takes no other argument: give them to resolve()")
+        spec = scene
+    else:
+        spec = resolve(scene, parameter_set=parameter_set, parameters=parameters, output=output, keep=keep,
+                       isolate=isolate, **settings)
+    return execute(spec)
+
+
+def execute(spec: RunSpec) -> RunResult:
+    """Run a resolved request: its output claimed first, then here or in a worker process."""
+    claim = OutputFile.claim(spec.output, spec.ssp) if spec.output is not None else None  # before anything runs
     try:
-        if isolate:
+        if spec.isolate:
             from .isolated import run_isolated
 
-            return run_isolated(ssp, options, parameter_set, parameters, claim, keep)
-        return _run_here(ssp, options, parameter_set, parameters, claim, keep)
+            return run_isolated(spec, claim)
+        return _run_here(spec, claim)
     finally:
         if claim is not None:
             claim.release()
 
 
-def _run_here(ssp: Path, settings: Settings, parameter_set: str | None, parameters: dict | None,
-              claim: OutputFile | None, keep: bool, interrupt: Interrupt | None = None) -> RunResult:
+def _run_here(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt | None = None) -> RunResult:
     """The run in this process: a signal of ``interrupt`` (default SIGINT, main thread) stops it between steps."""
     interrupt = interrupt or Interrupt()
     with interrupt:
-        return _run_observed(ssp, settings, parameter_set, parameters, claim, keep, interrupt)
+        return _run_observed(spec, claim, interrupt)
 
 
-def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, parameters: dict | None,
-                  claim: OutputFile | None, keep: bool, interrupt: Interrupt) -> RunResult:
+def _run_observed(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt) -> RunResult:
+    settings, keep = spec.settings, spec.keep
     system = recorder = progress = fmu_dirs = None
     wall0 = clock.perf_counter()
     try:
-        workdir, loaded = extracted_scene(ssp)
+        workdir, loaded = extracted_scene(spec.ssp)
         fmu_dirs = Path(tempfile.mkdtemp(prefix="run_", dir=workdir))
         fresh_fmu_dirs(workdir, loaded, fmu_dirs)   # never instantiate twice from one directory
-        settings.take_stored(loaded.settings)       # what the caller did not give, from the scene
-        if settings.stop_time is None:
-            settings.stop_time = loaded.stop_time or 10.0
-        settings.check()
-        overrides = _overrides(loaded, parameter_set, parameters)
         system = CoSystem(loaded, fmu_dirs, settings.extrapolation)
-        _refuse_connected_inputs(system, parameters)
-        bonds = BondMonitor(system, resolve(system, loaded.bonds))
+        bonds = BondMonitor(system, resolve_bonds(system, loaded.bonds))
         _check_capabilities(system, settings, bonds)
         watch = Watch(system, bonds, settings.adaptive, _solved(system, settings)) if settings.instability_alarm else None
         recorder = Recorder(system.columns + bonds.columns, claim.fd if claim else None,
@@ -167,7 +161,7 @@ def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, para
         conditions = loaded.stop_conditions if settings.stop_when is None \
             else {v: "" for v in settings.stop_when}
         stopper = StopWatch(system.columns + bonds.columns, conditions) if conditions else None
-        system.stats.init_iterations = initialize(system, settings.start_time, overrides, settings.init_tolerance)
+        system.stats.init_iterations = initialize(system, settings.start_time, spec.overrides, settings.init_tolerance)
         progress = Progress(settings.start_time, settings.stop_time, settings.progress)
         if interrupt.signum is None:
             _loop(system, settings, recorder, bonds, progress, watch, stopper, (interrupt,))
@@ -178,7 +172,7 @@ def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, para
         recorder.close()
         where = _finish(claim, recorder)
         result = RunResult(recorder.result(), system.stats, where, loaded.name, settings, recorder.count,
-                           recorder.last_time, bonds.warnings())
+                           recorder.last_time, bonds.warnings(), spec)
     except CraneFmuError as err:
         where = _finish(claim, recorder)
         if recorder is not None and isinstance(err, SimulationError) and recorder.count:
@@ -221,17 +215,6 @@ def _finish(claim: OutputFile | None, recorder: Recorder | None) -> Path | None:
     if claim is None:
         return None
     return claim.finish(recorder.written if recorder is not None else 0)
-
-
-def _refuse_connected_inputs(system: CoSystem, parameters: dict | None) -> None:
-    """An override of a connected input is overwritten at every step: refuse it by name."""
-    driven = {f"{c.dst}.{c.dst_var}": f"{c.src}.{c.src_var}" for c in system.scene.connections}
-    for key in parameters or {}:
-        if str(key) in driven:
-            source = driven[str(key)]
-            raise ParameterSetError(f"{key} is not allowed as a parameter: it is an input connected to {source}, "
-                                    f"which overwrites it at every step; set a parameter of "
-                                    f"{source.partition('.')[0]} instead")
 
 
 def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> None:

@@ -338,14 +338,31 @@ def read_scene_folder(folder: Path, fmu_dir: Path) -> Scene:
     return read_ssd(ssd, folder, fmu_dir, label=f"{folder.name}/SystemStructure.ssd")
 
 
+def model_description(fmu: Path):
+    """fmpy's model description of the FMU file ``fmu``, its XML passed through the guard of
+    :mod:`.untrusted` first (no DTD, no entities reach lxml); a :class:`SceneError` naming the file."""
+    import zipfile
+
+    from fmpy import read_model_description
+
+    from .untrusted import check_xml
+
+    fmu = Path(fmu)
+    try:
+        with zipfile.ZipFile(fmu) as zf:
+            data = zf.read("modelDescription.xml")
+    except (OSError, KeyError, zipfile.BadZipFile) as err:
+        raise SceneError(f"{fmu.name}: cannot read modelDescription.xml: {err}") from None
+    check_xml(data, f"{fmu.name}/modelDescription.xml")
+    return read_model_description(str(fmu), validate=False)
+
+
 def output_units(scene: Scene) -> dict[str, str]:
     """Unit of each result column ``component.variable`` that has one, from the FMUs' modelDescription
     (the variable's own unit, else its declared type's)."""
-    from fmpy import read_model_description
-
     units = {}
     for c in scene.components:
-        for v in read_model_description(str(c.fmu), validate=False).modelVariables:
+        for v in model_description(c.fmu).modelVariables:
             unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
             if unit:
                 units[f"{c.name}.{v.name}"] = unit

@@ -1,26 +1,25 @@
-"""Every run setting, defined once: default, meaning, unit and command-line form.
+"""Every run setting, defined once: default, meaning, unit, type and command-line form.
 
 :class:`Settings` is the single source: :func:`cranefmu.master.run.run` takes its fields as keywords
-(its signature and docstring are built from them), and ``cranefmu run`` builds its options and their
-``--help`` from the same fields (:func:`add_arguments`).
-
-Precedence: a setting the caller gives (a keyword of ``run()``, an option of ``cranefmu run``) >
-the scene's stored settings (:func:`stored_settings`, from its ``org.cranefmu.settings`` annotation)
-> the field's default here.  :meth:`Settings.from_options` records which settings were given
-(:attr:`Settings.given`), so :meth:`Settings.take_stored` fills in only the others.
+(its signature and docstring are built from them), ``cranefmu run`` builds its options and their
+``--help`` from the same fields (:func:`add_arguments`), and every text value (an option, a sweep's
+``--set``/``--vary``, a scene's stored settings) is converted by :func:`convert` through the field's
+type, booleans by :func:`parse_bool`.  Which value a run takes, and where it came from (given, the
+scene, the algorithm's default, the default here), is decided once by
+:func:`cranefmu.master.runspec.resolve`.
 """
 from __future__ import annotations
 
 import argparse
 import math
 from dataclasses import MISSING, dataclass, field, fields
-from typing import ClassVar
 
 from ..errors import SettingsError
 from .acceleration import ACCELERATORS
 
 ALGORITHMS = ("jacobi", "gauss-seidel", "iterative", "jacobi-plain")  # made by algorithms.make_algorithm
 STEP_CONTROLS = ("extrapolation", "ecco")
+DEFAULT_STOP_TIME = 10.0   # [s] of a scene whose DefaultExperiment states none
 
 
 def setting(default, help: str, *, type=None, flag: str | None = None, metavar: str | None = None,
@@ -33,13 +32,9 @@ def setting(default, help: str, *, type=None, flag: str | None = None, metavar: 
                                                  flag_help=flag_help))
 
 
-@dataclass
+@dataclass(frozen=True)
 class Settings:
     """Every run setting; :meth:`check` validates them once the scene's stop time is known."""
-
-    # names the caller gave (None: every field counts as given, e.g. Settings(...) built directly)
-    given: ClassVar[frozenset[str] | None] = None
-    from_scene: ClassVar[tuple[str, ...]] = ()   # names taken from the scene's stored settings
 
     stop_time: float | None = setting(None, "end of the run [s] (default: the scene's DefaultExperiment, else 10)",
                                       type=float)
@@ -88,42 +83,9 @@ class Settings:
                                           "scene's own stop conditions; 'none' or [] runs on)", metavar="VARS",
                                           form="list")
 
-    @classmethod
-    def from_options(cls, **options) -> "Settings":
-        """Settings from keywords, refusing an unknown one by name."""
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(options) - known)
-        if unknown:
-            raise SettingsError(f"{unknown[0]} is not a run setting: one of {', '.join(sorted(known))}")
-        out = cls(**options)
-        out.given = frozenset(options)
-        return out
-
-    def take_stored(self, stored: dict[str, object]) -> None:
-        """Take the scene's stored settings for every setting the caller did not give."""
-        given = self.given if self.given is not None else {f.name for f in fields(self)}
-        taken = tuple(name for name in stored if name not in given)
-        if "algorithm" in given and stored.get("algorithm", self.algorithm) != self.algorithm:
-            # the caller chose another algorithm: the scene's settings made for its own one do not carry over
-            # (an implicit group is Jacobi's, its tolerance is not an iterative run's; jacobi-plain holds
-            # values, extrapolation 0)
-            mine = ALGORITHM_TIED | ({"extrapolation"} if self.algorithm == "jacobi-plain" else set())
-            taken = tuple(name for name in taken if name not in mine)
-        for name in taken:
-            setattr(self, name, stored[name])
-        self.from_scene = taken
-
     def check(self) -> None:
-        """Refuse a bad value (or combination) with a :class:`SettingsError` naming it; a value taken
-        from the scene's stored settings says so."""
-        try:
-            self._check()
-        except SettingsError as err:
-            name = str(err).partition(" ")[0]
-            if name not in self.from_scene:
-                raise
-            raise SettingsError(f"{err} ({name} is the scene's stored setting, see cranefmu info: give "
-                                f"{name} explicitly)") from None
+        """Refuse a bad value (or combination) with a :class:`SettingsError` naming it."""
+        self._check()
 
     def _check(self) -> None:
         if not isinstance(self.instability_alarm, bool):
@@ -214,8 +176,11 @@ def add_arguments(parser: argparse.ArgumentParser, names: tuple[str, ...] | None
         if names is not None and f.name not in names:
             continue
         meta, form = f.metadata, f.metadata["form"]
-        default = "" if f.default in (None, MISSING) or form in ("negate", "off", "switch") \
-            else f" (default {f.default:g})" if isinstance(f.default, float) else f" (default {f.default})"
+        shown = "" if f.default in (None, MISSING) or form in ("negate", "off", "switch") \
+            else f"{f.default:g}" if isinstance(f.default, float) else f"{f.default}"
+        # not given, a run takes the scene's stored value (runspec.resolve): say so where a scene may store it
+        default = "" if not shown else f" (default: the scene's stored {f.name}, else {shown})" \
+            if absent and f.name not in NOT_STORED else f" (default {shown})"
         common = dict(dest=f.name, default=argparse.SUPPRESS if absent else f.default, help=(meta["flag_help"] or meta["help"]) + default)
         if form == "switch":
             parser.add_argument(flag_of(f), action="store_true", **common)
@@ -235,44 +200,71 @@ SCENE_ONLY = ("start_time", "stop_time")   # a scene states these in its Default
 NOT_STORED = SCENE_ONLY + ("progress",)     # display, not a numerical choice
 
 
+# the settings that choose the numerical method: a scene's stored ones were measured for its stored
+# algorithm and are not taken by a run of another algorithm (runspec's stored-settings rule)
+NUMERICAL = ("step_size", "extrapolation", "adaptive", "tolerance", "min_step", "max_step", "step_control",
+             "coupling_tolerance", "max_iterations", "accelerator", "order", "implicit", "substeps",
+             "init_tolerance")
+# an algorithm's own defaults where they differ from the fields' (jacobi-plain: libcosim's zero-order hold)
+ALGORITHM_DEFAULTS: dict[str, dict[str, object]] = {"jacobi-plain": {"extrapolation": 0}}
+
+BOOLEAN_TEXT = {"true": True, "1": True, "false": False, "0": False}   # xs:boolean, any case
+
+
+def parse_bool(text: str) -> bool:
+    """``true``/``false``/``1``/``0`` (any case, spaces around) as a bool; ValueError otherwise."""
+    try:
+        return BOOLEAN_TEXT[str(text).strip().lower()]
+    except KeyError:
+        raise ValueError(f"{text!r} is not true or false") from None
+
+
+_FIELDS = {f.name: f for f in fields(Settings)}
+
+
+def is_list(name: str) -> bool:
+    """Whether setting ``name`` takes a list of names."""
+    return _FIELDS[name].metadata["form"] == "list"
+
+
+def kind_of(name: str) -> type:
+    """The Python type of setting ``name``'s value: float, int, str, bool or list."""
+    form = _FIELDS[name].metadata["form"]
+    return list if form == "list" else bool if form in ("switch", "negate", "off") else _FIELDS[name].metadata["type"]
+
+
+def convert(name: str, value: object) -> object:
+    """``value`` of setting ``name``: text converted through the field's type (a list from comma-separated
+    names, 'none' the empty list; a bool by :func:`parse_bool`), anything else as it is."""
+    if not isinstance(value, str):
+        return value
+    kind, text = kind_of(name), value.strip()
+    if kind is list:
+        return _comma_list(text)
+    try:
+        if kind is int:   # '20' or '2e1', not '2.5'
+            number = float(text)
+            if not math.isfinite(number) or number != int(number):
+                raise ValueError(text)
+            return int(number)
+        return parse_bool(text) if kind is bool else kind(text)
+    except ValueError:
+        what = {bool: "true or false", float: "a number", int: "an integer"}.get(kind, "text")
+        raise SettingsError(f"{name} = {value!r} is not allowed: {what}") from None
+
+
 def stored_settings(attributes: dict[str, str], stop_time: float | None) -> dict[str, object]:
-    """A scene's stored settings from their text (the attributes of ``cf:Settings``), typed by the
-    fields' kinds and validated together as :meth:`Settings.check` does (``stop_time``: the scene's,
+    """A scene's stored settings from their text (the attributes of ``cf:Settings``), typed by
+    :func:`convert` and validated together as :meth:`Settings.check` does (``stop_time``: the scene's,
     for the checks against the span).  Raises :class:`SettingsError` naming the setting, its value
     and what is allowed."""
-    by_name = {f.name: f for f in fields(Settings)}
-    allowed = sorted(n for n in by_name if n not in NOT_STORED)
+    allowed = sorted(n for n in _FIELDS if n not in NOT_STORED)
     out: dict[str, object] = {}
     for name, text in attributes.items():
         if name not in allowed:
             where = " (the scene's DefaultExperiment states it)" if name in SCENE_ONLY else ""
             raise SettingsError(f"{name} = {text!r} is not allowed as a stored setting{where}: one of "
                                 f"{', '.join(allowed)}")
-        out[name] = _typed(by_name[name], text)
-    trial = Settings(**out)
-    trial.stop_time = stop_time if stop_time is not None else 10.0
-    trial.check()
+        out[name] = convert(name, text)
+    Settings(**out, stop_time=stop_time if stop_time is not None else DEFAULT_STOP_TIME).check()
     return out
-
-
-# settings that tune one algorithm's coupling: a stored one is not taken when the caller picks another algorithm
-ALGORITHM_TIED = frozenset({"implicit", "coupling_tolerance", "max_iterations", "accelerator", "order", "substeps"})
-
-_BOOL = {"true": True, "1": True, "false": False, "0": False}
-
-
-def _typed(f, text: str) -> object:
-    """``text`` as the value of setting field ``f``."""
-    form, kind = f.metadata["form"], f.metadata["type"]
-    text = text.strip()
-    if form == "list":
-        return _comma_list(text)
-    if form in ("switch", "negate", "off"):
-        if text.lower() not in _BOOL:
-            raise SettingsError(f"{f.name} = {text!r} is not allowed: true or false")
-        return _BOOL[text.lower()]
-    try:
-        return kind(text)
-    except ValueError:
-        what = {float: "a number", int: "an integer"}.get(kind, "text")
-        raise SettingsError(f"{f.name} = {text!r} is not allowed: {what}") from None

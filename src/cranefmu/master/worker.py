@@ -1,6 +1,6 @@
 """The worker of an isolated run: ``python -m cranefmu.master.worker`` (see :mod:`.isolated`).
 
-Reads the job (a pickle) from stdin, runs it with SIGINT and SIGTERM stopping the run between steps,
+Reads the job (a pickle holding the resolved :class:`.runspec.RunSpec`) from stdin, runs it with SIGINT and SIGTERM stopping the run between steps,
 and writes ("ok", RunResult) or ("error", exception) to the job's outcome file.  End-of-file on
 stdin means the parent is gone: the run stops the same way, and the worker removes the parent's
 temporary directory itself.
@@ -52,8 +52,7 @@ def main() -> int:
     claim = OutputFile(Path(job["claim"][0]), Path(job["claim"][1]) if job["claim"][1] else None, job["claim"][2]) \
         if job["claim"] else None
     try:
-        outcome = ("ok", _run_here(Path(job["ssp"]), job["settings"], job["parameter_set"], job["parameters"],
-                                   claim, job["keep"], INTERRUPT))
+        outcome = ("ok", _run_here(job["spec"], claim, INTERRUPT))
     except BaseException as err:   # reported to the parent, which raises it
         outcome = ("error", err)
     try:

@@ -21,10 +21,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     from .engine import sweep
 
     fixed = _settings(args.set)
-    if args.stop_time is not None:
-        fixed["stop_time"] = args.stop_time
-    if args.step is not None:
-        fixed["step_size"] = args.step
+    fixed.update({name: getattr(args, name) for name in ("stop_time", "step_size") if hasattr(args, name)})
     metrics = [m for text in args.metric for m in text.split(";") if m.strip()] or None
     res = sweep(args.scene, args.vary, metrics, args.output, parameters=fixed, parameter_set=args.parameter_set,
                 design=args.design, samples=args.samples, seed=args.seed, results=args.results,
@@ -47,8 +44,9 @@ def add_parser(sub) -> None:
     s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="an input fixed for every run (parameter or run setting; repeatable)")
     s.add_argument("--parameter-set", default=None, help="a parameter set of the scene for every run")
-    s.add_argument("--stop-time", type=float, default=None, help="end of each run [s] (default: the scene's)")
-    s.add_argument("--step", type=float, default=None, help="macro step [s] of each run (default 1e-3)")
+    from ..master.settings import add_arguments
+
+    add_arguments(s, ("stop_time", "step_size"))   # as cranefmu run's: the help names the scene's stored step
     s.add_argument("--metric", action="append", default=[], metavar="KIND:COLUMN",
                    help="max|min|final|mean|ptp|absmax:COLUMN, cross:COLUMN>VALUE, dynamic_factor:COLUMN[/STATIC], "
                         "scene (repeatable; default: the scene's key metrics and key output ranges)")

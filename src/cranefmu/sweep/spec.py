@@ -6,7 +6,11 @@ An input is a scene parameter ``comp.var`` or a run setting (a field of
 
 - ``v1,v2,...``       a list (numbers or words);
 - ``start:stop:n``    n values evenly spaced from start to stop (both included);
-- ``log:start:stop:n`` n values evenly spaced in log10 (both > 0).
+- ``log:start:stop:n`` n values evenly spaced in log10 (both > 0);
+- a list-valued setting (``implicit``, ``order``, ``stop_when``) varies over values separated by ``;``,
+  each a comma-separated list (``none``: the empty one), e.g. ``implicit=none;tip;tip,hook``.
+
+A setting's text is converted through its field's own type (:func:`cranefmu.master.settings.convert`).
 
 A design is the full factorial of the values, or a sample of N points (Latin hypercube or Sobol,
 :mod:`scipy.stats.qmc`) in the unit cube mapped onto each input: a range linearly (log ranges in
@@ -20,17 +24,14 @@ import json
 import math
 from dataclasses import dataclass, field
 
+from dataclasses import fields as _fields
+
 from ..errors import SettingsError
+from ..master.settings import Settings, convert as convert_setting, is_list, kind_of
 
 DESIGNS = ("factorial", "lhs", "sobol")
-# run settings a sweep may vary or fix (lists: fixed only, comma-separated in text); progress is display only
-_SETTING_TYPES = {"stop_time": float, "step_size": float, "algorithm": str, "extrapolation": int,
-                  "start_time": float, "adaptive": bool, "tolerance": float, "min_step": float, "max_step": float,
-                  "step_control": str, "coupling_tolerance": float, "max_iterations": int, "accelerator": str,
-                  "energy_alarm": float, "init_tolerance": float, "substeps": int, "instability_alarm": bool,
-                  "order": list, "stop_when": list}
-SETTINGS = tuple(_SETTING_TYPES) + ("parameter_set",)
-_TRUE, _FALSE = ("1", "true", "yes", "on"), ("0", "false", "no", "off")
+# run settings a sweep may vary or fix: every field of Settings but progress (display only)
+SETTINGS = tuple(f.name for f in _fields(Settings) if f.name != "progress") + ("parameter_set",)
 
 
 def number(text: str) -> float | None:
@@ -46,24 +47,12 @@ def convert(name: str, text: object) -> object:
     as a number (else the text, e.g. ``rope.model=bouc_wen``)."""
     if not isinstance(text, str):
         return text
-    text = text.strip()
-    kind = _SETTING_TYPES.get(name)
-    if name == "parameter_set" or kind is str:
-        return text
-    if kind is list:
-        return [v.strip() for v in text.split(",") if v.strip()]
-    if kind is bool:
-        if text.lower() in _TRUE + _FALSE:
-            return text.lower() in _TRUE
-        raise SettingsError(f"{name} = {text!r} is not allowed: true or false")
-    v = number(text)
-    if kind is int:
-        if v is None or v != int(v):
-            raise SettingsError(f"{name} = {text!r} is not allowed: an integer")
-        return int(v)
-    if kind is float and v is None:
-        raise SettingsError(f"{name} = {text!r} is not allowed: a finite number")
-    return text if v is None else v
+    if name == "parameter_set":
+        return text.strip()
+    if name in SETTINGS:
+        return convert_setting(name, text)
+    v = number(text.strip())
+    return text.strip() if v is None else v
 
 
 def check_name(name: str) -> None:
@@ -96,7 +85,7 @@ class Factor:
             raise SettingsError(f"--vary {self.name}: range {self.low}:{self.high} is not allowed: finite ends")
         if self.log and (self.low <= 0 or self.high <= 0):
             raise SettingsError(f"--vary {self.name}: log range {self.low:g}:{self.high:g} is not allowed: ends > 0")
-        if _SETTING_TYPES.get(self.name) not in (float, None) or self.name == "parameter_set":
+        if self.name == "parameter_set" or (self.name in SETTINGS and kind_of(self.name) is not float):
             raise SettingsError(f"--vary {self.name}: a range is not allowed for this setting, give a list")
 
     @property
@@ -143,7 +132,7 @@ def parse_factor(text: str) -> Factor:
             raise SettingsError(f"--vary {text!r} is not allowed: a range is start:stop:n (n an integer >= 1), "
                                 "log:start:stop:n for log spacing")
         return Factor(name, low=nums[0], high=nums[1], n=int(nums[2]) if len(nums) == 3 else 0, log=log)
-    values = tuple(convert(name, v) for v in spec.split(","))
+    values = tuple(convert(name, v) for v in spec.split(";" if name in SETTINGS and is_list(name) else ","))
     if len(set(map(repr, values))) != len(values):
         raise SettingsError(f"--vary {text!r} is not allowed: each value at most once")
     return Factor(name, values=values)

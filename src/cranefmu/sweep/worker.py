@@ -60,14 +60,16 @@ def execute(ssp: SspFile, run: Run, metrics: list[Metric | Custom], results_dir:
     Every exception is caught into the row: a CraneFmuError (bad value, unstable coupling, ...) is the
     run's result and is not repeated; anything else is marked ``retry`` for the engine to try once more.
     """
-    from ..master.run import run as master_run
+    from ..master.run import execute
+    from ..master.runspec import resolve
 
     t0 = clock.perf_counter()
     row: dict = {"key": run.key, **run.inputs, "status": "ok", "error": "", "stopped": "", "steps": 0,
                  "worker": _worker_name()}
     try:
-        res = master_run(ssp.local(), parameters=run.parameters, parameter_set=run.parameter_set, isolate=False,
-                         keep=True, progress=False, **run.settings)
+        spec = resolve(ssp.local(), parameters=run.parameters, parameter_set=run.parameter_set,
+                       **{"progress": False, **run.settings})   # in this worker process, rows kept
+        res = execute(spec)
         row.update(measure(metrics, run.scene, res.result, run.inputs))
         row.update(steps=res.stats.steps, rejections=res.stats.rejections, wall_time=res.stats.wall_time, stopped=_one_line(res.stats.stopped or ""))
         if results_dir is not None:

@@ -1,0 +1,142 @@
+"""One run request, resolved once: :func:`resolve` makes a frozen :class:`RunSpec`.
+
+Every path that runs a scene takes a RunSpec: :func:`.run.run` / ``simulate``, ``cranefmu run``, the
+isolated worker (the spec is pickled whole, :mod:`.isolated`), the Dask sweep worker
+(:mod:`cranefmu.sweep.worker`) and ``converge``.  Nothing after :func:`resolve` decides a setting.
+
+Where each setting comes from (:attr:`RunSpec.sources`), first match wins:
+
+1. ``given``: the caller named it (a keyword, a ``--`` option, a sweep input; ``None`` counts as not
+   given).  Text is converted through the setting's own field type (:func:`.settings.convert`).
+2. ``scene``: the scene stores it (``org.cranefmu.settings``; ``stop_time`` from its DefaultExperiment),
+   unless the stored-settings rule sets it aside.
+3. ``algorithm default``: the run's algorithm has its own default (:data:`.settings.ALGORITHM_DEFAULTS`).
+4. ``default``: the field's default in :class:`.settings.Settings` (``stop_time``:
+   :data:`.settings.DEFAULT_STOP_TIME`).
+
+The stored-settings rule: a scene's stored settings were measured for its stored algorithm (the
+stored ``algorithm``, else the default one).  A caller who names another algorithm gets, for every
+numerical setting (:data:`.settings.NUMERICAL`) not given, that algorithm's defaults; the stored values
+not taken are kept in :attr:`RunSpec.set_aside` and shown by the run's header and ``cranefmu info``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+from ..errors import ParameterSetError, SettingsError
+from .settings import ALGORITHM_DEFAULTS, DEFAULT_STOP_TIME, NUMERICAL, Settings, convert
+
+SOURCES = ("given", "scene", "algorithm default", "default")
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """A run, fully resolved: scene, effective settings with their sources, overrides and output."""
+
+    ssp: Path                              # the scene file (built by the caller)
+    scene: str                             # the scene's name
+    settings: Settings                     # effective and checked
+    sources: dict[str, str]                # setting -> one of SOURCES
+    set_aside: dict[str, object] = field(default_factory=dict)   # stored settings not taken (another algorithm)
+    stored_for: str = ""                   # the algorithm the scene's stored settings were measured for
+    parameter_set: str | None = None
+    parameters: dict = field(default_factory=dict)       # "comp.var" -> value, as the caller gave them
+    overrides: dict = field(default_factory=dict)        # (comp, var) -> value: the parameter set, then parameters
+    output: Path | None = None             # CSV written during the run
+    keep: bool = True                      # hold the rows in memory
+    isolate: bool = False                  # run in a worker process
+
+    def describe(self) -> list[str]:
+        """The run's header: one line ``settings: name = value (source), ...`` of every setting given,
+        from the scene or the algorithm's defaults, then one line of the stored settings set aside."""
+        chosen = [f"{f.name} = {getattr(self.settings, f.name)!r} ({self.sources[f.name]})"
+                  for f in fields(Settings) if self.sources[f.name] != "default"]
+        lines = ["settings: " + (", ".join(chosen) or "all defaults")]
+        if self.set_aside:
+            lines.append(f"not taken from the scene (measured for {self.stored_for}, this run is "
+                         f"{self.settings.algorithm}): " + ", ".join(f"{k} = {v!r}" for k, v in self.set_aside.items()))
+        return lines
+
+
+def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None = None,
+            output: str | Path | None = None, keep: bool = True, isolate: bool = False, **options) -> RunSpec:
+    """The :class:`RunSpec` of running ``scene`` (a name or an .ssp path) with ``options`` (run
+    settings by name, see :class:`.settings.Settings`).  Raises a :class:`SettingsError` or
+    :class:`ParameterSetError` naming the setting or parameter, its value and what is allowed."""
+    from .extracted import extracted_scene
+    from .scene_names import resolve_scene
+
+    known = {f.name for f in fields(Settings)}
+    unknown = sorted(set(options) - known)
+    if unknown:
+        raise SettingsError(f"{unknown[0]} is not a run setting: one of {', '.join(sorted(known))}")
+    given = {k: convert(k, v) for k, v in options.items() if v is not None}
+    ssp = resolve_scene(scene)
+    _, loaded = extracted_scene(ssp)
+    values, sources, set_aside, stored_for = choose(given, loaded.settings, loaded.stop_time)
+    settings = Settings(**values)
+    try:
+        settings.check()
+    except SettingsError as err:
+        name = str(err).partition(" ")[0]
+        if sources.get(name) != "scene":
+            raise
+        raise SettingsError(f"{err} ({name} is the scene's stored setting, see cranefmu info: give "
+                            f"{name} explicitly)") from None
+    parameters = dict(parameters or {})
+    overrides = _overrides(loaded, parameter_set, parameters)
+    _refuse_connected_inputs(loaded, parameters)
+    return RunSpec(ssp, loaded.name, settings, sources, set_aside, stored_for, parameter_set, parameters, overrides,
+                   Path(output) if output is not None else None, keep, isolate)
+
+
+def choose(given: dict, stored: dict, scene_stop_time: float | None) -> tuple[dict, dict, dict, str]:
+    """(values, sources, set aside, stored-for algorithm) of every setting: the precedence and the
+    stored-settings rule of this module's docstring."""
+    defaults = {f.name: f.default for f in fields(Settings)}
+    stored_for = stored.get("algorithm", defaults["algorithm"])
+    algorithm = given.get("algorithm", stored_for)
+    own = ALGORITHM_DEFAULTS.get(algorithm, {})
+    values, sources, set_aside = {}, {}, {}
+    for name, default in defaults.items():
+        if name in given:
+            values[name], sources[name] = given[name], "given"
+        elif name == "stop_time" and scene_stop_time is not None:
+            values[name], sources[name] = scene_stop_time, "scene"
+        elif name in stored and (algorithm == stored_for or name not in NUMERICAL):
+            values[name], sources[name] = stored[name], "scene"
+        else:
+            if name in stored:
+                set_aside[name] = stored[name]
+            if name in own:
+                values[name], sources[name] = own[name], "algorithm default"
+            else:
+                values[name], sources[name] = DEFAULT_STOP_TIME if name == "stop_time" else default, "default"
+    return values, sources, set_aside, stored_for
+
+
+def _overrides(scene, parameter_set: str | None, parameters: dict) -> dict[tuple[str, str], object]:
+    """The parameter set's values with ``parameters`` over them, keyed (component, variable)."""
+    values: dict[str, object] = scene.values(parameter_set)
+    values.update(parameters)
+    names = {c.name for c in scene.components}
+    out = {}
+    for key, value in values.items():
+        comp, _, var = str(key).partition(".")
+        if comp not in names or not var:
+            raise ParameterSetError(f"parameter {key!r} must be 'component.variable' with a component of "
+                                    f"{scene.name}: {', '.join(sorted(names))}")
+        out[(comp, var)] = value
+    return out
+
+
+def _refuse_connected_inputs(scene, parameters: dict) -> None:
+    """An override of a connected input is overwritten at every step: refuse it by name."""
+    driven = {f"{c.dst}.{c.dst_var}": f"{c.src}.{c.src_var}" for c in scene.connections}
+    for key in parameters:
+        if str(key) in driven:
+            source = driven[str(key)]
+            raise ParameterSetError(f"{key} is not allowed as a parameter: it is an input connected to {source}, "
+                                    f"which overwrites it at every step; set a parameter of "
+                                    f"{source.partition('.')[0]} instead")
