@@ -1,7 +1,8 @@
 """cranefmu: crane dynamics as FMI co-simulation components, and a master to run them.
 
 Public API: :func:`simulate` (run a scene or an .ssp, returns the rows), :func:`run` (the same, with
-statistics), :func:`build` (build FMUs and scenes), :func:`sweep` (a study of many runs on Dask).
+statistics), :func:`resolve` (the :class:`RunSpec` a run would take: every setting and where it came
+from; ``run(spec)`` runs it), :func:`build` (build FMUs and scenes), :func:`sweep` (a study of many runs on Dask).
 Scene names resolve through :mod:`cranefmu.scene_catalog`, registered with the master here so the
 master imports nothing of it.
 """
@@ -13,7 +14,7 @@ from .master.scene_names import register_scene_resolver as _register_scene_resol
 
 __version__ = "0.1.0"
 
-__all__ = ["simulate", "run", "build", "sweep", "__version__"]
+__all__ = ["simulate", "run", "resolve", "RunSpec", "build", "sweep", "__version__"]
 
 
 def _resolve_scene_name(name: str) -> Path:
@@ -31,6 +32,9 @@ def __getattr__(name: str):
     if name in ("simulate", "run"):
         from .master import run as master_run
         return getattr(master_run, name)
+    if name in ("resolve", "RunSpec"):
+        from .master import runspec
+        return getattr(runspec, name)
     if name == "build":
         from .build import build
         return build

@@ -65,11 +65,13 @@ def scene(built, tmp_path_factory):
     from cranefmu.master.run import resolve_scene
     from cranefmu.master.scene import Parameter, load_scene
 
+    from dataclasses import replace
+
     loaded = load_scene(resolve_scene(SCENE), tmp_path_factory.mktemp("scene"))
     derived = ("pendulum.start", "pendulum.theta0")
-    loaded.bound = {k: p for k, p in loaded.bound.items() if k not in derived}
-    loaded.bound.update({k: Parameter(k, "Real", float(v), "m") for k, v in hand_placed_start().items()})
-    return loaded
+    bound = {k: p for k, p in loaded.bound.items() if k not in derived}
+    bound.update({k: Parameter(k, "Real", float(v), "m") for k, v in hand_placed_start().items()})
+    return replace(loaded, bound=bound)   # the scene is frozen
 
 
 @pytest.fixture(scope="module")

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterSetError, SceneError
+from .settings import parse_bool
 
 _EXCEPTION_LINE = re.compile(r"^[A-Za-z_][\w.]*(Error|Exception|Exit|Interrupt)\b.*")
-_BOOL_TEXT = {"true": True, "false": False, "1": True, "0": False}
 
 # Messages by instance name.  pythonfmu FMUs in one process may all report through the logger of
 # the last instance created, so a message is filed under the instance name it carries.
@@ -271,7 +271,7 @@ class FmuComponent:
                     raise ValueError
                 self.fmu.setInteger([v.valueReference], [int(f)])
             elif v.type == "Boolean":
-                value = text if isinstance(text, bool) else _BOOL_TEXT[str(text).strip().lower()]
+                value = text if isinstance(text, bool) else parse_bool(text)
                 self.fmu.setBoolean([v.valueReference], [value])
             else:
                 self.fmu.setString([v.valueReference], [str(text)])

@@ -24,12 +24,12 @@ tests instead (tests/master/test_scene_reader.py).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Union
 
 from ..errors import ParameterSetError, SceneError, SettingsError
-from .settings import stored_settings
+from .settings import parse_bool, stored_settings
 from ..units import parse as parse_unit
 from .stop_conditions import read_stop_conditions
 from .untrusted import check_xml_files, parse_xml, safe_extract
@@ -39,7 +39,6 @@ SSV_NS = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
 SSC_NS = "http://ssp-standard.org/SSP1/SystemStructureCommon"
 SETTINGS_ANNOTATION = "org.cranefmu.settings"
 TYPES = ("Real", "Integer", "Boolean", "String", "Enumeration")
-_BOOLEAN = {"true": True, "1": True, "false": False, "0": False}
 
 Value = Union[float, int, bool, str]
 
@@ -52,7 +51,7 @@ class Connector:
     unit: str = ""
 
 
-@dataclass
+@dataclass(frozen=True)
 class ComponentSpec:
     name: str
     fmu: Path        # the FMU file (in an extracted .ssp: resolved from ``source``)
@@ -83,8 +82,11 @@ class Parameter:
     unit: str = ""   # as written in the .ssv ("" if none)
 
 
-@dataclass
+@dataclass(frozen=True)
 class Scene:
+    """A scene as read (frozen: a run, a reference solve and ``info`` see the same one; change a copy
+    with :func:`dataclasses.replace`)."""
+
     name: str
     path: Path
     components: list[ComponentSpec]
@@ -140,7 +142,7 @@ def typed_value(text: str, kind: str, where: str, unit: str = "") -> Value:
                 raise ValueError
             return int(number)
         if kind == "Boolean":
-            return _BOOLEAN[str(text).strip().lower()]
+            return parse_bool(text)
         return str(text)
     except (ValueError, KeyError, TypeError):
         allowed = {"Real": "a finite number", "Integer": "a whole number", "Boolean": "true or false"}[kind]
@@ -317,14 +319,12 @@ def load_scene(ssp: Path, workdir: Path) -> Scene:
     if not ssd.is_file():
         raise SceneError(f"{ssp.name}: cannot read SystemStructure.ssd: not in the archive")
     scene = read_ssd(ssd, workdir / "resources", label=ssp.name)
-    for c in scene.components:
-        c.fmu = (workdir / c.source).resolve()
+    components = [replace(c, fmu=(workdir / c.source).resolve()) for c in scene.components]
+    for c in components:
         if not c.fmu.is_file():
             raise SceneError(f"{ssp.name}: component {c.name!r} refers to {c.source}, which is not in the archive")
-    scene.path = ssp
-    if scene.name == "SystemStructure":
-        scene.name = ssp.stem
-    return scene
+    return replace(scene, components=components, path=ssp,
+                   name=ssp.stem if scene.name == "SystemStructure" else scene.name)
 
 
 def read_scene_folder(folder: Path, fmu_dir: Path) -> Scene:
