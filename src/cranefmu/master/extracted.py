@@ -1,14 +1,25 @@
-"""Extracted scenes kept for the life of the process, so a later run of a scene starts faster.
+"""The process contract of the master, and the per-process state it keeps: extracted scenes.
 
-The .ssp is extracted once per process, keyed by the SHA-256 of its bytes (a rebuilt scene gets a
-new one), under a lock, and removed when the process exits (``atexit``) or by :func:`clear`.  Its
-FMUs are extracted here too, to read their model descriptions (:func:`cranefmu.master.run.preview`),
-but never instantiated from here: each run unzips the FMUs it instantiates into a directory of its
-own.  Measured: instantiating a pythonfmu FMU a second time from the same extracted directory in one
-process made the process abort at exit ('corrupted double-linked list'; valgrind: pythonfmu's
-``finalizePythonInterpreter`` reads memory freed by an exit handler), 14 processes in 16; with a
-fresh directory per run, 0 in 12.  An isolated run's worker keeps its cache in the run's own
-temporary directory, which the parent removes whatever happens to the worker.
+A process that runs FMUs keeps to this contract (the pythonfmu and fmpy workarounds):
+
+- **Each run instantiates its FMUs from directories of its own** (:func:`fresh_fmu_dirs`).  Measured:
+  instantiating a pythonfmu FMU a second time from the same extracted directory in one process made
+  the process abort at exit ('corrupted double-linked list'; valgrind: pythonfmu's
+  ``finalizePythonInterpreter`` reads memory freed by an exit handler), 14 processes in 16; with a
+  fresh directory per run, 0 in 12.  All Python FMUs of a process share one interpreter (their
+  bundled code has build-unique package names, docs/architecture.md).
+- **An .ssp is extracted once per process** (:func:`extracted_scene`), keyed by the SHA-256 of its
+  bytes (a rebuilt scene gets a new one), under a lock, into one temporary directory removed at exit
+  (``atexit``) or by :func:`clear`; its FMUs are extracted there too, to read their model descriptions,
+  but never instantiated from there.  A run's own directories are removed in the background
+  (:func:`discard`).
+- **Other process-global state**, each where it is used: the fmpy logger callbacks and the messages
+  per instance, the model descriptions of extracted FMU directories (:mod:`.fmu`); the scene-name
+  resolver (:mod:`.scene_names`); signal handlers, installed only for a run's duration in the main
+  thread (:mod:`.interrupt`).
+- **A worker process ends with ``os._exit``** once every FMU is freed (:mod:`.worker`): the
+  interpreter's teardown is skipped; an isolated run's worker keeps its extraction cache in the run's
+  own temporary directory, which the parent removes whatever happens to the worker.
 """
 from __future__ import annotations
 
