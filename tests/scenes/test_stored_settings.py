@@ -34,7 +34,7 @@ def test_run_without_settings_uses_the_scene_settings_and_meets_one_percent(buil
     stored = preview(scene).settings
     assert {"algorithm", "extrapolation", "step_size"} <= set(stored)
     res = run(scene, stop_time=SPAN[scene], progress=False)
-    assert {k for k, v in res.spec.sources.items() if v == "scene"} == set(stored) | {"stop_time"}
+    assert {k for k, v in res.spec.sources.items() if v == "scene"} == set(stored)
     for name, value in stored.items():
         assert getattr(res.settings, name) == value
     assert res.stats.steps == round(SPAN[scene] / stored["step_size"])

@@ -7,7 +7,8 @@ isolated worker (the spec is pickled whole, :mod:`.isolated`), the Dask sweep wo
 Where each setting comes from (:attr:`RunSpec.sources`), first match wins:
 
 1. ``given``: the caller named it (a keyword, a ``--`` option, a sweep input; ``None`` counts as not
-   given).  Text is converted through the setting's own field type (:func:`.settings.convert`).
+   given).  Text is converted through the setting's own field type (:func:`.settings.convert`); a
+   list setting takes a list here (its comma-separated text is read by the CLI, a sweep and a scene).
 2. ``scene``: the scene stores it (``org.cranefmu.settings``; ``stop_time`` from its DefaultExperiment),
    unless the stored-settings rule sets it aside.
 3. ``algorithm default``: the run's algorithm has its own default (:data:`.settings.ALGORITHM_DEFAULTS`).
@@ -25,7 +26,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from ..errors import ParameterSetError, SettingsError
-from .settings import ALGORITHM_DEFAULTS, DEFAULT_STOP_TIME, NUMERICAL, Settings, convert
+from .settings import ALGORITHM_DEFAULTS, DEFAULT_STOP_TIME, NUMERICAL, Settings, convert, is_list
 
 SOURCES = ("given", "scene", "algorithm default", "default")
 
@@ -71,7 +72,8 @@ def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None 
     unknown = sorted(set(options) - known)
     if unknown:
         raise SettingsError(f"{unknown[0]} is not a run setting: one of {', '.join(sorted(known))}")
-    given = {k: convert(k, v) for k, v in options.items() if v is not None}
+    # text typed by the field (a list setting's text only where it is read as text: a sweep, a stored setting)
+    given = {k: v if is_list(k) else convert(k, v) for k, v in options.items() if v is not None}
     ssp = resolve_scene(scene)
     _, loaded = extracted_scene(ssp)
     values, sources, set_aside, stored_for = choose(given, loaded.settings, loaded.stop_time)

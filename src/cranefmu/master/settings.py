@@ -85,9 +85,6 @@ class Settings:
 
     def check(self) -> None:
         """Refuse a bad value (or combination) with a :class:`SettingsError` naming it."""
-        self._check()
-
-    def _check(self) -> None:
         if not isinstance(self.instability_alarm, bool):
             raise SettingsError(f"instability_alarm = {self.instability_alarm!r} is not allowed: True or False")
         if self.stop_when is not None and (isinstance(self.stop_when, str) or
