@@ -37,8 +37,11 @@ INIT_RELAXATION = 0.5
 INIT_TOLERANCE = 1e-14   # largest relative input change of the last initialization sweep
 
 
-def source_scene(scene: str) -> Scene:
-    """Scene ``scene`` read from its sources under ssp/ (the one scene reader)."""
+def source_scene(scene: str | Scene) -> Scene:
+    """Scene ``scene`` read from its sources under ssp/ (the one scene reader); a :class:`Scene` as it
+    is (e.g. the one a run read from its .ssp: the monolith then wires and starts what the run does)."""
+    if isinstance(scene, Scene):
+        return scene
     folder = SSP_DIR / scene
     if not (folder / "SystemStructure.ssd").is_file():
         known = sorted(p.name for p in SSP_DIR.iterdir() if (p / "SystemStructure.ssd").is_file())
@@ -91,9 +94,9 @@ class Link:
 class Monolith:
     """All components of a scene as one ODE x' = f(t, x); outputs as in the co-simulation."""
 
-    def __init__(self, scene: str, parameter_set: str = "default", parameters: dict | None = None):
-        self.scene = scene
+    def __init__(self, scene: str | Scene, parameter_set: str = "default", parameters: dict | None = None):
         source = source_scene(scene)
+        self.scene = scene = source.name
         values = {**source.values(parameter_set), **(parameters or {})}
         self.names: list[str] = []
         self.models: list[Model] = []
@@ -328,7 +331,7 @@ def breakpoints(models: list[Model]) -> list[float]:
     return sorted(set(times))
 
 
-def solve(scene: str, stop_time: float, times: np.ndarray | None = None, parameter_set: str = "default",
+def solve(scene: str | Scene, stop_time: float, times: np.ndarray | None = None, parameter_set: str = "default",
           parameters: dict | None = None, rtol: float = 1e-10, method: str = "Radau") -> dict[str, np.ndarray]:
     """Solve scene ``scene`` as one ODE from 0 to ``stop_time`` [s] with scipy (Radau or BDF).
 
@@ -339,6 +342,7 @@ def solve(scene: str, stop_time: float, times: np.ndarray | None = None, paramet
     located regime switches of the rope (slack, taut, on the zero-force line; :class:`RegimeEvents`).
     """
     mono = Monolith(scene, parameter_set, parameters)
+    scene = mono.scene
     x = mono.initial_state(0.0)
     t_eval = np.asarray(times, dtype=float) if times is not None else np.linspace(0.0, stop_time, 2001)
     cuts = [b for b in breakpoints(mono.models) if 0.0 < b < stop_time] + [stop_time]

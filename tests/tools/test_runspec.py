@@ -184,3 +184,21 @@ def test_hook_sway_iterative_takes_iterative_defaults(built):
     spec = resolve("hook_sway", step_size=5e-3, algorithm="iterative", parameters={"rope.E": 1e12})
     assert (spec.settings.extrapolation, spec.sources["extrapolation"]) == (Settings().extrapolation, "default")
     assert spec.set_aside == {"extrapolation": 2} and spec.overrides[("rope", "E")] == 1e12
+
+
+def test_the_reference_solves_the_scene_a_run_read(built):
+    """``reference.solve`` takes the :class:`Scene` a run read from its .ssp (wiring, parameters and start
+    from the same object) and gives the solve of the scene's sources bit for bit."""
+    import numpy as np
+
+    from cranefmu.master.extracted import extracted_scene
+    from cranefmu.master.scene_names import resolve_scene
+    from cranefmu.reference import solve
+
+    _, scene = extracted_scene(resolve_scene("elastic_pendulum"))
+    times = np.linspace(0.0, 0.5, 11)
+    from_run = solve(scene, 0.5, times, rtol=1e-8)
+    from_sources = solve("elastic_pendulum", 0.5, times, rtol=1e-8)
+    assert set(from_run) == set(from_sources)
+    for key, column in from_sources.items():
+        assert np.array_equal(from_run[key], column), key
