@@ -38,7 +38,7 @@ from .step_control import make_step_control
 from .stop_conditions import StopWatch
 from .system import CoSystem, RunStats
 
-__all__ = ["run", "simulate", "preview", "execute", "resolve", "RunSpec", "RunResult", "RunStats", "Settings",
+__all__ = ["run", "simulate", "preview", "execute", "build_execution", "resolve", "RunSpec", "RunResult", "RunStats", "Settings",
            "ALGORITHMS", "RunInterrupted"]
 
 
@@ -144,27 +144,19 @@ def _run_here(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt | No
 
 
 def _run_observed(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt) -> RunResult:
-    settings, keep = spec.settings, spec.keep
+    settings = spec.settings
     system = recorder = progress = fmu_dirs = None
     wall0 = clock.perf_counter()
     try:
         workdir, loaded = extracted_scene(spec.ssp)
         fmu_dirs = Path(tempfile.mkdtemp(prefix="run_", dir=workdir))
         fresh_fmu_dirs(workdir, loaded, fmu_dirs)   # never instantiate twice from one directory
-        system = CoSystem(loaded, fmu_dirs, settings.extrapolation)
-        bonds = BondMonitor(system, resolve_bonds(system, loaded.bonds))
-        _check_capabilities(system, settings, bonds)
-        watch = Watch(system, bonds, settings.adaptive, _solved(system, settings)) if settings.instability_alarm else None
-        recorder = Recorder(system.columns + bonds.columns, claim.fd if claim else None,
-                            str(claim.target) if claim else "", keep=keep,
-                            path=str(claim.part or claim.target) if claim else "")
-        conditions = loaded.stop_conditions if settings.stop_when is None \
-            else {v: "" for v in settings.stop_when}
-        stopper = StopWatch(system.columns + bonds.columns, conditions) if conditions else None
+        execution = build_execution(spec, loaded, fmu_dirs, claim)
+        system, bonds, recorder = execution.system, execution.bonds, execution.recorder
         system.stats.init_iterations = initialize(system, settings.start_time, spec.overrides, settings.init_tolerance)
         progress = Progress(settings.start_time, settings.stop_time, settings.progress)
         if interrupt.signum is None:
-            _loop(system, settings, recorder, bonds, progress, watch, stopper, (interrupt,))
+            _loop(system, settings, recorder, bonds, progress, execution.watch, execution.stopper, (interrupt,))
         system.stats.wall_time = clock.perf_counter() - wall0
         system.stats.master_time = system.stats.wall_time - sum(system.stats.fmu_time.values())
         system.stats.bond_energy = bonds.totals()
@@ -194,6 +186,39 @@ def _run_observed(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt)
     if interrupt.signum is not None:
         raise RunInterrupted(_interrupted(interrupt.signum, result), result.result, where, interrupt.signum)
     return result
+
+
+@dataclass
+class Execution:
+    """One run's parts, built from its :class:`RunSpec` by :func:`build_execution`: the coupled system,
+    its power bonds and the observers the settings ask for (recorder, instability watch, stop watch)."""
+
+    system: CoSystem
+    bonds: BondMonitor
+    recorder: Recorder
+    watch: Watch | None
+    stopper: StopWatch | None
+
+
+def build_execution(spec: RunSpec, loaded, fmu_dirs: Path, claim: OutputFile | None = None) -> Execution:
+    """The parts of the run ``spec`` on the scene ``loaded`` (as read from ``spec.ssp``), its FMUs
+    instantiated from ``fmu_dirs``, its rows into ``claim``; the system is freed if a part is refused."""
+    settings = spec.settings
+    system = CoSystem(loaded, fmu_dirs, settings.extrapolation)
+    try:
+        bonds = BondMonitor(system, resolve_bonds(system, loaded.bonds))
+        _check_capabilities(system, settings, bonds)
+        watch = Watch(system, bonds, settings.adaptive, _solved(system, settings)) if settings.instability_alarm else None
+        conditions = loaded.stop_conditions if settings.stop_when is None \
+            else {v: "" for v in settings.stop_when}
+        stopper = StopWatch(system.columns + bonds.columns, conditions) if conditions else None
+        recorder = Recorder(system.columns + bonds.columns, claim.fd if claim else None,
+                            str(claim.target) if claim else "", keep=spec.keep,
+                            path=str(claim.part or claim.target) if claim else "")
+    except BaseException:
+        system.free()
+        raise
+    return Execution(system, bonds, recorder, watch, stopper)
 
 
 def _interrupted(signum: int, result: RunResult) -> str:
