@@ -39,7 +39,8 @@ def add_parser(sub) -> None:
     s.add_argument("scene", help="scene name under ssp/ or path to an .ssp file")
     s.add_argument("--vary", action="append", default=[], metavar="NAME=VALUES",
                    help="an input and its values: comp.var or a run setting (step_size, algorithm, extrapolation, "
-                        "adaptive, tolerance, parameter_set, ...) = v1,v2,... | start:stop:n | log:start:stop:n "
+                        "adaptive, tolerance, implicit, parameter_set, ...) = v1,v2,... | start:stop:n | "
+                        "log:start:stop:n; a list setting's values separated by ';' (implicit=none;tip;tip,hook) "
                         "(repeatable; all combinations unless --design lhs/sobol)")
     s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="an input fixed for every run (parameter or run setting; repeatable)")
