@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from .algorithms import make_algorithm
+from .bond_inference import scene_bonds
 from .divergence import ValueCheck, Watch
 from ..errors import CraneFmuError, ParameterSetError, SettingsError, SimulationError
 from .extracted import discard, extracted_scene, fresh_fmu_dirs
@@ -73,9 +74,9 @@ def preview(scene: str | Path) -> ScenePreview:
 
     ssp = resolve_scene(scene)
     workdir, loaded = extracted_scene(ssp)
-    reals, flags, units, variables = [], [], {}, {}
+    reals, flags, units, variables, mds = [], [], {}, {}, {}
     for c in loaded.components:
-        md = FmuComponent(c.name, c.fmu, fmu_dir(workdir, c.name)).md
+        md = mds[c.name] = FmuComponent(c.name, c.fmu, fmu_dir(workdir, c.name)).md
         variables[c.name] = {v.name for v in md.modelVariables}
         for v in md.modelVariables:
             if v.causality != "output":
@@ -85,7 +86,7 @@ def preview(scene: str | Path) -> ScenePreview:
             unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
             if unit:
                 units[name] = unit
-    bonds = [f"bond.{n}.{e}" for n, _ in loaded.bonds for e in ("dE", "E")]
+    bonds = [f"bond.{n}.{e}" for n, _ in scene_bonds(loaded, mds)[0] for e in ("dE", "E")]
     units.update({b: "J" for b in bonds})
     return ScenePreview(ssp, loaded.name, loaded.stop_time, reals + flags + bonds, units, variables,
                         ("default", *loaded.parameter_sets), dict(loaded.settings))
@@ -158,7 +159,7 @@ def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, para
         overrides = _overrides(loaded, parameter_set, parameters)
         system = CoSystem(loaded, fmu_dirs, settings.extrapolation)
         _refuse_connected_inputs(system, parameters)
-        bonds = BondMonitor(system, resolve(system, loaded.bonds))
+        bonds = BondMonitor(system, resolve(system, scene_bonds(loaded, {c.name: c.md for c in system.comps})[0]))
         _check_capabilities(system, settings, bonds)
         watch = Watch(system, bonds, settings.adaptive, _solved(system, settings)) if settings.instability_alarm else None
         recorder = Recorder(system.columns + bonds.columns, claim.fd if claim else None,

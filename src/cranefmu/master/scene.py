@@ -68,6 +68,7 @@ class ConnectionSpec:
     dst_var: str
     factor: float = 1.0
     offset: float = 0.0
+    transformed: bool = False   # the SSD gives a LinearTransformation (also an identity one): no unit conversion
 
     def __str__(self) -> str:
         return f"{self.src}.{self.src_var} -> {self.dst}.{self.dst_var}"
@@ -269,11 +270,12 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
             if comp not in names:
                 raise SceneError(f"{label}: connection {text}: {role} element {comp!r} is not a component "
                                  f"(components: {', '.join(sorted(names))})")
-        factor, offset = 1.0, 0.0
+        factor, offset, transformed = 1.0, 0.0, False
         for lt in c.iter("{*}LinearTransformation"):
             factor = _number(lt.get("factor", "1"), f"connection {text}: LinearTransformation factor", label)
             offset = _number(lt.get("offset", "0"), f"connection {text}: LinearTransformation offset", label)
-        connections.append(ConnectionSpec(*ends, factor, offset))
+            transformed = True
+        connections.append(ConnectionSpec(*ends, factor, offset, transformed))
     from .power_bonds import read_bonds   # here: power_bonds imports the system, which imports this module
 
     start = stop = None
