@@ -3,19 +3,17 @@ connection's whole conversion, and outputs a foreign FMU first sets at exitIniti
 read before the run starts (master/initialization.py; docs/foreign_fmus.md)."""
 from __future__ import annotations
 
-import zipfile
-
 import numpy as np
 import pytest
 
 from cranefmu.errors import SceneError
 from cranefmu.master.run import run
+from late import IDENTITY, late_scene
 from oscillator import SSD, build_oscillator
 from oscillator.exact import Oscillator
 
 G = 9.81
 X_CONN = '<ssd:Connection startElement="mass" startConnector="x" endElement="spring" endConnector="x_in"/>'
-IDENTITY = '<ssc:LinearTransformation factor="1" offset="0"/>'
 
 
 def _velocity_as_position(transformation: str) -> str:
@@ -40,32 +38,11 @@ def test_without_a_transformation_the_units_are_still_checked(oscillator_ssp):
         run(ssp, stop_time=0.1, step_size=1e-2)
 
 
-def _late_scene(dest, oscillator_ssp):
-    """OscMass with LateSpring (tests/late): unitless, so every connection carries an identity
-    transformation, as a hand-written SSP of a foreign FMU does."""
-    from pathlib import Path
-
-    from cranefmu.build import build_fmu
-
-    late = dest / "LateSpring.fmu"
-    if not late.exists():
-        build_fmu(Path(__file__).resolve().parents[1] / "late" / "LateSpring.py", late)
-    ssd = SSD.replace("resources/OscSpring.fmu", "resources/LateSpring.fmu")
-    for end in ('endConnector="x_in"', 'endConnector="v_in"', 'endElement="mass" endConnector="F"'):
-        ssd = ssd.replace(f"{end}/>", f">{IDENTITY}</ssd:Connection>".join([end, ""]))
-    ssp = dest / "late.ssp"
-    with zipfile.ZipFile(ssp, "w") as zf:
-        zf.writestr("SystemStructure.ssd", ssd)
-        zf.write(oscillator_ssp.parent / "OscMass.fmu", "resources/OscMass.fmu")
-        zf.write(late, "resources/LateSpring.fmu")
-    return ssp
-
-
 def test_outputs_first_set_at_exit_start_the_scene_at_rest(tmp_path, oscillator_ssp):
     """The spring's force is 0 all through initialization mode and -k x_in after the exit.  The mass
     starts at rest for the force in force after the exit: x = f / (k_mass + k_spring), a = 0.
     (Before: it started at f / k_mass = 0.245 m and oscillated with |a| up to 25 m/s2.)"""
-    ssp = _late_scene(tmp_path, oscillator_ssp)
+    ssp = late_scene(tmp_path, oscillator_ssp.parent / "OscMass.fmu")
     pars = {"mass.f": G, "mass.k": 40.0, "mass.start": "equilibrium", "spring.k": 100.0}
     r = run(ssp, stop_time=0.5, step_size=1e-3, parameters=pars).result
     assert r["mass.x"][0] == pytest.approx(G / 140.0, rel=1e-9)

@@ -7,14 +7,9 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
+from c_fmu import C_ROPE, G, K, LOAD, M_SUPPORT, support_scene
 from c_fmu.build import build, compiler
 from cranefmu.master.run import run
-from foreign_ssp import ROPE_PENDULUM, ROPE_PENDULUM_PARAMETERS, write_ssp
-
-G, LOAD, K, M_SUPPORT = 9.81, 1000.0, 1e7, 100.0
-C_ROPE = 1e11 * 5.655e-5 / 10.0   # E A / L [N/m]
-SUPPORT = [("rope", "Fy_top", "support", "F"), ("support", "y", "rope", "y_top"),
-           ("support", "v", "rope", "vy_top"), ("support", "y", "pendulum", "y_top")]
 
 
 @pytest.fixture(scope="module")
@@ -41,16 +36,10 @@ def test_the_c_fmu_validates_and_vibrates_at_its_frequency(c_fmu):
     assert np.max(np.abs(np.array(r["y"]) - 0.01 * np.cos(w * np.array(r["time"])))) < 1e-8
 
 
-def _scene(tmp_path, built, c_fmu, **parameters):
-    comps = {"rope": built / "Rope.fmu", "pendulum": built / "Pendulum.fmu", "support": c_fmu}
-    pars = {**ROPE_PENDULUM_PARAMETERS, "pendulum.theta0": 0.0, "support.k": K, "support.m": M_SUPPORT, **parameters}
-    return write_ssp(tmp_path / "c_support.ssp", comps, ROPE_PENDULUM + SUPPORT, pars)
-
-
 def test_the_c_fmu_holds_the_rope_at_rest(built, tmp_path, c_fmu):
     """Settled in initialization mode across the C and Python FMUs: the support sags m g / k under the
     hanging load, the tension is the weight, and nothing moves (jacobi and iterative)."""
-    ssp = _scene(tmp_path, built, c_fmu)
+    ssp = support_scene(tmp_path / "c_support.ssp", built, c_fmu)
     for algorithm in ("jacobi", "iterative"):
         res = run(ssp, stop_time=0.2, step_size=1e-3, algorithm=algorithm, progress=False)
         r = res.result
@@ -64,7 +53,7 @@ def test_the_c_fmu_and_the_load_vibrate_as_two_masses_on_springs(built, tmp_path
     the vertical motion is that of two masses (support, load) on the support spring k and the rope
     c = E A / L (exact by the matrix exponential).  Measured: 2.6 % of the amplitude at H = 0.1 ms over
     0.2 s, the same with the iterative algorithm (so it is the rope model's, not the coupling's)."""
-    ssp = _scene(tmp_path, built, c_fmu, **{"support.start": 0, "rope.zeta": 0.0})
+    ssp = support_scene(tmp_path / "c_support.ssp", built, c_fmu, **{"support.start": 0, "rope.zeta": 0.0})
     r = run(ssp, stop_time=0.1, step_size=1e-4, algorithm="jacobi", extrapolation=1, progress=False).result
     a = np.array([[0, 1, 0, 0], [-(K + C_ROPE) / M_SUPPORT, 0, C_ROPE / M_SUPPORT, 0],
                   [0, 0, 0, 1], [C_ROPE / LOAD, 0, -C_ROPE / LOAD, 0]])
