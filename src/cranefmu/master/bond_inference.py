@@ -116,8 +116,9 @@ def infer_bonds(scene: Scene, descriptions: Mapping[str, object]) -> list[tuple[
 
 
 def scene_bonds(scene: Scene, descriptions: Mapping[str, object]) -> tuple[list[tuple[str, list[dict]]], bool]:
-    """The scene's declared power bonds, or if it declares none the inferred ones; and whether inferred."""
-    if scene.bonds:
+    """The scene's declared power bonds, or if it declares none the inferred ones; and whether inferred.
+    An empty power-bond annotation declares that the scene has none: nothing is inferred."""
+    if scene.bonds or scene.bonds_declared:
         return scene.bonds, False
     return infer_bonds(scene, descriptions), True
 

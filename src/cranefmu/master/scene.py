@@ -97,6 +97,7 @@ class Scene:
     bonds: list[tuple[str, list[dict]]] = field(default_factory=list)
     stop_conditions: dict[str, str] = field(default_factory=dict)
     settings: dict[str, object] = field(default_factory=dict)   # stored run settings (name -> typed value)
+    bonds_declared: bool = False   # the SSD has a power-bond annotation (an empty one: no bonds, none inferred)
 
     @property
     def parameters(self) -> dict[str, Value]:
@@ -276,7 +277,7 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
             offset = _number(lt.get("offset", "0"), f"connection {text}: LinearTransformation offset", label)
             transformed = True
         connections.append(ConnectionSpec(*ends, factor, offset, transformed))
-    from .power_bonds import read_bonds   # here: power_bonds imports the system, which imports this module
+    from .power_bonds import ANNOTATION as BONDS_ANNOTATION, read_bonds   # here: power_bonds imports the system, which imports this module
 
     start = stop = None
     for de in _children(root, "DefaultExperiment"):
@@ -288,8 +289,9 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
         if ssv.name not in bound_files:
             sets[ssv.stem] = read_parameter_set(parse_xml(ssv), f"{label}: parameter set {ssv.name}")
     name = root.get("name") or system.get("name") or ssd.parent.name
+    declared = any(ann.get("type") == BONDS_ANNOTATION for ann in system.iter("{*}Annotation"))
     return Scene(name, ssd, components, connections, bound, sets, start, stop, read_bonds(system, label),
-                 read_stop_conditions(system, label), read_settings(system, label, stop))
+                 read_stop_conditions(system, label), read_settings(system, label, stop), declared)
 
 
 def read_settings(system, label: str, stop_time: float | None) -> dict[str, object]:
