@@ -22,7 +22,6 @@ from __future__ import annotations
 import multiprocessing
 import os
 import platform
-import subprocess
 import sys
 import tempfile
 import time as clock
@@ -137,19 +136,9 @@ def _run_columns(ssp: str) -> dict:
     return {k: r[k].tolist() for k in r.dtype.names}
 
 
-def commit() -> str:
-    try:
-        out = subprocess.run(["git", "-C", str(ROOT), "log", "-1", "--format=%h %s"], capture_output=True,
-                             text=True, timeout=10).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True, timeout=10).stdout.strip()
-        return out[:70] + (" (+ uncommitted changes)" if dirty else "")
-    except Exception:
-        return "unknown"
-
-
 def main() -> None:
     from cranefmu import build as b
+    from fmu_floor import commit   # benchmarks/ is the script's folder
 
     b.build(verbose=False)
     t0 = clock.perf_counter()

@@ -36,20 +36,12 @@ def slave_class(messages: dict[str, list[str]]):
     global _SLAVE
     if _SLAVE is not None:
         return _SLAVE
-    from fmpy.fmi1 import FMICallException
     from fmpy.fmi3 import FMU3Slave, fmi3Boolean, fmi3Float64
 
-    class FMU3SlaveAsFmi2(FMU3Slave):   # fmpy binds the fmi3 functions of any class not named FMU1/FMU2
-        fatal = False
-        start_time = 0.0
+    from .fmu import FatalAware
 
-        def _call(self, fname, *args):
-            try:
-                return super()._call(fname, *args)
-            except FMICallException as err:
-                if err.status == 4:
-                    self.fatal = True
-                raise
+    class FMU3SlaveAsFmi2(FatalAware, FMU3Slave):   # fmpy binds the fmi3 functions of a class not named FMU1/FMU2
+        start_time = 0.0
 
         def instantiate(self, loggingOn=False, callbacks=None):
             name = self.instanceName

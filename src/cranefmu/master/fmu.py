@@ -79,25 +79,33 @@ def _callbacks():
 _SLAVE = None
 
 
+class FatalAware:
+    """Mixin for fmpy's slave classes: remember a status fatal (:attr:`fatal`), after which FMI allows
+    no further call on the instance."""
+
+    fatal = False
+
+    def _call(self, fname, *args):
+        from fmpy.fmi1 import FMICallException
+
+        try:
+            return super()._call(fname, *args)
+        except FMICallException as err:
+            if err.status == 4:
+                self.fatal = True
+            raise
+
+
 def _slave_class():
     """fmpy's FMU2Slave that remembers a status fatal: FMI 2.0 allows no further call on such an
     instance (measured with pythonfmu: fmi2Terminate/fmi2FreeInstance after a refused parameter made the
     process crash in garbage collection, 8 runs in 12), so :meth:`FmuComponent.free` skips it."""
     global _SLAVE
     if _SLAVE is None:
-        from fmpy.fmi1 import FMICallException
         from fmpy.fmi2 import FMU2Slave
 
-        class FMU2SlaveFatalAware(FMU2Slave):  # fmpy finds the FMI functions by the 'FMU2' class-name prefix
-            fatal = False
-
-            def _call(self, fname, *args):
-                try:
-                    return super()._call(fname, *args)
-                except FMICallException as err:
-                    if err.status == 4:
-                        self.fatal = True
-                    raise
+        class FMU2SlaveFatalAware(FatalAware, FMU2Slave):  # fmpy finds the FMI functions by the 'FMU2' prefix
+            pass
 
         _SLAVE = FMU2SlaveFatalAware
     return _SLAVE
