@@ -2,18 +2,19 @@
 as its differences from the default set."""
 from __future__ import annotations
 
+from .master.bond_inference import describe_bonds
 from .master.scene import Scene
 
 
-def _fmu_facts(scene: Scene) -> tuple[dict[str, str], dict[str, dict[int, str]], dict[str, list[str]]]:
-    """Units ("comp.var" -> unit), switch names ("comp.var" -> {code: name}) and output labels per
-    component, from the FMUs' model descriptions."""
+def _fmu_facts(scene: Scene) -> tuple[dict[str, str], dict[str, dict[int, str]], dict[str, list[str]], dict]:
+    """Units ("comp.var" -> unit), switch names ("comp.var" -> {code: name}), output labels per
+    component and the model descriptions by component, from the FMUs."""
     from .master.fmu import fmu_switch_names
     from .master.scene import model_description
 
-    units, switches, outputs = {}, {}, {}
+    units, switches, outputs, mds = {}, {}, {}, {}
     for c in scene.components:
-        md = model_description(c.fmu)   # the XML guard before fmpy
+        md = mds[c.name] = model_description(c.fmu)   # the XML guard before fmpy
         for var, items in fmu_switch_names(c.fmu).items():
             switches[f"{c.name}.{var}"] = {code: name for name, code in items.items()}
         outputs[c.name] = []
@@ -22,7 +23,7 @@ def _fmu_facts(scene: Scene) -> tuple[dict[str, str], dict[str, dict[int, str]],
             units[f"{c.name}.{v.name}"] = unit
             if v.causality == "output":
                 outputs[c.name].append(f"{v.name} [{unit}]" if unit else v.name)
-    return units, switches, outputs
+    return units, switches, outputs, mds
 
 
 def _value(key: str, value, units: dict[str, str], switches: dict[str, dict[int, str]]) -> str:
@@ -53,7 +54,7 @@ def describe(scene: Scene) -> list[str]:
 
     info = SCENES.get(scene.name)
     roles = {c[0]: c[2] for c in info.components} if info else {}
-    units, switches, outputs = _fmu_facts(scene)
+    units, switches, outputs, mds = _fmu_facts(scene)
     lines = [f"scene {scene.name} ({scene.path})"]
     if info:
         lines.append(f"  question: {info.question}")
@@ -82,4 +83,5 @@ def describe(scene: Scene) -> list[str]:
     lines += [f"    {c.name}: " + ", ".join(outputs[c.name]) for c in scene.components]
     lines.append("  connections:")
     lines += [f"    {c}" for c in scene.connections]
+    lines += describe_bonds(scene, mds)
     return lines

@@ -80,7 +80,7 @@ def check_connection(c: ConnectionSpec, comps: dict[str, FmuComponent]) -> Conne
     if a.type != "Real" or b.type != "Real":
         raise SceneError(f"connection {c}: types {a.type} -> {b.type}; only Real -> Real connections are supported")
     ua, ub = a.unit or "", b.unit or ""
-    if ua == ub or c.factor != 1.0 or c.offset != 0.0:
+    if ua == ub or c.transformed or c.factor != 1.0 or c.offset != 0.0:
         return c
     sa, sb = _si(src, ua), _si(dst, ub)
     if sa is None or sb is None or sa[0] != sb[0]:

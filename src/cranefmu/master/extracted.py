@@ -90,7 +90,7 @@ def fresh_fmu_dirs(workdir: Path, scene: Scene, target: Path) -> None:
     other files hard-linked and the other folders (resources) symbolic links to the extracted ones,
     so a run makes 3 folders per FMU, not one per folder of its Python package (measured: the
     makedirs of the old hard-linked tree cost 8-60 ms of a truck_telescope warm start)."""
-    from fmpy import platform
+    from fmpy import platform, platform_tuple
 
     from .fmu import adopt_extracted
 
@@ -99,11 +99,12 @@ def fresh_fmu_dirs(workdir: Path, scene: Scene, target: Path) -> None:
         dst.mkdir(parents=True)
         for entry in src.iterdir():
             if entry.name == "binaries":
-                libs = entry / platform
-                if libs.is_dir():
-                    (dst / "binaries" / platform).mkdir(parents=True)
-                    for lib in libs.iterdir():
-                        shutil.copyfile(lib, dst / "binaries" / platform / lib.name)
+                for folder in (platform, platform_tuple):   # FMI 2.0 and FMI 3.0 names of this platform
+                    libs = entry / folder
+                    if libs.is_dir():
+                        (dst / "binaries" / folder).mkdir(parents=True)
+                        for lib in libs.iterdir():
+                            shutil.copyfile(lib, dst / "binaries" / folder / lib.name)
             elif entry.is_dir():
                 (dst / entry.name).symlink_to(entry, target_is_directory=True)
             else:

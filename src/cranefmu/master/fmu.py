@@ -23,9 +23,11 @@ _EXTRACTED = ".cranefmu_extracted"   # written last: the directory holds a whole
 _MODEL_DESCRIPTIONS: dict[Path, tuple[object, dict[str, dict[str, int]]]] = {}
 
 
-def _check_binary(name: str, fmu_name: str, unzipdir: Path, identifier: str) -> None:
+def _check_binary(name: str, fmu_name: str, unzipdir: Path, identifier: str, fmi3: bool = False) -> None:
     """Refuse an FMU without a shared library for this platform, naming the platforms it has."""
-    from fmpy import platform, sharedLibraryExtension
+    from fmpy import platform, platform_tuple, sharedLibraryExtension
+
+    platform = platform_tuple if fmi3 else platform   # FMI 3.0 names binaries/ folders by platform tuple
 
     if (unzipdir / "binaries" / platform / (identifier + sharedLibraryExtension)).is_file():
         return
@@ -77,25 +79,33 @@ def _callbacks():
 _SLAVE = None
 
 
+class FatalAware:
+    """Mixin for fmpy's slave classes: remember a status fatal (:attr:`fatal`), after which FMI allows
+    no further call on the instance."""
+
+    fatal = False
+
+    def _call(self, fname, *args):
+        from fmpy.fmi1 import FMICallException
+
+        try:
+            return super()._call(fname, *args)
+        except FMICallException as err:
+            if err.status == 4:
+                self.fatal = True
+            raise
+
+
 def _slave_class():
     """fmpy's FMU2Slave that remembers a status fatal: FMI 2.0 allows no further call on such an
     instance (measured with pythonfmu: fmi2Terminate/fmi2FreeInstance after a refused parameter made the
     process crash in garbage collection, 8 runs in 12), so :meth:`FmuComponent.free` skips it."""
     global _SLAVE
     if _SLAVE is None:
-        from fmpy.fmi1 import FMICallException
         from fmpy.fmi2 import FMU2Slave
 
-        class FMU2SlaveFatalAware(FMU2Slave):  # fmpy finds the FMI functions by the 'FMU2' class-name prefix
-            fatal = False
-
-            def _call(self, fname, *args):
-                try:
-                    return super()._call(fname, *args)
-                except FMICallException as err:
-                    if err.status == 4:
-                        self.fatal = True
-                    raise
+        class FMU2SlaveFatalAware(FatalAware, FMU2Slave):  # fmpy finds the FMI functions by the 'FMU2' prefix
+            pass
 
         _SLAVE = FMU2SlaveFatalAware
     return _SLAVE
@@ -138,7 +148,8 @@ def forget_extracted(root: Path) -> None:
 
 
 class FmuComponent:
-    """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages."""
+    """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages (an
+    FMI 3.0 one through the FMI 2.0 calls of :mod:`.fmi3`)."""
 
     def __init__(self, name: str, fmu_path: Path, unzipdir: Path):
         self.name = name
@@ -178,17 +189,28 @@ class FmuComponent:
             md = read_model_description(str(unzipdir), validate=False)
         except Exception as err:
             raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
-        if md.fmiVersion != "2.0" or md.coSimulation is None:
-            raise SceneError(f"component {name!r}: {fmu_path.name} is not an FMI 2.0 co-simulation FMU")
-        _check_binary(name, fmu_path.name, unzipdir, md.coSimulation.modelIdentifier)
+        if md.fmiVersion not in ("2.0", "3.0") or md.coSimulation is None:
+            raise SceneError(f"component {name!r}: {fmu_path.name} is not an FMI 2.0 or 3.0 co-simulation FMU "
+                             f"(fmiVersion {md.fmiVersion}, co-simulation {'yes' if md.coSimulation else 'no'})")
+        if md.fmiVersion == "3.0":
+            from .fmi3 import normalize
+
+            normalize(md)
+        _check_binary(name, fmu_path.name, unzipdir, md.coSimulation.modelIdentifier, md.fmiVersion == "3.0")
         _MODEL_DESCRIPTIONS[unzipdir] = md, switches
         (unzipdir / _EXTRACTED).touch()
         return md, switches
 
     # --- life cycle ---------------------------------------------------------------------------
     def instantiate(self) -> None:
-        self.fmu = _slave_class()(guid=self.md.guid, unzipDirectory=str(self.unzipdir),
-                             modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=self.name)
+        if self.md.fmiVersion == "3.0":
+            from .fmi3 import slave_class
+
+            cls = slave_class(_MESSAGES)
+        else:
+            cls = _slave_class()
+        self.fmu = cls(guid=self.md.guid, unzipDirectory=str(self.unzipdir),
+                       modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=self.name)
 
         _MESSAGES[self.name] = []
         try:

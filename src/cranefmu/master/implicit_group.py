@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from .algorithms import Iterative, _nominals
+from .bond_inference import scene_bonds
 from .coupling import lagrange_weights
 from ..errors import SettingsError
 from .residual import CouplingCriterion
@@ -31,7 +32,8 @@ def group_members(system: CoSystem, names: list[str]) -> list[int]:
 
     Raises :class:`SettingsError` naming a value that is neither, with the names allowed."""
     comps = [c.name for c in system.comps]
-    bonds = {name: [side.get("component", "") for side in sides] for name, sides in system.scene.bonds}
+    declared_or_inferred = scene_bonds(system.scene, {c.name: c.md for c in system.comps})[0]
+    bonds = {name: [side.get("component", "") for side in sides] for name, sides in declared_or_inferred}
     members: set[int] = set()
     for name in names:
         if name in bonds:

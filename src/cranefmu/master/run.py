@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from .algorithms import make_algorithm
+from .bond_inference import scene_bonds
 from .divergence import ValueCheck, Watch
 from ..errors import CraneFmuError, SettingsError, SimulationError
 from .extracted import discard, extracted_scene, fresh_fmu_dirs
@@ -76,9 +77,9 @@ def preview(scene: str | Path) -> ScenePreview:
 
     ssp = resolve_scene(scene)
     workdir, loaded = extracted_scene(ssp)
-    reals, flags, units, variables = [], [], {}, {}
+    reals, flags, units, variables, mds = [], [], {}, {}, {}
     for c in loaded.components:
-        md = FmuComponent(c.name, c.fmu, fmu_dir(workdir, c.name)).md
+        md = mds[c.name] = FmuComponent(c.name, c.fmu, fmu_dir(workdir, c.name)).md
         variables[c.name] = {v.name for v in md.modelVariables}
         for v in md.modelVariables:
             if v.causality != "output":
@@ -88,7 +89,7 @@ def preview(scene: str | Path) -> ScenePreview:
             unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
             if unit:
                 units[name] = unit
-    bonds = [f"bond.{n}.{e}" for n, _ in loaded.bonds for e in ("dE", "E")]
+    bonds = [f"bond.{n}.{e}" for n, _ in scene_bonds(loaded, mds)[0] for e in ("dE", "E")]
     units.update({b: "J" for b in bonds})
     return ScenePreview(ssp, loaded.name, loaded.stop_time, reals + flags + bonds, units, variables,
                         ("default", *loaded.parameter_sets), dict(loaded.settings))
@@ -206,7 +207,7 @@ def build_execution(spec: RunSpec, loaded, fmu_dirs: Path, claim: OutputFile | N
     settings = spec.settings
     system = CoSystem(loaded, fmu_dirs, settings.extrapolation)
     try:
-        bonds = BondMonitor(system, resolve_bonds(system, loaded.bonds))
+        bonds = BondMonitor(system, resolve_bonds(system, scene_bonds(loaded, {c.name: c.md for c in system.comps})[0]))
         _check_capabilities(system, settings, bonds)
         watch = Watch(system, bonds, settings.adaptive, _solved(system, settings)) if settings.instability_alarm else None
         conditions = loaded.stop_conditions if settings.stop_when is None \

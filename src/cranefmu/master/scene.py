@@ -67,6 +67,7 @@ class ConnectionSpec:
     dst_var: str
     factor: float = 1.0
     offset: float = 0.0
+    transformed: bool = False   # the SSD gives a LinearTransformation (also an identity one): no unit conversion
 
     def __str__(self) -> str:
         return f"{self.src}.{self.src_var} -> {self.dst}.{self.dst_var}"
@@ -98,6 +99,7 @@ class Scene:
     bonds: list[tuple[str, list[dict]]] = field(default_factory=list)
     stop_conditions: dict[str, str] = field(default_factory=dict)
     settings: dict[str, object] = field(default_factory=dict)   # stored run settings (name -> typed value)
+    bonds_declared: bool = False   # the SSD has a power-bond annotation (an empty one: no bonds, none inferred)
 
     @property
     def parameters(self) -> dict[str, Value]:
@@ -271,12 +273,13 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
             if comp not in names:
                 raise SceneError(f"{label}: connection {text}: {role} element {comp!r} is not a component "
                                  f"(components: {', '.join(sorted(names))})")
-        factor, offset = 1.0, 0.0
+        factor, offset, transformed = 1.0, 0.0, False
         for lt in c.iter("{*}LinearTransformation"):
             factor = _number(lt.get("factor", "1"), f"connection {text}: LinearTransformation factor", label)
             offset = _number(lt.get("offset", "0"), f"connection {text}: LinearTransformation offset", label)
-        connections.append(ConnectionSpec(*ends, factor, offset))
-    from .power_bonds import read_bonds   # here: power_bonds imports the system, which imports this module
+            transformed = True
+        connections.append(ConnectionSpec(*ends, factor, offset, transformed))
+    from .power_bonds import ANNOTATION as BONDS_ANNOTATION, read_bonds   # here: power_bonds imports the system, which imports this module
 
     start = stop = None
     for de in _children(root, "DefaultExperiment"):
@@ -288,8 +291,9 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
         if ssv.name not in bound_files:
             sets[ssv.stem] = read_parameter_set(parse_xml(ssv), f"{label}: parameter set {ssv.name}")
     name = root.get("name") or system.get("name") or ssd.parent.name
+    declared = any(ann.get("type") == BONDS_ANNOTATION for ann in system.iter("{*}Annotation"))
     return Scene(name, ssd, components, connections, bound, sets, start, stop, read_bonds(system, label),
-                 read_stop_conditions(system, label), read_settings(system, label, stop))
+                 read_stop_conditions(system, label), read_settings(system, label, stop), declared)
 
 
 def read_settings(system, label: str, stop_time: float | None) -> dict[str, object]:
