@@ -92,7 +92,10 @@ def preview(scene: str | Path) -> ScenePreview:
 
 
 def _overrides(scene: Scene, parameter_set: str | None, parameters: dict | None) -> dict[tuple[str, str], object]:
-    values: dict[str, object] = scene.values(parameter_set)
+    # a connected input's value in a set is the settled start written for hosts that do not settle a
+    # scene (cranefmu.settled_start): the initialization derives it here, so the run never depends on it
+    driven = {f"{c.dst}.{c.dst_var}" for c in scene.connections}
+    values: dict[str, object] = {k: v for k, v in scene.values(parameter_set).items() if k not in driven}
     values.update(parameters or {})
     names = {c.name for c in scene.components}
     out = {}
