@@ -323,12 +323,12 @@ def ecos_run(ssp: str, step: float, stop: float, columns: list[str], parameter_s
     return {k: np.asarray(v, dtype=float) for k, v in out.items()}
 
 
-def feedthrough_outputs(fmu: str) -> set[str]:
-    """The outputs of ``fmu`` that its model description declares as depending on inputs."""
+def output_dependencies(fmu: str) -> dict[str, set[str]]:
+    """Output name -> the variables its value depends on, as the model description of ``fmu`` declares."""
     from fmpy import read_model_description
 
     md = read_model_description(fmu)
-    return {o.variable.name for o in md.outputs if o.dependencies}
+    return {o.variable.name: {d.name for d in o.dependencies or []} for o in md.outputs}
 
 
 _EXPORTS: dict[tuple[str, str | None, tuple], str] = {}
@@ -373,12 +373,21 @@ def agreement_step(scene: str) -> float:
     return AGREEMENT_STEP.get(scene, 1e-3)
 
 
-def worst_relative(ours: dict, theirs: dict, columns: list[str], shift: int = 1) -> dict[str, float]:
+def worst_relative(ours: dict, theirs: dict, columns: list[str], shift: int = 1,
+                   units: dict[str, str] | None = None) -> dict[str, float]:
     """Per column, the largest |ours[k + shift] - theirs[k]| over the rows both have, relative to our
-    largest |value| (``shift`` 1: the hosts report no row at t = 0, our row 0 is t = 0)."""
+    largest |value| (``shift`` 1: the hosts report no row at t = 0, our row 0 is t = 0).  With
+    ``units`` (column -> unit) the scale is the largest |value| among the columns of that unit: a
+    chassis velocity that stays at round-off level is compared on the scene's velocity scale."""
+    top = {c: max(float(np.max(np.abs(ours[c]))), 1e-300) for c in columns}
+    if units:
+        by_unit: dict[str, float] = {}
+        for c in columns:
+            by_unit[units.get(c, c)] = max(by_unit.get(units.get(c, c), 0.0), top[c])
+        top = {c: by_unit[units.get(c, c)] for c in columns}
     out = {}
     for c in columns:
         a, b = np.asarray(ours[c])[shift:], np.asarray(theirs[c])
         n = min(len(a), len(b))
-        out[c] = float(np.max(np.abs(a[:n] - b[:n]))) / max(float(np.max(np.abs(ours[c]))), 1e-300)
+        out[c] = float(np.max(np.abs(a[:n] - b[:n]))) / top[c]
     return out
