@@ -391,3 +391,23 @@ def worst_relative(ours: dict, theirs: dict, columns: list[str], shift: int = 1,
         n = min(len(a), len(b))
         out[c] = float(np.max(np.abs(a[:n] - b[:n]))) / top[c]
     return out
+
+
+def split_feedthrough(scene: str) -> tuple[list[str], list[str]]:
+    """(outputs compared as they are, feedthrough key outputs): every key output and every connected
+    output that its FMU declares independent of its connected inputs; the key outputs that depend on
+    a connected input."""
+    from cranefmu import build as b
+    from cranefmu.master.scene import read_scene_folder
+    from cranefmu.scenes import SCENES
+
+    loaded = read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR)
+    depends = {c.name: output_dependencies(str(c.fmu)) for c in loaded.components}
+    connected = {(c.dst, c.dst_var) for c in loaded.connections}
+    wanted = list(SCENES[scene].key_outputs) + [f"{c.src}.{c.src_var}" for c in loaded.connections]
+    plain, fed = [], []
+    for name in dict.fromkeys(wanted):
+        comp, _, var = name.partition(".")
+        through = any((comp, d) in connected for d in depends[comp].get(var, ()))
+        (fed if through else plain).append(name)
+    return plain, [k for k in fed if k in SCENES[scene].key_outputs]

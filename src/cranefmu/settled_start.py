@@ -51,7 +51,7 @@ def settled_starts(ssp: Path, variants: Sequence[tuple[str | None, Mapping | Non
     inputs as our initialization settles them.  Runs in a fresh interpreter (``python -m
     cranefmu.settled_start``, not multiprocessing: a caller's unguarded script is never re-imported):
     the FMUs are instantiated there, never in the caller (a build, an export).  A bad value in an
-    override is the child's :class:`CraneFmuError`, raised here with its message."""
+    override is the child's :class:`CraneFmuError` (its class and message), raised here."""
     request = json.dumps({"ssp": str(ssp), "variants": [[s, dict(p or {})] for s, p in variants]})
     done = subprocess.run([sys.executable, "-m", "cranefmu.settled_start"], input=request, capture_output=True,
                           text=True, env={**os.environ, "PYTHONPATH": _package_parent()})
@@ -61,7 +61,10 @@ def settled_starts(ssp: Path, variants: Sequence[tuple[str | None, Mapping | Non
         raise SceneError(f"computing the settled start of {Path(ssp).name} failed (exit status {done.returncode}): "
                          f"{done.stderr.strip()[-2000:]}") from None
     if "error" in answer:
-        raise CraneFmuError(answer["error"])
+        from . import errors
+
+        kind = getattr(errors, answer.get("kind", ""), CraneFmuError)
+        raise (kind if isinstance(kind, type) and issubclass(kind, CraneFmuError) else CraneFmuError)(answer["error"])
     return answer["starts"]
 
 
@@ -77,7 +80,7 @@ def main() -> None:
     try:
         starts = _settled_here(request["ssp"], [(s, p) for s, p in request["variants"]])
     except CraneFmuError as err:
-        print(json.dumps({"error": str(err)}))
+        print(json.dumps({"error": str(err), "kind": type(err).__name__}))
         return
     print(json.dumps({"starts": starts}))
 

@@ -11,30 +11,13 @@ import pytest
 from cranefmu import build as b
 from cranefmu.master.scene import output_units, read_scene_folder
 from cranefmu.scenes import SCENES
-from interop_hosts import AGREEMENT_SPAN, agreement_step, scene_file, scene_variants, worst_relative
+from interop_hosts import (AGREEMENT_SPAN, agreement_step, scene_file, scene_variants, split_feedthrough,
+                           worst_relative)
 
 try:
     import ecospy  # noqa: F401  (its C++ library needs libtbb12: .ci/run installs it)
 except (ImportError, OSError) as err:   # a missing shared library is an OSError
     pytest.skip(f"ecospy cannot be imported: {err}", allow_module_level=True)
-
-
-def _columns(scene: str) -> tuple[list[str], list[str]]:
-    """(outputs compared as they are, feedthrough key outputs): every key output and every connected
-    output that its FMU declares independent of its connected inputs; the key outputs that depend on
-    a connected input."""
-    from interop_hosts import output_dependencies
-
-    loaded = read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR)
-    depends = {c.name: output_dependencies(str(c.fmu)) for c in loaded.components}
-    connected = {(c.dst, c.dst_var) for c in loaded.connections}
-    wanted = list(SCENES[scene].key_outputs) + [f"{c.src}.{c.src_var}" for c in loaded.connections]
-    plain, fed = [], []
-    for name in dict.fromkeys(wanted):
-        comp, _, var = name.partition(".")
-        through = any((comp, d) in connected for d in depends[comp].get(var, ()))
-        (fed if through else plain).append(name)
-    return plain, [k for k in fed if k in SCENES[scene].key_outputs]
 
 
 @pytest.mark.parametrize("scene,parameter_set", scene_variants())
@@ -53,7 +36,7 @@ def test_ecos_as_loaded_follows_our_plain_jacobi(built, scene, parameter_set):
     from cranefmu.master.run import run
 
     h = agreement_step(scene)
-    plain, _ = _columns(scene)
+    plain, _ = split_feedthrough(scene)
     ours = run(scene, parameter_set=parameter_set, stop_time=AGREEMENT_SPAN, step_size=h, algorithm="jacobi-plain",
                extrapolation=0, progress=False).result
     theirs = in_child(ecos_run, scene_file(scene, parameter_set), h, AGREEMENT_SPAN, plain)
@@ -78,7 +61,7 @@ def test_ecos_reads_feedthrough_outputs_after_setting_the_inputs(built):
     from cranefmu.master.run import run
 
     scene, h, span = "elastic_pendulum", 1e-3, 0.5
-    _, fed = _columns(scene)
+    _, fed = split_feedthrough(scene)
     assert fed == ["rope.tension"]
     ours = run(scene, stop_time=span, step_size=h, algorithm="jacobi-plain", extrapolation=0, progress=False).result
     theirs = in_child(ecos_run, scene_file(scene), h, span, fed)
