@@ -27,11 +27,6 @@ from .master.scene import ConnectionSpec
 _STEP = 1e-3
 
 
-def connected_inputs(connections: Sequence[ConnectionSpec]) -> list[str]:
-    """Every input a connection drives, "component.variable", in connection order."""
-    return [f"{c.dst}.{c.dst_var}" for c in connections]
-
-
 def settled_inputs(connections: Sequence[ConnectionSpec], first_row: Mapping) -> dict[str, float]:
     """Every connected input's value at t = 0 as our initialization settled it: the source output's
     value in the first row of our run (``first_row[name]``), through the connection's factor and offset."""
@@ -88,11 +83,12 @@ def main() -> None:
 def _settled_here(ssp: str, variants: list[tuple[str | None, dict]]) -> list[dict[str, float]]:
     from .master.run import run
 
+    connections = run_scene_connections(ssp)
     out = []
     for parameter_set, parameters in variants:
         result = run(ssp, parameter_set=parameter_set, parameters=parameters or None, stop_time=_STEP,
                      step_size=_STEP, algorithm="jacobi-plain", extrapolation=0, instability_alarm=False).result
-        out.append(settled_inputs(run_scene_connections(ssp), result[0]))
+        out.append(settled_inputs(connections, result[0]))
     return out
 
 
