@@ -1,5 +1,5 @@
-"""Run a built scene in another master (libcosim through libcosimpy, fmpy's ``simulate_ssp``) and
-read back what it applied; shared by the interop tests and the benchmarks (benchmarks/
+"""Run a built scene in another master (libcosim through libcosimpy, ecos through ecospy, fmpy's
+``simulate_ssp``) and read back what it applied; shared by the interop tests and the benchmarks (benchmarks/
 speed_accuracy.py, interop_difference.py put tests/ on sys.path).  Each run belongs in a child
 process (``fmu_child.in_child``): pythonfmu FMUs do not survive a second instantiation in one
 process.  libcosim's facts and pitfalls: docs/interop.md."""
@@ -11,6 +11,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from cranefmu.settled_start import settled_inputs  # noqa: F401  (benchmarks/speed_accuracy.py imports it from here)
 
 NS = 1_000_000_000  # libcosim's time unit: integer nanoseconds (EccoParams alone takes seconds)
 
@@ -93,9 +95,12 @@ def libcosim_execution(scene_dir: str, fmu_dir: str, ecco: EccoSettings | None =
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimSlave import CosimLocalSlave
 
+    from cranefmu.master.extracted import extracted_scene
     from cranefmu.master.scene import read_scene_folder
 
     scene = read_scene_folder(Path(scene_dir), Path(fmu_dir))
+    # the values libcosim's own loader applies: the built .ssp's default set with its settled start
+    parameters = extracted_scene(Path(scene_dir).with_suffix(".ssp"))[1].parameters
     if ecco is not None:
         algorithm = CosimAlgorithm.create_ecco_algorithm(ecco.params())
         ex = CosimExecution.from_algorithm(algorithm)
@@ -125,7 +130,7 @@ def libcosim_execution(scene_dir: str, fmu_dir: str, ecco: EccoSettings | None =
         connect = ex.connect_real_variables if out.type == real else ex.connect_integer_variables
         if connect(index[c.src], out.reference, index[c.dst], inp.reference) != 0:   # the C status: 0 = success
             raise ValueError(f"libcosim refused the connection {c}")
-    for key, value in scene.parameters.items():
+    for key, value in parameters.items():
         comp, _, var = key.partition(".")
         v = ref(comp, var)
         setter = {real: ex.real_initial_value, CosimVariableType.INTEGER.value: ex.integer_initial_value,
@@ -264,23 +269,6 @@ def _set_initial_values(ex, slaves: dict, variables: dict, initial_values: dict 
             raise ValueError(f"libcosim refused the initial value {key} = {value!r}")
 
 
-def settled_inputs(connections, first_row) -> dict:
-    """Every connected input's value at t = 0 as our master's initialization settled it
-    ("component.variable" -> value): the source output's value in the first row of our run
-    (``first_row[name]``), through the connection's factor and offset.  Handed to libcosim as initial
-    values, these give it the start our initialization computed (its own exchanges no values in
-    initialization mode, so a start derived through connections stays unsettled there)."""
-    out = {}
-    for c in connections:
-        source = f"{c.src}.{c.src_var}"
-        try:
-            value = float(first_row[source])
-        except (KeyError, ValueError):
-            raise ValueError(f"connection {c}: its source {source!r} is not a recorded column of our run") from None
-        out[f"{c.dst}.{c.dst_var}"] = value * c.factor + c.offset
-    return out
-
-
 def fmpy_run(ssp: str, step: float, stop: float, parameters: dict) -> dict:
     """fmpy's ``simulate_ssp`` with the scene's parameters passed as its ``parameter_set`` (it
     applies no binding of the SSD itself).  Returns the result columns and, read back from every
@@ -307,3 +295,119 @@ def fmpy_run(ssp: str, step: float, stop: float, parameters: dict) -> dict:
     finally:
         sim.free_fmu = free
     return {"result": {n: np.asarray(result[n]) for n in result.dtype.names}, "parameters": read_back}
+
+
+def ecos_run(ssp: str, step: float, stop: float, columns: list[str], parameter_set: str = "default") -> dict:
+    """Run ``ssp`` in ecos (fixed-step plain Jacobi) to ``stop`` [s]: ``init(parameter_set=...)`` names
+    the set the SSD binds ("default": ecos applies a binding only when its set is named), nothing
+    else is handed over.  Returns {"time", column...: values after every step, read in ecos's
+    post-step callback; "parameters" is not read (ecos has no listing)}.  Column names
+    "component.variable" (ecos: "component::variable")."""
+    from ecospy import EcosLib, EcosSimulation, SimulationListener
+
+    EcosLib.set_log_level("warn")
+    out = {"time": [], **{c: [] for c in columns}}
+
+    class Recorder(SimulationListener):
+        def post(self, info) -> None:
+            out["time"].append(info.time)
+            for c in columns:
+                out[c].append(sim.get_real(c.replace(".", "::", 1)))
+
+    with EcosSimulation(ssp_path=ssp, step_size=step) as sim:
+        sim.add_listener("recorder", Recorder())
+        if not sim.init(parameter_set=parameter_set):
+            raise RuntimeError(f"ecos could not initialize {ssp}: {EcosLib.get_last_error()}")
+        sim.step(int(round(stop / step)))
+        sim.terminate()
+    return {k: np.asarray(v, dtype=float) for k, v in out.items()}
+
+
+def output_dependencies(fmu: str) -> dict[str, set[str]]:
+    """Output name -> the variables its value depends on, as the model description of ``fmu`` declares."""
+    from fmpy import read_model_description
+
+    md = read_model_description(fmu)
+    return {o.variable.name: {d.name for d in o.dependencies or []} for o in md.outputs}
+
+
+_EXPORTS: dict[tuple[str, str | None, tuple], str] = {}
+
+
+def scene_file(scene: str, parameter_set: str | None = None, changes: dict | None = None) -> str:
+    """The .ssp a host loads for one variant of ``scene``: the built file for the default set, else
+    ``cranefmu export`` of the set and the changes (made once per process, removed at exit)."""
+    from cranefmu import build as b
+
+    if parameter_set in (None, "default") and not changes:
+        return str(b.SSP_DIR / f"{scene}.ssp")
+    key = (scene, parameter_set, tuple(sorted((changes or {}).items())))
+    if key not in _EXPORTS:
+        import atexit
+        import shutil
+        import tempfile
+
+        from cranefmu.export import export_scene
+
+        folder = tempfile.mkdtemp(prefix="cranefmu_variants_")
+        atexit.register(shutil.rmtree, folder, True)
+        _EXPORTS[key] = str(export_scene(scene, Path(folder) / f"{scene}.ssp", parameter_set, changes))
+    return _EXPORTS[key]
+
+
+def scene_variants() -> list[tuple[str, str]]:
+    """(scene, parameter set) for every built scene and each of its sets, "default" first."""
+    from cranefmu import build as b
+    from cranefmu.master.scene import read_scene_folder
+
+    return [(d.name, s) for d in b.scene_dirs() for s in ("default", *read_scene_folder(d, b.FMU_DIR).sets)]
+
+
+# a step where every scene is stable with plain Jacobi: overhead_lift's stiff 4-line rope is not at
+# 1 ms (our alarm stops it at 0.512 s; libcosim runs on to 1.48 MN), at 0.5 ms it is
+AGREEMENT_STEP = {"overhead_lift": 5e-4}
+AGREEMENT_SPAN = 2.0   # [s]
+
+
+def agreement_step(scene: str) -> float:
+    return AGREEMENT_STEP.get(scene, 1e-3)
+
+
+def worst_relative(ours: dict, theirs: dict, columns: list[str], shift: int = 1,
+                   units: dict[str, str] | None = None) -> dict[str, float]:
+    """Per column, the largest |ours[k + shift] - theirs[k]| over the rows both have, relative to our
+    largest |value| (``shift`` 1: the hosts report no row at t = 0, our row 0 is t = 0).  With
+    ``units`` (column -> unit) the scale is the largest |value| among the columns of that unit: a
+    chassis velocity that stays at round-off level is compared on the scene's velocity scale."""
+    top = {c: max(float(np.max(np.abs(ours[c]))), 1e-300) for c in columns}
+    if units:
+        by_unit: dict[str, float] = {}
+        for c in columns:
+            by_unit[units.get(c, c)] = max(by_unit.get(units.get(c, c), 0.0), top[c])
+        top = {c: by_unit[units.get(c, c)] for c in columns}
+    out = {}
+    for c in columns:
+        a, b = np.asarray(ours[c])[shift:], np.asarray(theirs[c])
+        n = min(len(a), len(b))
+        out[c] = float(np.max(np.abs(a[:n] - b[:n]))) / top[c]
+    return out
+
+
+def split_feedthrough(scene: str) -> tuple[list[str], list[str]]:
+    """(outputs compared as they are, feedthrough key outputs): every key output and every connected
+    output that its FMU declares independent of its connected inputs; the key outputs that depend on
+    a connected input."""
+    from cranefmu import build as b
+    from cranefmu.master.scene import read_scene_folder
+    from cranefmu.scenes import SCENES
+
+    loaded = read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR)
+    depends = {c.name: output_dependencies(str(c.fmu)) for c in loaded.components}
+    connected = {(c.dst, c.dst_var) for c in loaded.connections}
+    wanted = list(SCENES[scene].key_outputs) + [f"{c.src}.{c.src_var}" for c in loaded.connections]
+    plain, fed = [], []
+    for name in dict.fromkeys(wanted):
+        comp, _, var = name.partition(".")
+        through = any((comp, d) in connected for d in depends[comp].get(var, ()))
+        (fed if through else plain).append(name)
+    return plain, [k for k in fed if k in SCENES[scene].key_outputs]

@@ -170,25 +170,27 @@ def ssp_is_stale(scene_dir: Path) -> bool:
 def ssp_generators() -> list[Path]:
     """The package files that write an .ssp (the component bindings are generated): a change to them
     makes every .ssp stale."""
-    return [PACKAGE_DIR / "build.py", PACKAGE_DIR / "master" / "scene.py"]
+    return [PACKAGE_DIR / "build.py", PACKAGE_DIR / "master" / "scene.py", PACKAGE_DIR / "settled_start.py",
+            PACKAGE_DIR / "master" / "initialization.py"]
 
 
-def ssd_with_component_bindings(scene_dir: Path) -> bytes:
+def ssd_with_component_bindings(scene_dir: Path, start: dict[str, float] | None = None) -> bytes:
     """The scene's SystemStructure.ssd with each component's values of the default set added as the
     component's own inline ParameterBinding, with bare variable names: the form libcosim reads
     (it ignores System-level bindings).  Generated from the .ssv files, so it cannot drift; the
-    reader refuses a component binding that contradicts the System's."""
+    reader refuses a component binding that contradicts the System's.  ``start``: the settled start
+    of the default set ("comp.var" -> value, :mod:`cranefmu.settled_start`), bound the same way."""
     from lxml import etree
 
-    from .master.scene import SSD_NS, SSV_NS, read_scene_folder
+    from .master.scene import SSD_NS, SSV_NS, Parameter, read_scene_folder
     from .master.untrusted import parse_xml
-    from .units import parse as parse_unit
 
     scene = read_scene_folder(scene_dir, FMU_DIR)
+    bound = {**scene.bound, **{k: Parameter(k, "Real", v) for k, v in (start or {}).items()}}
     root = parse_xml(scene_dir / "SystemStructure.ssd")
     for el in root.iter(f"{{{SSD_NS}}}Component"):
         name = el.get("name")
-        own = [p for key, p in scene.bound.items() if key.partition(".")[0] == name]
+        own = [p for key, p in bound.items() if key.partition(".")[0] == name]
         if not own or el.find(f"{{{SSD_NS}}}ParameterBindings") is not None:
             continue
         before = [c for c in el if etree.QName(c).localname in ("Connectors", "ElementGeometry")]
@@ -198,30 +200,102 @@ def ssd_with_component_bindings(scene_dir: Path) -> bytes:
                                   f"{{{SSD_NS}}}ParameterValues")
         pset = etree.SubElement(values, f"{{{SSV_NS}}}ParameterSet", nsmap={"ssv": SSV_NS}, version="1.0",
                                 name="default")
-        params = etree.SubElement(pset, f"{{{SSV_NS}}}Parameters")
-        for p in own:
-            entry = etree.SubElement(params, f"{{{SSV_NS}}}Parameter", name=p.name.partition(".")[2])
-            text = {bool: lambda v: str(v).lower(), float: repr}.get(type(p.value), str)(p.value)
-            typed = etree.SubElement(entry, f"{{{SSV_NS}}}{p.type}", value=text)
-            if p.unit and parse_unit(p.unit)[0] == 1.0:   # the value is in SI: keep only an SI unit
-                typed.set("unit", p.unit)
+        add_parameters(etree.SubElement(pset, f"{{{SSV_NS}}}Parameters"), own, bare=True)
     etree.indent(root, space="  ")
     return etree.tostring(root.getroottree(), xml_declaration=True, encoding="UTF-8")
 
 
-def build_ssp(scene_dir: Path) -> Path:
+def build_ssp(scene_dir: Path, dest: Path | None = None) -> Path:
     """Zip SystemStructure.ssd (with generated component bindings), its .ssv parameter sets and its
-    FMUs into ``ssp/<scene>.ssp``."""
-    ssp = scene_dir.with_suffix(".ssp")
-    tmp = ssp.with_suffix(f".ssp.{os.getpid()}.tmp")
-    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
-        zf.writestr("SystemStructure.ssd", ssd_with_component_bindings(scene_dir))
+    FMUs into ``dest`` (default ``ssp/<scene>.ssp``), each set with its settled start: the
+    connected inputs as our initialization settles them for that set (:mod:`cranefmu.settled_start`),
+    so a host that does not settle the scene itself starts at rest as loaded."""
+    from .master.scene import read_scene_folder
+    from .settled_start import settled_starts
+
+    ssp = Path(dest) if dest is not None else scene_dir.with_suffix(".ssp")
+    tmp = ssp.with_name(f".{ssp.stem}.{os.getpid()}.tmp.ssp")   # our master runs it: it must end in .ssp
+    try:
+        _zip_scene(scene_dir, tmp, {})
+        sets = [None, *read_scene_folder(scene_dir, FMU_DIR).sets]
+        starts = dict(zip(sets, settled_starts(tmp, [(name, None) for name in sets])))
+        _zip_scene(scene_dir, tmp, starts)
+        tmp.replace(ssp)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return ssp
+
+
+def _zip_scene(scene_dir: Path, target: Path, starts: dict[str | None, dict[str, float]]) -> None:
+    """The .ssp of ``scene_dir`` with each .ssv's settled start (``starts[set name]``, None: the
+    default set, which the SSD binds) added to it and, for the default set, to the component bindings."""
+    bound = _bound_files(scene_dir)
+    with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("SystemStructure.ssd", ssd_with_component_bindings(scene_dir, starts.get(None)))
         for f in sorted(scene_dir.glob("*.ssv")):
-            zf.write(f, f"resources/{f.name}")
+            start = starts.get(None if f.name in bound else f.stem)
+            if start:
+                zf.writestr(f"resources/{f.name}", ssv_with_start(f, start))
+            else:
+                zf.write(f, f"resources/{f.name}")
         for fmu in scene_fmus(scene_dir):
             zf.write(fmu, f"resources/{fmu.name}")
-    tmp.replace(ssp)
-    return ssp
+
+
+def _bound_files(scene_dir: Path) -> set[str]:
+    """Names of the .ssv files the SSD's System binds (the default set)."""
+    from .master.untrusted import parse_xml
+
+    root = parse_xml(scene_dir / "SystemStructure.ssd")
+    return {Path(b.get("source")).name for b in root.iter("{*}ParameterBinding") if b.get("source")}
+
+
+def add_parameters(holder, parameters, bare: bool = False) -> None:
+    """Append an ``ssv:Parameter`` per :class:`~cranefmu.master.scene.Parameter` to the ``ssv:Parameters``
+    element ``holder`` (``bare``: the variable name without "component.", for a component binding)."""
+    from lxml import etree
+
+    from .master.scene import SSV_NS
+    from .units import parse as parse_unit
+
+    for p in parameters:
+        entry = etree.SubElement(holder, f"{{{SSV_NS}}}Parameter", name=p.name.partition(".")[2] if bare else p.name)
+        text = {bool: lambda v: str(v).lower(), float: repr}.get(type(p.value), str)(p.value)
+        typed = etree.SubElement(entry, f"{{{SSV_NS}}}{p.type}", value=text)
+        if p.unit and parse_unit(p.unit)[0] == 1.0:   # the value is in SI: keep only an SI unit
+            typed.set("unit", p.unit)
+
+
+def ssv_with_start(ssv: Path, start: dict[str, float]) -> bytes:
+    """The parameter set ``ssv`` with the settled start values ("comp.var" -> value) of the
+    connected inputs added (replacing any the file gives), after a comment that says what they are."""
+    from lxml import etree
+
+    from .master.scene import SSV_NS, Parameter
+    from .master.untrusted import parse_xml
+
+    root = parse_xml(ssv)
+    params = root.find(f"{{{SSV_NS}}}Parameters")
+    for p in list(params):
+        if p.get("name") in start:
+            params.remove(p)
+    params.append(etree.Comment(" settled start (generated by the build: our initialization's values of the "
+                                "connected inputs, for hosts that do not settle the scene; docs/equilibrium.md) "))
+    add_parameters(params, [Parameter(name, "Real", float(value)) for name, value in start.items()])
+    etree.indent(root, space="  ")
+    return etree.tostring(root.getroottree(), xml_declaration=True, encoding="UTF-8")
+
+
+def ssv_of(values: dict, name: str) -> bytes:
+    """A parameter set file (.ssv) named ``name`` holding ``values`` ("comp.var" -> Parameter)."""
+    from lxml import etree
+
+    from .master.scene import SSC_NS, SSV_NS
+
+    root = etree.Element(f"{{{SSV_NS}}}ParameterSet", nsmap={"ssv": SSV_NS, "ssc": SSC_NS}, version="1.0", name=name)
+    add_parameters(etree.SubElement(root, f"{{{SSV_NS}}}Parameters"), values.values())
+    etree.indent(root, space="  ")
+    return etree.tostring(root.getroottree(), xml_declaration=True, encoding="UTF-8")
 
 
 def _selected(only: list[str] | None) -> tuple[list[Path], list[Path]]:

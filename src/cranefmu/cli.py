@@ -295,6 +295,9 @@ def build_parser() -> argparse.ArgumentParser:
     f3.add_argument("only", nargs="*", help="FMU names (default: all)")
     f3.set_defaults(func=_cmd_build_fmi3)
     add_sweep_parser(sub)
+    from .export import add_parser as add_export_parser
+
+    add_export_parser(sub)
     return p
 
 

@@ -67,12 +67,18 @@ def describe(scene: Scene) -> list[str]:
         lines.append("  fidelity switches (--set comp.var=name or code):")
         lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
     lines += _settings_lines(scene)
-    default = scene.parameters
+    # a connected input's value in a set is the settled start the build writes for other hosts
+    # (cranefmu.settled_start); a run derives it at initialization, so it is not listed as a parameter
+    driven = {f"{c.dst}.{c.dst_var}" for c in scene.connections}
+    default = {k: v for k, v in scene.parameters.items() if k not in driven}
     lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
     lines.append("  parameters (default set):")
     lines += [f"    {k} = {_value(k, v, units, switches)}" for k, v in default.items()]
+    if driven & set(scene.parameters):
+        lines.append(f"  settled start in the file: {len(driven & set(scene.parameters))} connected input(s) per set, "
+                     "for hosts that do not settle a scene (docs/equilibrium.md); derived again by every run")
     for name, values in scene.parameter_sets.items():
-        changed = {k: v for k, v in values.items() if k not in default or default[k] != v}
+        changed = {k: v for k, v in values.items() if k not in driven and (k not in default or default[k] != v)}
         lines.append(f"  parameter set {name}: {len(changed)} change(s) from default" + (":" if changed else ""))
         for k, v in changed.items():
             was = _value(k, default[k], units, switches) if k in default else "(not set)"

@@ -63,8 +63,10 @@ def source_digest() -> str:
     files = [(f, f.relative_to(FMU_SOURCES.parent)) for f in fmu_scripts()]
     files += [(f, f.relative_to(SSP_SOURCES.parent)) for d in scene_dirs() for f in scene_files(d)]
     files += [(f, f.relative_to(PACKAGE_DIR)) for f in bundle_sources()]
-    # the .ssp's SSD is generated (component bindings) by these
-    files += [(PACKAGE_DIR / rel, Path(rel)) for rel in ("build.py", "master/scene.py")]
+    # the .ssp's SSD is generated (component bindings) by these, its settled start (cranefmu.settled_start)
+    # computed by our initialization (as build.ssp_generators lists them)
+    files += [(PACKAGE_DIR / rel, Path(rel)) for rel in ("build.py", "master/scene.py", "settled_start.py",
+                                                         "master/initialization.py")]
     for path, rel in files:
         digest.update(rel.as_posix().encode() + b"\0")
         digest.update(path.read_bytes() + b"\0")

@@ -48,9 +48,8 @@ def test_hand_built_libcosim_execution_equals_libcosims_ssp_load(built, scene):
 def test_libcosim_ecco_step_follows_its_tolerance(built):
     """elastic_pendulum, 1 s: a 100x tighter abs_tolerance takes more and smaller steps, every step
     inside [min_step, max_step], and lands closer to a fine fixed-step run (H / 10) in the swing angle.
-    Not in the rope tension: libcosim's initialization does not hand the pendulum's load to the rope
-    (no initialization exchange), so every libcosim run starts with the rope unloaded and its axial
-    transient (several times the tension's swing, the same at both tolerances) hides the step error."""
+    Both runs start from the settled start the built .ssp carries (the hand-built execution applies
+    the file's values, as libcosim's SSP loader does)."""
     from fmu_child import in_child
     from interop_hosts import libcosim_timed
 

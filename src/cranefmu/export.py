@@ -1,0 +1,119 @@
+"""``cranefmu export``: one variant of a scene (a parameter set, ``--set`` changes) as a self-contained .ssp.
+
+Hosts that cannot choose a parameter set (libcosim reads only the SSD's bindings; ecos applies the bound
+set; fmpy's ``simulate_ssp`` applies what it is handed) get the variant as the scene's only set: its
+values over the default set, bound by the System (``resources/default.ssv``) and by each Component
+(inline, bare names, ``ssd:``/``ssv:`` prefixes: what libcosim reads), with the settled start of the
+parameters in force (:mod:`cranefmu.settled_start`), so the host starts at rest as loaded.
+"""
+from __future__ import annotations
+
+import argparse
+import shutil
+import tempfile
+from pathlib import Path
+
+from .errors import CraneFmuError, ParameterSetError, SceneError
+from .master.scene import Parameter, Scene, typed_value
+
+
+def export_scene(scene: str, output: str | Path, parameter_set: str | None = None,
+                 parameters: dict[str, object] | None = None) -> Path:
+    """Write ``output`` (.ssp): ``scene`` with ``parameter_set`` and ``parameters`` ({"comp.var": value or
+    text}) over its default set as its one bound set, with the settled start of those values.
+    Returns the path written.  Raises a :class:`CraneFmuError` naming a bad scene, set, value or target."""
+    from . import build as b
+    from .master.scene import read_scene_folder
+
+    output = Path(output)
+    if output.suffix != ".ssp":
+        raise CraneFmuError(f"--output {str(output)!r} is not allowed: give a file name ending in .ssp")
+    if not output.parent.is_dir():
+        raise CraneFmuError(f"--output {str(output)!r}: the folder {output.parent} does not exist")
+    names = [d.name for d in b.scene_dirs()]
+    if scene not in names:
+        raise SceneError(f"scene {scene!r} is not allowed: one of {', '.join(names)}")
+    b.build(verbose=False, only=[scene])
+    folder = b.SSP_DIR / scene
+    loaded = read_scene_folder(folder, b.FMU_DIR)
+    values = variant_values(loaded, parameter_set, parameters or {})
+    bound = b._bound_files(folder)
+    if len(bound) != 1:
+        raise SceneError(f"scene {scene}: the System binds {len(bound)} .ssv files; export needs exactly one")
+    label = parameter_set or "default"
+    with tempfile.TemporaryDirectory(prefix="cranefmu_export_") as tmp:
+        variant = Path(tmp) / scene
+        variant.mkdir()
+        shutil.copy2(folder / "SystemStructure.ssd", variant / "SystemStructure.ssd")
+        (variant / bound.pop()).write_bytes(b.ssv_of(values, label))
+        written = b.build_ssp(variant, dest=Path(tmp) / output.name)
+        shutil.move(str(written), str(output))
+    return output
+
+
+def variant_values(scene: Scene, parameter_set: str | None, parameters: dict[str, object]) -> dict[str, Parameter]:
+    """The default set with ``parameter_set`` and then ``parameters`` over it, typed as the FMU
+    declares each variable (a switch may be given by name).  A connected input, an unknown
+    component or variable, or a value of the wrong type is refused by name."""
+    from .master.fmu import fmu_switch_names
+
+    scene.values(parameter_set)                       # an unknown set: refused with the scene's sets
+    out = dict(scene.bound)
+    out.update(scene.sets.get(parameter_set, {}) if parameter_set not in (None, "default") else {})
+    driven = {f"{c.dst}.{c.dst_var}": f"{c.src}.{c.src_var}" for c in scene.connections}
+    components = {c.name: c for c in scene.components}
+    for key, value in parameters.items():
+        comp, _, var = str(key).partition(".")
+        if comp not in components or not var:
+            raise ParameterSetError(f"parameter {key!r} must be 'component.variable' with a component of "
+                                    f"{scene.name}: {', '.join(sorted(components))}")
+        if key in driven:
+            raise ParameterSetError(f"{key} is not allowed as a parameter: it is an input connected to "
+                                    f"{driven[key]}; set a parameter of {driven[key].partition('.')[0]} instead")
+        kind = _variable_type(components[comp].fmu, comp, var)
+        switches = fmu_switch_names(components[comp].fmu).get(var, {})
+        text = str(value).strip()
+        if kind == "Integer" and text in switches:
+            text = str(switches[text])
+        try:
+            typed = typed_value(text, kind, f"--set {key}")
+        except CraneFmuError as err:
+            allowed = f" (switch names: {', '.join(switches)})" if switches else ""
+            raise ParameterSetError(f"{err}{allowed}") from None
+        out[key] = Parameter(key, kind, typed)
+    return out
+
+
+def _variable_type(fmu: Path, comp: str, var: str) -> str:
+    """The FMI type of ``var`` in ``fmu`` (Enumeration as Integer); refuses an unknown or fixed variable."""
+    from fmpy import read_model_description
+
+    found = {v.name: v for v in read_model_description(str(fmu)).modelVariables}
+    v = found.get(var)
+    if v is None:
+        raise ParameterSetError(f"{comp}.{var} is not allowed: {fmu.name} has no variable {var!r}")
+    if v.causality not in ("parameter", "input"):
+        raise ParameterSetError(f"{comp}.{var} is a {v.causality} and cannot be set (only parameters and inputs)")
+    return "Integer" if v.type == "Enumeration" else v.type
+
+
+def add_parser(sub) -> None:
+    """Register ``export`` on the subparsers ``sub`` of the cranefmu command."""
+    e = sub.add_parser("export", help="write one variant of a scene (a parameter set, --set changes) as a "
+                                      "self-contained .ssp with its settled start, for hosts that cannot "
+                                      "choose a set (libcosim, ecos, fmpy)")
+    e.add_argument("scene", help="scene name under ssp/")
+    e.add_argument("--parameter-set", default=None, help="a parameter set of the scene (see cranefmu info); "
+                   "default: the default set")
+    e.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
+                   help="change a parameter (repeatable; not a connected input)")
+    e.add_argument("--output", required=True, help="the .ssp file to write")
+    e.set_defaults(func=_cmd_export)
+
+
+def _cmd_export(args: argparse.Namespace) -> int:
+    from .cli import _parse_set
+
+    path = export_scene(args.scene, args.output, args.parameter_set, _parse_set(args.set))
+    print(f"wrote {path}")
+    return 0
