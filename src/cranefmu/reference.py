@@ -97,7 +97,7 @@ class Monolith:
     def __init__(self, scene: str | Scene, parameter_set: str = "default", parameters: dict | None = None):
         source = source_scene(scene)
         self.scene = scene = source.name
-        values = {**source.values(parameter_set), **(parameters or {})}
+        values = {**source.model_values(parameter_set), **(parameters or {})}
         self.names: list[str] = []
         self.models: list[Model] = []
         for comp in source.components:

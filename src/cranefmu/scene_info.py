@@ -67,10 +67,8 @@ def describe(scene: Scene) -> list[str]:
         lines.append("  fidelity switches (--set comp.var=name or code):")
         lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
     lines += _settings_lines(scene)
-    # a connected input's value in a set is the settled start the build writes for other hosts
-    # (cranefmu.settled_start); a run derives it at initialization, so it is not listed as a parameter
-    driven = {f"{c.dst}.{c.dst_var}" for c in scene.connections}
-    default = {k: v for k, v in scene.parameters.items() if k not in driven}
+    driven = scene.driven_inputs   # their values are the settled start, listed apart below
+    default = scene.model_values()
     lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
     lines.append("  parameters (default set):")
     lines += [f"    {k} = {_value(k, v, units, switches)}" for k, v in default.items()]

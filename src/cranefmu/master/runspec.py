@@ -120,10 +120,7 @@ def choose(given: dict, stored: dict, scene_stop_time: float | None) -> tuple[di
 
 def _overrides(scene, parameter_set: str | None, parameters: dict) -> dict[tuple[str, str], object]:
     """The parameter set's values with ``parameters`` over them, keyed (component, variable)."""
-    # a connected input's value in a set is the settled start written for hosts that do not settle a
-    # scene (cranefmu.settled_start): the initialization derives it here, so the run never depends on it
-    driven = {f"{c.dst}.{c.dst_var}" for c in scene.connections}
-    values: dict[str, object] = {k: v for k, v in scene.values(parameter_set).items() if k not in driven}
+    values: dict[str, object] = scene.model_values(parameter_set)
     values.update(parameters)
     names = {c.name for c in scene.components}
     out = {}

@@ -110,6 +110,18 @@ class Scene:
     def parameter_sets(self) -> dict[str, dict[str, Value]]:
         return {name: {k: p.value for k, p in ps.items()} for name, ps in self.sets.items()}
 
+    @property
+    def driven_inputs(self) -> set[str]:
+        """"component.variable" of every connected input: a set's value for one is the settled start
+        the build writes for hosts that do not settle a scene (cranefmu.settled_start), not a parameter."""
+        return {f"{c.dst}.{c.dst_var}" for c in self.connections}
+
+    def model_values(self, parameter_set: str | None = None) -> dict[str, Value]:
+        """:meth:`values` without the settled start of connected inputs: the parameters a model takes
+        (our initialization derives the start, so a run never depends on those values)."""
+        driven = self.driven_inputs
+        return {k: v for k, v in self.values(parameter_set).items() if k not in driven}
+
     def values(self, parameter_set: str | None = None) -> dict[str, Value]:
         """The default set with the named set over it."""
         out = self.parameters
