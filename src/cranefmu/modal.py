@@ -180,7 +180,7 @@ MODES: dict[str, tuple[ModeSpec, ...]] = {
                  "f = sqrt(c/M)/(2 pi), c = n E A/L; zeta = zeta_rope sqrt(m_eff/M), m_eff = M/2 + rho A L",
                  rope_axial, span=3.0, probe={"pendulum.theta0": 0.0, "pendulum.vy0": 0.05}),
         ModeSpec("elastic_pendulum", "swing", "pendulum.theta",
-                 "f = sqrt(g/(L + M g/c))/(2 pi)/(1 + theta0^2/16); zeta = 0", pendulum_swing, span=14.0),
+                 "f = sqrt(g/(L + M g/c))/(2 pi)/(1 + theta0^2/16); zeta = 0", pendulum_swing, span=8.0),
     ),
     "hook_sway": (
         ModeSpec("hook_sway", "payload sway (low)", "pendulum.theta_payload",
@@ -287,57 +287,70 @@ def bond_ratio(stats) -> float | None:
     return max(ratios) if ratios else None
 
 
+REF_GRID = 2e-3   # [s] the monolith's samples for the fit (exact values: the fit does not depend on the grid)
+
+
 class References:
-    """Monolithic solves of a scene's probes, kept per (probe, span, times) for the runs that share them."""
+    """Monolithic solves of a scene's probes on a REF_GRID grid, one per (probe, span), kept for every
+    run that shares them."""
 
     def __init__(self, scene: str, parameter_set: str | None, parameters: dict | None, rtol: float = 1e-10):
         self.scene, self.parameter_set, self.parameters, self.rtol = scene, parameter_set, parameters, rtol
         self._cache: dict = {}
 
-    def at(self, probe: dict, span: float, times: np.ndarray) -> dict:
+    def at(self, probe: dict, span: float) -> dict:
         from .reference import solve
 
-        key = (tuple(sorted(probe.items())), span, len(times), float(times[-1]) if len(times) else 0.0)
+        key = (tuple(sorted(probe.items())), span)
         if key not in self._cache:
+            times = np.linspace(0.0, span, int(round(span / REF_GRID)) + 1)
             self._cache[key] = solve(self.scene, span, times, parameter_set=self.parameter_set or "default",
                                      parameters={**(self.parameters or {}), **probe}, rtol=self.rtol)
         return self._cache[key]
 
 
 def check_setting(scene: str, settings: dict, parameter_set: str | None = None, parameters: dict | None = None,
-                  references: References | None = None, runner: Callable | None = None) -> ModalCheck:
+                  references: References | None = None, isolate: bool = True) -> ModalCheck:
     """Run every probe of ``scene`` with run ``settings`` (keyword arguments of
-    :func:`cranefmu.master.run.run`) and compare each listed mode with the monolith.  ``runner(scene,
-    stop_time, parameters, settings)`` -> (result, stats) replaces the isolated master run."""
+    :func:`cranefmu.master.run.run`) and compare each listed mode with the monolith."""
     from .errors import SimulationError
+    from .master.run import run
 
     refs = references or References(scene, parameter_set, parameters)
     values = scene_values(scene, parameter_set, parameters)
     out = ModalCheck([])
     ratios = []
     for probe, span, members in probe_groups(scene):
-        params = {**(parameters or {}), **probe}
         try:
-            result, stats = (runner or _run)(scene, span, parameter_set, params, settings)
+            res = run(scene, stop_time=span, parameter_set=parameter_set, parameters={**(parameters or {}), **probe},
+                      progress=False, isolate=isolate, **settings)
         except SimulationError as err:
             out.failure = str(err).splitlines()[0]
             return out
-        ratio = bond_ratio(stats)
+        ratio = bond_ratio(res.stats)
         if ratio is not None:
             ratios.append(ratio)
-        ref = refs.at(probe, span, result["time"])
+        ref = refs.at(probe, span)
         for spec in members:
-            out.errors.append(compare(spec, result, ref, {**values, **probe}))
+            try:
+                out.errors.append(compare(spec, res.result, ref, {**values, **probe}))
+            except ModalFitError as err:
+                out.failure = f"mode {spec.name!r} of {scene}: {err}"
+                return out
     out.bond_ratio = max(ratios) if ratios else None
     return out
 
 
-def _run(scene: str, stop_time: float, parameter_set: str | None, parameters: dict, settings: dict):
-    from .master.run import run
-
-    res = run(scene, stop_time=stop_time, parameter_set=parameter_set, parameters=parameters, progress=False,
-              **settings)
-    return res.result, res.stats
+def check_settings(scene: str, settings: list[tuple[str, dict]], parameter_set: str | None = None,
+                   parameters: dict | None = None, progress: Callable | None = None) -> dict[str, ModalCheck]:
+    """:func:`check_setting` for each (label, settings), sharing the monolith's solves."""
+    refs = References(scene, parameter_set, parameters)
+    say = progress or (lambda text: None)
+    out = {}
+    for label, s in settings:
+        say(f"modes of {scene} at {label} ...")
+        out[label] = check_setting(scene, s, parameter_set, parameters, refs)
+    return out
 
 
 # --- report --------------------------------------------------------------------------------------
@@ -354,3 +367,35 @@ def format_check(label: str, check: ModalCheck) -> list[str]:
 
 REPORT_HEAD = (f"{'run':<14} {'mode':<26} {'f[Hz]':>9} {'f ref':>9} {'f err':>8} {'zeta':>9} {'zeta ref':>9} "
                f"{'z err':>8}  meets (f <= {FREQ_LIMIT:.1%}, zeta <= {DAMP_LIMIT:.0%})")
+
+
+def report(checks: dict[str, ModalCheck]) -> list[str]:
+    """The modal table of several settings (empty when none was checked)."""
+    if not checks:
+        return []
+    lines = [REPORT_HEAD]
+    for label, check in checks.items():
+        lines += format_check(label, check)
+        if check.bond_ratio is not None and not check.failure:
+            lines.append(f"{label:<14} {'bond residual / carried':<26} {check.bond_ratio:>9.3g}")
+    return lines
+
+
+def write_csv(checks: dict[str, ModalCheck], path) -> None:
+    """One row per (setting, mode): frequencies, damping ratios, their errors, the closed form."""
+    import csv
+    from pathlib import Path
+
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["run", "mode", "frequency", "ref_frequency", "closed_frequency", "freq_err", "damping",
+                    "ref_damping", "closed_damping", "damp_err", "meets", "bond_ratio", "failure"])
+        for label, c in checks.items():
+            ratio = "" if c.bond_ratio is None else repr(c.bond_ratio)
+            if c.failure:
+                w.writerow([label, "", "", "", "", "", "", "", "", "", 0, ratio, c.failure])
+            for e in c.errors:
+                w.writerow([label, e.name, repr(e.frequency), repr(e.ref_frequency), repr(e.closed_frequency),
+                            repr(e.freq_err), repr(e.damping), repr(e.ref_damping), repr(e.closed_damping),
+                            repr(e.damp_err), int(e.meets), ratio, ""])
