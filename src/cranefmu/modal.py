@@ -34,6 +34,7 @@ FREQ_LIMIT = 0.005     # |f - f_ref| / f_ref of every listed mode
 DAMP_LIMIT = 0.05      # |zeta - zeta_ref| / max(zeta_ref, ZETA_FLOOR)
 ZETA_FLOOR = 0.01      # an undamped mode's numerical damping is judged against 5 % of this
 MAX_POINTS = 1500      # samples the pencil takes (decimated above: its SVD is O(N^3))
+NOISE_AMPLITUDE = 1e-6  # of the signal's largest deviation from its mean: a smaller fitted mode is round-off
 
 
 class ModalFitError(CraneFmuError):
@@ -93,6 +94,9 @@ def fit_modes(t: np.ndarray, y: np.ndarray, n_modes: int, extra: int = 2) -> lis
     s = np.log(z.astype(complex)) / dt
     modes = [Mode(float(abs(si) / (2 * math.pi)), float(-si.real / abs(si)), float(2 * abs(ci) * scale))
              for si, ci in zip(s, c) if si.imag > 1e-9 * abs(si) and abs(si) > 0]
+    # a pole of a model order above the signal's fits round-off: not a mode
+    floor = NOISE_AMPLITUDE * float(np.max(np.abs(y - np.mean(y))))
+    modes = [m for m in modes if m.amplitude > floor]
     modes = sorted(modes, key=lambda m: -m.amplitude)[:n_modes]
     if len(modes) < n_modes:
         raise ModalFitError(f"found {len(modes)} oscillating mode(s) in the signal, asked for {n_modes}")
