@@ -60,3 +60,23 @@ def test_too_few_samples_or_no_oscillation_is_refused():
     t = np.arange(0.0, 5.0, 0.01)
     with pytest.raises(ModalFitError, match="oscillating"):
         fit_modes(t, np.exp(-t) + np.exp(-3 * t), 2, extra=0)
+
+
+def test_the_sweep_metrics_freq_and_damping():
+    from cranefmu.errors import SettingsError
+    from cranefmu.sweep.metrics import measure, parse_metric
+
+    t = np.arange(0.0, 10.0, 0.01)
+    result = np.zeros(len(t), dtype=[("time", float), ("rope.tension", float)])
+    result["time"] = t
+    result["rope.tension"] = 9810 + free_vibration(t, 0.7, 0.02, 100.0, 0.3) + free_vibration(t, 3.8, 0.05, 30.0, 1.0)
+    names = ["freq:rope.tension", "damping:rope.tension", "freq:rope.tension~3.5", "damping:rope.tension~3.5"]
+    got = measure([parse_metric(n) for n in names], "elastic_pendulum", result)
+    assert list(got) == ["freq:rope.tension", "damping:rope.tension", "freq:rope.tension~3.5",
+                         "damping:rope.tension~3.5"]
+    assert got["freq:rope.tension"] == pytest.approx(0.7, rel=1e-6)     # the strongest
+    assert got["damping:rope.tension"] == pytest.approx(0.02, rel=1e-4)
+    assert got["freq:rope.tension~3.5"] == pytest.approx(3.8, rel=1e-6)
+    assert got["damping:rope.tension~3.5"] == pytest.approx(0.05, rel=1e-4)
+    with pytest.raises(SettingsError, match=r"metric 'freq:rope.tension~x' is not allowed: the frequency after"):
+        parse_metric("freq:rope.tension~x")
