@@ -164,18 +164,16 @@ def pendulum_swing(values: dict) -> tuple[float, float]:
 
 def hook_payload(values: dict) -> tuple[float, float, float]:
     """The two sway modes of hook m1 on the stretched rope L1 and payload m2 on the link L2 (double
-    pendulum, linearised about the hanging rest, Lagrange): M q'' + K q = 0 with
-    M = [[(m1 + m2) L1^2, m2 L1 L2], [m2 L1 L2, m2 L2^2]], K = diag((m1 + m2) g L1, m2 g L2);
-    returns (f_low, f_high [Hz], zeta = 0)."""
+    pendulum linearised about the hanging rest, :func:`cranefmu.sway_envelope.double_pendulum_modes`:
+    det(K - w^2 M) = 0, M = [[(m1 + m2) L1^2, m2 L1 L2], [m2 L1 L2, m2 L2^2]],
+    K = diag((m1 + m2) g L1, m2 g L2)); returns (f_low, f_high [Hz], zeta = 0)."""
     from .physics.rope import stiffness
+    from .sway_envelope import double_pendulum_modes
 
     rope, pend = _rope(values), _pendulum(values)
-    m1, m2, l2 = pend.mass, pend.m_payload, pend.L_sling
-    l1 = rope.length + (m1 + m2) * G / stiffness(rope, rope.length)
-    mass = np.array([[(m1 + m2) * l1 ** 2, m2 * l1 * l2], [m2 * l1 * l2, m2 * l2 ** 2]])
-    stiff = np.diag([(m1 + m2) * G * l1, m2 * G * l2])
-    w2 = np.sort(np.linalg.eigvals(np.linalg.solve(mass, stiff)).real)
-    return float(np.sqrt(w2[0]) / (2 * math.pi)), float(np.sqrt(w2[1]) / (2 * math.pi)), 0.0
+    m1, m2 = pend.mass, pend.m_payload
+    modes = double_pendulum_modes(m1, m2, rope.length + (m1 + m2) * G / stiffness(rope, rope.length), pend.L_sling, G)
+    return modes.w1 / (2 * math.pi), modes.w2 / (2 * math.pi), 0.0
 
 
 MODES: dict[str, tuple[ModeSpec, ...]] = {

@@ -55,6 +55,9 @@ def describe(scene: Scene) -> list[str]:
         lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
     stored = ", ".join(f"{k} = {v!r}" for k, v in scene.settings.items())
     lines.append(f"  run settings stored in the scene (used where a run gives none): {stored or 'none'}")
+    from .scene_catalog import fidelity_lines, mode_lines
+
+    lines += mode_lines(scene.name) + fidelity_lines(scene.name)
     default = scene.parameters
     lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))
     lines.append("  parameters (default set):")
