@@ -103,7 +103,8 @@ def candidate(scene: str, stop: float, ref, keys, algorithm: str, extrapolation:
                                                          else f"H {h * 1e3:g} ms")
     extra = dict(adaptive=True, tolerance=tolerance) if tolerance else {}
     extra.update(settings or {}, parameters=parameters)
-    row = dict(label=label, algorithm=algorithm, extrapolation=extrapolation, step_size=h, tolerance=tolerance)
+    row = dict(label=label, algorithm=algorithm, extrapolation=extrapolation, step_size=h, tolerance=tolerance,
+               implicit=(settings or {}).get("implicit"))
     try:
         res = run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
                   progress=False, **extra)
@@ -268,7 +269,8 @@ def fidelity_ladder(rows: list[dict], best: dict | None, rungs: int = 4) -> list
 
 def record(r: dict) -> dict:
     """A row as stored for `cranefmu info` (settings, cost, errors)."""
-    keys = ("label", "algorithm", "extrapolation", "step_size", "tolerance", "rtf", "worst", "worst_key", "freq_err",
+    keys = ("label", "algorithm", "extrapolation", "step_size", "tolerance", "implicit", "rtf", "worst", "worst_key",
+            "freq_err",
             "damp_err", "bond_ratio", "ok")
     out = {k: r.get(k) for k in keys}
     return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in out.items()}
