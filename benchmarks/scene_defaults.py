@@ -317,7 +317,7 @@ def ladder_section() -> list[str]:
     data = json.loads(FIDELITY.read_text()) if FIDELITY.is_file() else {}
 
     def pct(x):
-        return "-" if x is None else f"{x:.2%}"
+        return "-" if x is None else f"{100 * x:.2g} %"
 
     out = [LADDER_BEGIN, ""]
     for scene in sorted(data):

@@ -51,7 +51,7 @@ def fidelity(name: str) -> dict | None:
 
 def _errors(r: dict) -> str:
     def pct(x):
-        return "-" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.2%}"
+        return "-" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{100 * x:.2g} %"
 
     return (f"RTF {r['rtf']:.1f}, range {pct(r['worst'])}, frequency {pct(r['freq_err'])}, "
             f"damping ratio {pct(r['damp_err'])}" + ("" if r["ok"] else " (misses a limit)"))

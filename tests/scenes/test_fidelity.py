@@ -44,5 +44,5 @@ def test_info_shows_the_chosen_setting_and_the_ladder(built, scene):
     if data["chosen"]:
         assert f"    chosen: {data['chosen']['label']}: RTF" in text
     for r in data["ladder"]:
-        assert f"      {r['label']}: RTF {r['rtf']:.1f}, range {r['worst']:.2%}" in text
+        assert f"      {r['label']}: RTF {r['rtf']:.1f}, range {100 * r['worst']:.2g} %" in text
     assert "listed modes" in text
