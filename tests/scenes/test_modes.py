@@ -23,6 +23,11 @@ def test_elastic_pendulum_axial_mode_is_the_kelvin_voigt_closed_form():
     assert f == pytest.approx(3.78474, rel=1e-5) and zeta == pytest.approx(0.049717, rel=1e-4)
     assert mode.frequency == pytest.approx(f, rel=1e-8)
     assert mode.damping == pytest.approx(zeta, rel=1e-6)
+    # and rope.zeta says so (it was described as the damping ratio, 0.07)
+    from cranefmu.physics.rope import RopeModel
+
+    text = next(m["description"] for n, _, m in RopeModel.Params.field_specs() if n == "zeta")
+    assert "zeta sqrt(m_eff / M)" in text and f"{zeta:.4f}" in text
 
 
 def test_elastic_pendulum_swing_is_the_stretched_pendulum():
