@@ -17,6 +17,7 @@ import numpy as np
 from cranefmu.converge import key_outputs
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
+from scene_defaults import publish   # benchmarks/ is on the path of a script run from it
 from cranefmu.reference import solve
 from cranefmu.scenes import overhead_lift_metrics
 
@@ -59,10 +60,7 @@ def main() -> int:
         worst = max(errs, key=errs.get)
         lines.append(f"| {label} | ran | {overhead_lift_metrics(r)['dynamic_factor']:.4f} | {errs[worst]:.3g} ({worst}) | "
                      f"{res.warnings[0][:120] if res.warnings else 'none'} |")
-    text = "\n".join(lines)
-    print(text)
-    RESULTS.write_text(text + "\n")
-    return 0
+    return publish(lines, RESULTS)
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 from cranefmu.master.run import run
+from scene_defaults import publish   # benchmarks/ is on the path of a script run from it
 
 SCENE, STOP, REPEATS = "elastic_pendulum", 20.0, 5
 SETTINGS = {"old: jacobi x2, 20 ms": 0.02, "new: jacobi x2, 5 ms": 0.005}
@@ -41,10 +42,7 @@ def main() -> int:
     lines += [f"| {k} | {best[k]:.3f} | {STOP / best[k]:.1f} | {', '.join(f'{w:.3f}' for w in walls[k])} |"
               for k in SETTINGS]
     lines += ["", f"The new setting costs {new / old:.2f} times the old one's wall."]
-    text = "\n".join(lines)
-    print(text)
-    RESULTS.write_text(text + "\n")
-    return 0
+    return publish(lines, RESULTS)
 
 
 if __name__ == "__main__":
