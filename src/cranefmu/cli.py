@@ -155,7 +155,7 @@ def _cmd_converge(args: argparse.Namespace) -> int:
     tolerances = parse_numbers(args.tolerances, "--tolerances") if args.tolerances else []
     s = study(args.scene, steps, algorithm=args.algorithm, extrapolation=args.extrapolation,
               reference=args.reference, tolerances=tolerances, target=args.target, stop_time=args.stop_time,
-              parameter_set=args.parameter_set, parameters=_parse_set(args.set),
+              parameter_set=args.parameter_set, parameters=_parse_set(args.set), modes=not args.no_modes,
               progress=lambda text: print(text, file=sys.stderr, flush=True))
     print(format_report(s))
     table, png = write_outputs(s, Path(args.output or f"converge_{args.scene}"))
@@ -271,8 +271,10 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--target", type=float, default=1e-2, help="largest error / signal range accepted (default 1e-2)")
     c.add_argument("--parameter-set", default=None, help="a parameter set of the scene")
     c.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE", help="override (repeatable)")
-    c.add_argument("--output", default=None, help="directory for converge.csv and error_vs_wall.png "
+    c.add_argument("--output", default=None, help="directory for converge.csv, modes.csv and error_vs_wall.png "
                    "(default converge_SCENE)")
+    c.add_argument("--no-modes", action="store_true", help="skip the listed modes' frequency and damping check "
+                   "(cranefmu.modal: extra probe runs and monolithic solves per setting)")
     c.set_defaults(func=_cmd_converge)
 
     from .fit_boucwen import add_arguments as fit_boucwen_arguments

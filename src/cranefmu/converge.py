@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -65,10 +66,16 @@ class Study:
     stop_time: float
     runs: list[ConvergenceRun]
     reference_wall_time: float = math.nan   # [s] of the monolithic solve or the finest run
+    modes: dict = field(default_factory=dict)   # run label -> cranefmu.modal.ModalCheck (listed modes)
+
+    def meets(self, run: ConvergenceRun) -> bool:
+        """The run meets the range target and, where its modes were checked, the modal limits."""
+        check = self.modes.get(run.label)
+        return run.failure is None and run.worst_rel <= self.target and (check is None or check.meets)
 
     def recommended(self) -> ConvergenceRun | None:
-        """The run with the least wall time whose worst relative error meets the target."""
-        ok = [r for r in self.runs if r.failure is None and r.worst_rel <= self.target]
+        """The run with the least (warm) wall time that meets the target and the modal limits."""
+        ok = [r for r in self.runs if self.meets(r)]
         return min(ok, key=lambda r: r.wall_time) if ok else None
 
 
@@ -225,8 +232,10 @@ def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_ti
     say(f"{len(points)} run(s) {algorithm} x{extrapolation} on the sweep engine ...")
     runs, results = [], []
     with tempfile.TemporaryDirectory(prefix="cranefmu_converge_") as tmp:
-        done = sweep(scene, points, [], Path(tmp) / "runs.csv", parameters=parameters, parameter_set=parameter_set,
-                     results=Path(tmp) / "runs", workers=workers, scheduler=scheduler, **fixed)
+        with warm_client(scene, workers, scheduler, dict(fixed, step_size=min(h for h, _ in settings)),
+                         parameter_set, parameters) as client:
+            done = sweep(scene, points, [], Path(tmp) / "runs.csv", parameters=parameters,
+                         parameter_set=parameter_set, results=Path(tmp) / "runs", client=client, **fixed)
         rows = {(r["step_size"], r.get("tolerance")): r for r in done.rows}
         for h, tol in settings:
             r = rows[(h, tol)]
@@ -244,6 +253,38 @@ def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_ti
             runs.append(row)
             results.append(res)
     return runs, results, stop_time
+
+
+@contextmanager
+def warm_client(scene: str, workers: int | None, scheduler: str | None, settings: dict,
+                parameter_set: str | None, parameters: dict | None):
+    """A Dask client (:func:`cranefmu.sweep.engine.connect`) whose every worker has run ``scene`` for two
+    steps of ``settings``, so that the timed runs exclude each worker's one-time load (imports, FMU
+    libraries: 0.8 s against 0.2 s for a second 1 s elastic_pendulum run in one process)."""
+    from .sweep.engine import _is_local, connect, scene_facts
+    from .sweep.worker import SspFile
+
+    client, cluster = connect(workers, scheduler)
+    try:
+        facts = scene_facts(scene)
+        ssp = SspFile.of(facts.ssp, facts.name, with_data=not (cluster is not None or _is_local(client)))
+        client.run(warm_up, ssp, dict(settings, stop_time=2 * settings["step_size"]), parameter_set, parameters)
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def warm_up(ssp, settings: dict, parameter_set: str | None, parameters: dict | None) -> None:
+    """One short run in this worker (its failure is the timed runs' to report)."""
+    from .master.run import run
+
+    try:
+        run(ssp.local(), parameter_set=parameter_set, parameters=parameters, isolate=False, keep=True,
+            progress=False, **settings)
+    except CraneFmuError:
+        pass
 
 
 class Reference:
@@ -304,9 +345,10 @@ def evaluate(runs: list[ConvergenceRun], results: list, reference: Reference) ->
 def study(scene: str, steps: list[float], algorithm: str = "jacobi", extrapolation: int = 0,
           reference: str = "monolithic", tolerances: list[float] | None = None, target: float = 1e-2,
           stop_time: float | None = None, parameter_set: str | None = None, parameters: dict | None = None,
-          progress=None, **run_options) -> Study:
+          progress=None, modes: bool = True, **run_options) -> Study:
     """Run ``scene`` at every macro step (coarse to fine) and every adaptive tolerance, measure the errors
-    of its key outputs against the reference, and return the study (see :meth:`Study.recommended`)."""
+    of its key outputs against the reference and (``modes``) the frequency and damping of its listed
+    modes (:mod:`cranefmu.modal`), and return the study (see :meth:`Study.recommended`)."""
     tolerances = list(tolerances or [])
     check_settings(steps, tolerances, algorithm, extrapolation, reference, target, stop_time)
     keys = key_outputs(scene)
@@ -324,7 +366,20 @@ def study(scene: str, steps: list[float], algorithm: str = "jacobi", extrapolati
         ref = Reference.finest(scene, keys, stop_time, min(steps or [1e-3]) / FINEST_FACTOR, algorithm,
                                extrapolation, parameter_set, parameters, progress, **run_options)
     evaluate(runs, results, ref)
-    return Study(scene, keys, algorithm, extrapolation, reference, target, stop_time, runs, ref.wall_time)
+    out = Study(scene, keys, algorithm, extrapolation, reference, target, stop_time, runs, ref.wall_time)
+    if modes:
+        from . import modal
+
+        out.modes = modal.check_settings(scene, [(r.label, _run_kwargs(r, algorithm, extrapolation, run_options))
+                                                 for r in runs if r.failure is None],
+                                         parameter_set, parameters, progress)
+    return out
+
+
+def _run_kwargs(row: ConvergenceRun, algorithm: str, extrapolation: int, run_options: dict) -> dict:
+    """The master-run settings of one study row (as :func:`run_settings` gives them to the sweep)."""
+    kw = dict(run_options, algorithm=algorithm, extrapolation=extrapolation, step_size=row.step_size)
+    return kw if row.tolerance is None else dict(kw, adaptive=True, tolerance=row.tolerance)
 
 
 # --- report -----------------------------------------------------------------------------------------
@@ -355,17 +410,24 @@ def format_report(s: Study) -> str:
             if k in r.abs_err:
                 lines.append(f"{r.label:<14} {k:<28} {r.abs_err[k]:>12.4g} {r.rel_err[k]:>12.4g} "
                              f"{_fmt(r.order.get(k), '.2f'):>6}")
+    from .modal import report as modal_report
+
+    lines += [""] + modal_report(s.modes) if s.modes else []
     best = s.recommended()
     lines.append("")
     if best is None:
         ok = [r for r in s.runs if r.failure is None]
         closest = min(ok, key=lambda r: r.worst_rel) if ok else None
-        lines.append(f"recommended: none meets {s.target:g}"
+        in_range = [r.label for r in ok if r.worst_rel <= s.target]
+        lines.append(f"recommended: none meets {s.target:g}" + (" and the modal limits" if s.modes else "")
+                     + (f"; {', '.join(in_range)} meet(s) {s.target:g} of range but distort a listed mode "
+                        "(table above)" if in_range else "")
                      + (f"; smallest error {closest.worst_rel:.3g} at {closest.label}: try smaller steps or a "
                         "higher --extrapolation" if closest else ""))
     else:
-        lines.append(f"recommended: {best.label} (worst rel {best.worst_rel:.3g} <= {s.target:g}, "
-                     f"wall {best.wall_time:.3f} s, RTF {best.real_time_factor:.1f})")
+        lines.append(f"recommended: {best.label} (worst rel {best.worst_rel:.3g} <= {s.target:g}"
+                     + (", every listed mode within the modal limits" if s.modes else "")
+                     + f", warm wall {best.wall_time:.3f} s, RTF {best.real_time_factor:.1f})")
     return "\n".join(lines)
 
 
@@ -420,8 +482,12 @@ def plot(series: dict[str, list[ConvergenceRun]], path: Path, target: float | No
 
 
 def write_outputs(s: Study, directory: Path) -> tuple[Path, Path]:
-    """converge.csv and error_vs_wall.png in ``directory``."""
+    """converge.csv and error_vs_wall.png in ``directory`` (and modes.csv when modes were checked)."""
     directory = Path(directory)
+    if s.modes:
+        from .modal import write_csv as write_modes
+
+        write_modes(s.modes, directory / "modes.csv")
     name = f"{s.algorithm}, extrapolation {s.extrapolation}"
     return (write_csv(s, directory / "converge.csv"),
             plot({name: s.runs}, directory / "error_vs_wall.png", s.target, f"{s.scene}: error against cost"))

@@ -6,6 +6,8 @@ it here; the first use builds the scene's FMUs and .ssp (into the user cache whe
 """
 from __future__ import annotations
 
+import json
+import math
 import sys
 from pathlib import Path
 
@@ -35,3 +37,51 @@ def resolve(name: str) -> Path:
               file=sys.stderr, flush=True)
         b.build(verbose=False, only=[name])
     return b.SSP_DIR / f"{name}.ssp"
+
+
+FIDELITY = Path(__file__).with_name("fidelity.json")   # written by benchmarks/scene_defaults.py
+
+
+def fidelity(name: str) -> dict | None:
+    """The measured settings of scene ``name`` (its chosen setting and fidelity ladder), None if unmeasured."""
+    if not FIDELITY.is_file():
+        return None
+    return json.loads(FIDELITY.read_text()).get(name)
+
+
+def _errors(r: dict) -> str:
+    def pct(x):
+        return "-" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{100 * x:.2g} %"
+
+    return (f"RTF {r['rtf']:.1f}, range {pct(r['worst'])}, frequency {pct(r['freq_err'])}, "
+            f"damping ratio {pct(r['damp_err'])}" + ("" if r["ok"] else " (does not pass)"))
+
+
+def fidelity_lines(name: str) -> list[str]:
+    """``cranefmu info`` lines: the chosen setting with its measured errors, then the ladder."""
+    data = fidelity(name)
+    if not data:
+        return []
+    best = data["chosen"]
+    lines = [f"  measured ({data['span']:g} s; {data['measured']}):",
+             f"    chosen: {best['label']}: {_errors(best)}" if best else
+             "    chosen: none meets every limit (the stored setting is the most faithful measured)",
+             "    fidelity ladder, fastest -> most faithful (passes: range <= 0.5 %, half the 1 % target; every listed "
+             "mode within 0.5 % frequency and 5 % damping ratio; no bond residual above 10 % of its energy):"]
+    return lines + [f"      {r['label']}: {_errors(r)}" for r in data["ladder"]]
+
+
+def mode_lines(name: str) -> list[str]:
+    """``cranefmu info`` lines: the listed modes with their closed form at the default parameters."""
+    from . import modal
+
+    specs = modal.specs(name)
+    if not specs:
+        return ["  listed modes: none catalogued yet (cranefmu.modal.MODES)"]
+    values = modal.scene_values(name)
+    lines = ["  listed modes (closed form at the default parameters; the check is against the monolith):"]
+    for spec in specs:
+        f, zeta = spec.closed_form({**values, **spec.probe})
+        lines.append(f"    {spec.name} ({spec.column}): f = {f:.5g} Hz, zeta = {zeta:.4g}; {spec.formula}"
+                     + (f"; probe {spec.probe}" if spec.probe else ""))
+    return lines

@@ -67,6 +67,9 @@ def describe(scene: Scene) -> list[str]:
         lines.append("  fidelity switches (--set comp.var=name or code):")
         lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
     lines += _settings_lines(scene)
+    from .scene_catalog import fidelity_lines, mode_lines
+
+    lines += mode_lines(scene.name) + fidelity_lines(scene.name)
     driven = scene.driven_inputs   # their values are the settled start, listed apart below
     default = scene.model_values()
     lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))

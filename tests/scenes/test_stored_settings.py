@@ -1,6 +1,7 @@
 """Scene defaults: each scene stores the run settings ``cranefmu run SCENE`` uses where none are given
 (annotation ``org.cranefmu.settings``, chosen by benchmarks/scene_defaults.py), and they meet 1 % of
-range on the scene's key outputs against the monolithic reference (a short run of each scene)."""
+range on the scene's key outputs against the monolithic reference (a short run of each scene) and keep
+every listed mode's frequency and damping (its probe run)."""
 from __future__ import annotations
 
 import re
@@ -10,12 +11,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cranefmu import cli
+from cranefmu import cli, modal
 from cranefmu.converge import key_outputs, monolithic_reference
 from cranefmu.errors import SceneError
 from cranefmu.master.power_bonds import RESIDUAL_WARNING
 from cranefmu.master.run import preview, resolve_scene, run
 from cranefmu.master.scene import load_scene
+from cranefmu.modal import MODES
 from cranefmu.scene_info import describe
 from cranefmu.scenes import hook_sway_metrics
 from scene_edit import edit_ssp
@@ -47,6 +49,20 @@ def test_run_without_settings_uses_the_scene_settings_and_meets_one_percent(buil
         err = np.max(np.abs(res.result[key] - ref[key])) / span
         assert err <= TARGET, f"{scene} {key}: {err:.3g} of range with {stored}"
     assert not res.warnings
+
+
+@pytest.mark.parametrize("scene", sorted(MODES))
+def test_the_stored_settings_keep_every_listed_mode(built, scene):
+    """Issue 24: each listed mode (cranefmu.modal.MODES) within 0.5 % in frequency and 5 % in damping
+    ratio of the monolith's over its probe run, and every bond's residual within 10 % of the energy it
+    carried (the old elastic_pendulum setting, jacobi x2 at 20 ms, raised the axial damping by 38 %)."""
+    check = modal.check_setting(scene, {})
+    assert check.failure is None
+    assert len(check.errors) == len(MODES[scene])
+    for e in check.errors:
+        assert e.freq_err <= modal.FREQ_LIMIT, f"{scene} {e.name}: f {e.frequency:.6g} against {e.ref_frequency:.6g}"
+        assert e.damp_err <= modal.DAMP_LIMIT, f"{scene} {e.name}: zeta {e.damping:.4g} against {e.ref_damping:.4g}"
+    assert check.bond_ratio is not None and check.bond_ratio <= RESIDUAL_WARNING
 
 
 def test_explicit_settings_override_the_stored_ones(built):

@@ -165,6 +165,7 @@ class Iterative(Algorithm):
         self.n = system.n_coupling
         self.names = system.variable_names
         self.criterion = CouplingCriterion(tolerance, _nominals(system))
+        self.units: list[str] | None = None   # set: a stall is judged against each unit's scale (StartUp)
 
     def _feed(self, t: float, h: float, u: np.ndarray) -> None:
         s = self.system
@@ -202,6 +203,8 @@ class Iterative(Algorithm):
         if not np.isfinite(err):
             raise self._not_converged(len(errors) + 1, u, gu, scale, worst)
         errors.append(err)
+        if err > 1.0 and self.units is not None:
+            size = np.maximum(size, np.tile(unit_scale(self.units, self.system.scale), reps))
         return err <= 1.0 or self.criterion.stalled(errors, u, gu, size), worst
 
     def _not_converged(self, k: int, u: np.ndarray, gu: np.ndarray, scale: np.ndarray,
@@ -249,6 +252,26 @@ class Iterative(Algorithm):
         raise self._not_converged(k, u, gu, scale, worst)
 
 
+def _units(system: CoSystem) -> list[str]:
+    """Per coupling variable, the unit its source output declares ('' where none)."""
+    out = []
+    for g in system.links:
+        by_vr = {v.valueReference: v for v in system.comps[g.src].md.modelVariables}
+        out += [by_vr[vr].unit or (by_vr[vr].declaredType.unit if by_vr[vr].declaredType else None) or ""
+                for vr in g.src_vrs]
+    return out
+
+
+def unit_scale(units: list[str], scale: np.ndarray) -> np.ndarray:
+    """Each value's scale as the largest of ``scale`` among the values of its unit (its own where it has
+    no unit): a velocity component next to others of 1 m/s is measured against 1 m/s."""
+    out = np.array(scale, dtype=float)
+    for unit in set(units) - {""}:
+        idx = [i for i, u in enumerate(units) if u == unit]
+        out[idx] = np.max(out[idx])
+    return out
+
+
 def _nominals(system: CoSystem) -> np.ndarray:
     """Per coupling variable, the nominal its source output declares (times the connection's
     factor), NaN where none is declared."""
@@ -276,6 +299,9 @@ class StartUp(Algorithm):
         self.name = main.name
         self.first = Iterative(system, degree=p, tolerance=min(coupling_tolerance, 1e-10),
                                max_iterations=max(max_iterations, 50))
+        # issue 24: a value at round-off (a conical pendulum started on its orbit: vertical hook speed
+        # 1.5e-8 m/s beside 0.9 m/s across) stalls at the map's noise of its unit's scale, not its own
+        self.first.units = _units(system)
 
     @property
     def _current(self) -> Algorithm:

@@ -7,6 +7,9 @@ A metric is written ``KIND:COLUMN``:
   (NaN if never);
 - ``dynamic_factor:COLUMN``: peak / static value, the static value being the column at the start (a
   scene starts at rest in its static equilibrium), or ``dynamic_factor:COLUMN/STATIC`` with STATIC given;
+- ``freq:COLUMN`` / ``damping:COLUMN``: natural frequency [Hz] / damping ratio [1] of the strongest of
+  the (up to three) modes fitted in the column (matrix pencil, :func:`cranefmu.modal.fit_modes`; NaN if
+  none is found), or with ``~F`` (``freq:rope.tension~3.8``) of the one nearest F [Hz];
 - ``scene``: the scene's own key metrics (:data:`cranefmu.scenes.METRICS`, e.g. overhead_lift's
   dynamic factor, truck_telescope's sway and tipping), one column each.
 
@@ -27,7 +30,9 @@ from ..errors import SettingsError
 from .spec import number
 
 _trapezoid = getattr(np, "trapezoid", None) or np.trapz   # numpy 2 renamed it
-KINDS = ("max", "min", "initial", "final", "mean", "ptp", "absmax", "cross", "dynamic_factor", "scene")
+KINDS = ("max", "min", "initial", "final", "mean", "ptp", "absmax", "cross", "dynamic_factor", "freq", "damping",
+         "scene")
+MODAL_FIT = 3    # modes fitted (fewer if the signal has fewer)
 
 
 @dataclass(frozen=True)
@@ -45,6 +50,8 @@ class Metric:
             return f"cross:{self.column}{'>' if self.above else '<'}{self.threshold!r}"
         if self.kind == "dynamic_factor" and self.threshold is not None:
             return f"dynamic_factor:{self.column}/{self.threshold!r}"
+        if self.kind in ("freq", "damping") and self.threshold is not None:
+            return f"{self.kind}:{self.column}~{self.threshold!r}"
         return f"{self.kind}:{self.column}"
 
 
@@ -67,7 +74,7 @@ def parse_metric(text: str | Custom) -> Metric | Custom:
     kind, _, rest = text.partition(":")
     kind = kind.strip().lower()
     allowed = ("max:COLUMN, min:, initial:, final:, mean:, ptp:, absmax:, cross:COLUMN>VALUE, cross:COLUMN<VALUE, "
-               "dynamic_factor:COLUMN[/STATIC], scene")
+               "dynamic_factor:COLUMN[/STATIC], freq:COLUMN[~HZ], damping:COLUMN[~HZ], scene")
     if kind == "scene" and not rest:
         return Metric("scene")
     if kind not in KINDS or kind == "scene" or not rest.strip():
@@ -85,6 +92,12 @@ def parse_metric(text: str | Custom) -> Metric | Custom:
         value = number(static)
         if value is None or value == 0:
             raise SettingsError(f"metric {text!r} is not allowed: the static value after '/' is a non-zero number")
+        return Metric(kind, column.strip(), value)
+    if kind in ("freq", "damping") and "~" in rest:
+        column, _, near = rest.partition("~")
+        value = number(near)
+        if value is None or not value > 0:
+            raise SettingsError(f"metric {text!r} is not allowed: the frequency after '~' is a number > 0 [Hz]")
         return Metric(kind, column.strip(), value)
     return Metric(kind, rest)
 
@@ -166,5 +179,20 @@ def _one(m: Metric, t: np.ndarray, y: np.ndarray) -> float:
     if m.kind == "cross":
         hit = np.flatnonzero(y > m.threshold if m.above else y < m.threshold)
         return float(t[hit[0]]) if len(hit) else math.nan
+    if m.kind in ("freq", "damping"):
+        return _modal(m, t, y)
     static = y[0] if m.threshold is None else m.threshold   # dynamic_factor
     return float(y.max() / static) if static != 0 else math.nan
+
+
+def _modal(m: Metric, t: np.ndarray, y: np.ndarray) -> float:
+    from ..modal import ModalFitError, fit_modes, nearest
+
+    for n in range(MODAL_FIT, 0, -1):   # as many of the strongest modes as the signal has
+        try:
+            modes = fit_modes(t, y, n)
+        except ModalFitError:
+            continue
+        mode = nearest(modes, m.threshold) if m.threshold is not None else max(modes, key=lambda x: x.amplitude)
+        return mode.frequency if m.kind == "freq" else mode.damping
+    return math.nan
