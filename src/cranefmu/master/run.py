@@ -132,6 +132,7 @@ def run(scene: str | Path, *, parameter_set: str | None = None, parameters: dict
         return _run_here(ssp, options, parameter_set, parameters, claim, keep)
     finally:
         if claim is not None:
+            claim.abandon()   # an interrupt before the run wrote its file: whole rows in place, no empty .part
             claim.release()
 
 
@@ -197,6 +198,8 @@ def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, para
             forget_extracted(fmu_dirs)
             discard(fmu_dirs)
         _finish(claim, recorder)
+    if claim is not None:
+        claim.check_placed(result.result)
     if interrupt.signum is not None:
         raise RunInterrupted(_interrupted(interrupt.signum, result), result.result, where, interrupt.signum)
     return result

@@ -32,6 +32,7 @@ from ..errors import ParameterSetError, SceneError, SettingsError
 from .settings import stored_settings
 from ..units import parse as parse_unit
 from .stop_conditions import read_stop_conditions
+from .fmi_integer import fmi_integer
 from .untrusted import check_xml_files, parse_xml, safe_extract
 
 SSD_NS = "http://ssp-standard.org/SSP1/SystemStructureDescription"
@@ -135,10 +136,7 @@ def typed_value(text: str, kind: str, where: str, unit: str = "") -> Value:
                 raise ValueError
             return value
         if kind == "Integer":
-            number = float(text)
-            if not math.isfinite(number) or number != int(number):
-                raise ValueError
-            return int(number)
+            return fmi_integer(text, where)   # 32 bits, quoted as given (the variable's range: at the FMU)
         if kind == "Boolean":
             return _BOOLEAN[str(text).strip().lower()]
         return str(text)
