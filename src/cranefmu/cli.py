@@ -7,7 +7,6 @@ import sys
 from pathlib import Path
 
 from .errors import CraneFmuError
-from .sweep.command import add_parser as add_sweep_parser
 
 
 def _cmd_build(args: argparse.Namespace) -> int:
@@ -255,7 +254,7 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Run a scene.  A setting not given is the scene's stored one if it stores it "
                        "(cranefmu info SCENE), else the default shown.  SIGINT, SIGTERM or SIGHUP ends the run at the "
                        "next step, keeps the rows so far in the CSV and exits 130, 143 or 129.")
-    r.add_argument("scene", help="scene name under ssp/ or path to an .ssp file")
+    r.add_argument("scene", help="a shipped scene's name (cranefmu scenes lists them) or the path to an .ssp file")
     from .master.settings import add_arguments
 
     add_arguments(r)   # every run setting, from cranefmu.master.settings.Settings
@@ -315,6 +314,11 @@ def build_parser() -> argparse.ArgumentParser:
                                            "adapter as the FMI 2.0 FMUs)")
     f3.add_argument("only", nargs="*", help="FMU names (default: all)")
     f3.set_defaults(func=_cmd_build_fmi3)
+    from .scene_list import add_parser as add_scenes_parser
+    from .sweep.command import add_parser as add_sweep_parser
+
+    add_scenes_parser(sub)
+
     add_sweep_parser(sub)
     return p
 
@@ -352,6 +356,11 @@ def main(argv: list[str] | None = None) -> int:
     old = {name: signal.signal(getattr(signal, name), OUTSIDE) for name in STOP}   # first: no traceback
     try:
         _check_working_directory()
+        if (sys.argv[1:] if argv is None else argv) == ["--version"]:   # without building the whole parser
+            from . import __version__
+
+            print(f"cranefmu {__version__}")
+            return 0
         args = build_parser().parse_args(argv)
         if args.func is _cmd_run:
             from .master.interrupt import stop_on

@@ -164,10 +164,23 @@ def test_sighup_keeps_the_rows_in_a_whole_csv_and_exits_129(built, tmp_path):
     assert list(tmpdir.iterdir()) == [] and not out.with_name("out.csv.part").exists()
 
 
+def handlers_in(pid: int, timeout: float = 60.0) -> None:
+    """Wait until the CLI's main() catches SIGHUP (its handlers are in: before that, during the
+    interpreter's start-up and the import of cranefmu.cli, a signal has Python's default effect)."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        status = Path(f"/proc/{pid}/status").read_text()
+        caught = int(re.search(r"SigCgt:\s*([0-9a-f]+)", status).group(1), 16)
+        if caught & (1 << (signal.SIGHUP - 1)):
+            return
+        time.sleep(0.002)
+    raise AssertionError("the CLI never installed its signal handlers")
+
+
 def test_bursts_of_signals_at_random_times_end_in_one_correct_line(built, tmp_path):
-    """From start-up to well into the run, 1 to 3 signals with gaps of 1 to 200 ms: always exit 128+signal,
-    one line, a whole CSV holding exactly the rows the line names (or none when it says so), no
-    part file, no temporary directory."""
+    """From the CLI's start (its handlers in) to well into the run, 1 to 3 signals with gaps of 1 to
+    200 ms: always exit 128+signal, one line, a whole CSV holding exactly the rows the line names (or
+    none when it says so), no part file, no temporary directory."""
     rng = random.Random(SEED)
     for trial in range(TRIALS):
         case = tmp_path / f"t{trial}"
@@ -176,6 +189,7 @@ def test_bursts_of_signals_at_random_times_end_in_one_correct_line(built, tmp_pa
         delay, count = rng.uniform(0.0, 3.0), rng.choice([1, 2, 2, 3])
         gaps = [rng.choice([0.001, 0.01, 0.1, 0.2]) for _ in range(count - 1)]
         proc, out, tmpdir = start(case, *(["--in-process"] if trial % 4 == 3 else []))
+        handlers_in(proc.pid)
         time.sleep(delay)
         for gap in [0.0, *gaps]:
             time.sleep(gap)
@@ -270,3 +284,59 @@ def test_the_next_build_removes_the_temporary_files_of_a_killed_build(built, tmp
     finally:
         for path in [*stale, live]:
             path.unlink(missing_ok=True)
+
+
+# --- 8. unclear items ---------------------------------------------------------------------------------
+
+def test_scenes_lists_every_scene_with_its_question_and_version_is_one_line(built):
+    from cranefmu.scene_catalog import scene_names
+    from cranefmu.scenes import SCENES
+
+    p = cranefmu("scenes")
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.splitlines() == [f"{n:<{max(map(len, scene_names()))}}  {SCENES[n].question}"
+                                     for n in scene_names()]
+    p = subprocess.run([str(console_script()), "--version"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stdout == "cranefmu 0.1.0\n"   # its cost: benchmarks/cli_startup.py
+
+
+def test_fmu_path_gives_a_built_fmu_that_fmpy_simulates(built):
+    import fmpy
+
+    import cranefmu
+    from cranefmu.errors import CraneFmuError
+
+    res = fmpy.simulate_fmu(str(cranefmu.fmu_path("Rope")), stop_time=0.1, step_size=1e-3,
+                            start_values={"y_hook": -10.01, "zeta": 0.0}, output=["tension"])
+    assert res["tension"][-1] == pytest.approx(1e11 * 5.655e-5 / 10.0 * 0.01, rel=1e-9)   # E A / L x 1 cm
+    with pytest.raises(CraneFmuError, match="FMU 'Nope' is unknown: one of Boom, "):
+        cranefmu.fmu_path("Nope")
+
+
+def test_a_connection_without_an_attribute_names_it(built, tmp_path):
+    ssp = edit_ssp(tmp_path / "noattr.ssp", ssd=lambda t: t.replace('endConnector="x_hook"', "", 1))
+    p = cranefmu("run", str(ssp), "--stop-time", "0.1")
+    line = one_line(p.stderr)
+    assert p.returncode == 2 and "has no endConnector attribute" in line and "None" not in line
+
+
+def test_a_truck_summary_before_the_telescoping_ends_has_no_nan():
+    from cranefmu.scenes import summary
+
+    t = np.linspace(0.0, 2.0, 21)
+    result = {"time": t, "boom.boom_length": 10.5 + 0.1 * t, "pendulum.theta": 0.01 * np.sin(t),
+              "rope.elongation": np.full_like(t, 1e-3), "chassis.q1": np.full_like(t, 1e-3),
+              "chassis.q2": np.full_like(t, 2e-3), "chassis.N_front": np.full_like(t, 1e5),
+              "chassis.N_rear": np.full_like(t, 2e5)}
+    lines = dict(summary("truck_telescope", result))
+    largest = np.max(np.degrees(0.01 * np.sin(t)))
+    assert lines["max sway"] == f"{largest:.3f} deg (still telescoping when the run ended)"
+    assert not any("nan" in text for text in lines.values())
+
+
+def test_an_order_is_refused_where_the_algorithm_does_not_use_it(built):
+    p = cranefmu(*QUICK, "--order", "rope,pendulum")
+    assert p.returncode == 2
+    assert "order = 'rope,pendulum' is not allowed with algorithm = 'jacobi': only with 'gauss-seidel'" \
+        in one_line(p.stderr)
+    assert cranefmu(*QUICK, "--order", "rope,pendulum", "--algorithm", "gauss-seidel").returncode == 0

@@ -128,12 +128,16 @@ def run(scene: str | Path, *, parameter_set: str | None = None, parameters: dict
         if isolate:
             from .isolated import run_isolated
 
-            return run_isolated(ssp, options, parameter_set, parameters, claim, keep)
-        return _run_here(ssp, options, parameter_set, parameters, claim, keep)
+            result = run_isolated(ssp, options, parameter_set, parameters, claim, keep)
+        else:
+            result = _run_here(ssp, options, parameter_set, parameters, claim, keep)
     finally:
         if claim is not None:
-            claim.abandon()   # an interrupt before the run wrote its file: whole rows in place, no empty .part
+            claim.abandon()   # rows not yet in place (an early interrupt, a failed rename): again, or removed
             claim.release()
+    if claim is not None:
+        claim.check_placed(result.result)   # the target could not be replaced: one error naming both files
+    return result
 
 
 def _run_here(ssp: Path, settings: Settings, parameter_set: str | None, parameters: dict | None,
@@ -198,8 +202,6 @@ def _run_observed(ssp: Path, settings: Settings, parameter_set: str | None, para
             forget_extracted(fmu_dirs)
             discard(fmu_dirs)
         _finish(claim, recorder)
-    if claim is not None:
-        claim.check_placed(result.result)
     if interrupt.signum is not None:
         raise RunInterrupted(_interrupted(interrupt.signum, result), result.result, where, interrupt.signum)
     return result

@@ -261,8 +261,14 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
     connections = []
     holder = _first(system, "Connections")
     for c in _children(holder, "Connection") if holder is not None else []:
-        ends = (c.get("startElement"), c.get("startConnector"), c.get("endElement"), c.get("endConnector"))
+        attributes = ("startElement", "startConnector", "endElement", "endConnector")
+        ends = tuple(c.get(a) for a in attributes)
         text = f"{ends[0]}.{ends[1]} -> {ends[2]}.{ends[3]}"
+        missing = [a for a, value in zip(attributes, ends) if not value]
+        if missing:
+            raise SceneError(f"{label}: connection {text.replace('None', '?')} has no {' and no '.join(missing)} "
+                             f"attribute: cranefmu needs all of {', '.join(attributes)} (no connection to the "
+                             "system's own connectors)")
         for role, comp in (("start", ends[0]), ("end", ends[2])):
             if comp not in names:
                 raise SceneError(f"{label}: connection {text}: {role} element {comp!r} is not a component "
