@@ -353,7 +353,10 @@ def _say(text: str) -> None:
 def main(argv: list[str] | None = None) -> int:
     import signal
 
-    old = {name: signal.signal(getattr(signal, name), OUTSIDE) for name in STOP}   # first: no traceback
+    from .master.interrupt import wanted
+
+    # first of all, so that no signal gives a traceback; SIGHUP stays ignored under nohup
+    old = {s: signal.signal(s, OUTSIDE) for s in wanted(getattr(signal, name) for name in STOP)}
     try:
         _check_working_directory()
         if (sys.argv[1:] if argv is None else argv) == ["--version"]:   # without building the whole parser
@@ -365,10 +368,10 @@ def main(argv: list[str] | None = None) -> int:
         if args.func is _cmd_run:
             from .master.interrupt import stop_on
 
-            stop_on(*(getattr(signal, name) for name in STOP))   # during the run: stop between steps, keep the rows
+            stop_on(*old)   # during the run: stop between steps, keep the rows
         else:   # the other commands keep Python's handling of signals
-            for name, handler in old.items():
-                signal.signal(getattr(signal, name), handler)
+            for signum, handler in old.items():
+                signal.signal(signum, handler)
         return args.func(args)
     except CraneFmuError as err:
         _say(f"cranefmu: error: {err}")
@@ -382,8 +385,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     finally:
         _quiet_streams()
-        for name, handler in old.items():   # as the program: it ends now, a late signal must not replace
-            signal.signal(getattr(signal, name), signal.SIG_IGN if argv is None else handler)   # its exit code
+        for signum, handler in old.items():   # as the program: it ends now, a late signal must not replace
+            signal.signal(signum, signal.SIG_IGN if argv is None else handler)   # its exit code
 
 
 def _check_working_directory() -> None:

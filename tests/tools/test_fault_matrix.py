@@ -152,7 +152,16 @@ def test_an_integer_beyond_32_bits_is_refused_from_the_api_and_an_ssp_binding(bu
 
 # --- 3. signals ------------------------------------------------------------------------------------
 
-def test_sighup_keeps_the_rows_in_a_whole_csv_and_exits_129(built, tmp_path):
+@pytest.fixture
+def sighup_default():
+    """SIGHUP not ignored in the children (as under a terminal), even if this process runs under nohup."""
+    old = signal.signal(signal.SIGHUP, signal.SIG_DFL) if signal.getsignal(signal.SIGHUP) == signal.SIG_IGN else None
+    yield
+    if old is not None:
+        signal.signal(signal.SIGHUP, old)
+
+
+def test_sighup_keeps_the_rows_in_a_whole_csv_and_exits_129(built, tmp_path, sighup_default):
     proc, out, tmpdir = start(tmp_path)
     seen = wait_for_rows(proc, out, 500)
     os.killpg(proc.pid, signal.SIGHUP)   # a closed terminal signals the whole foreground group
@@ -177,7 +186,20 @@ def handlers_in(pid: int, timeout: float = 60.0) -> None:
     raise AssertionError("the CLI never installed its signal handlers")
 
 
-def test_bursts_of_signals_at_random_times_end_in_one_correct_line(built, tmp_path):
+def test_under_nohup_sighup_does_not_stop_the_run(built, tmp_path):
+    out = tmp_path / "out.csv"
+    proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "run", "elastic_pendulum", "--stop-time", "2",
+                             "--step", str(STEP), "--output", str(out)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))
+    wait_for_rows(proc, out, 200)
+    os.killpg(proc.pid, signal.SIGHUP)
+    _, err = proc.communicate(timeout=300)
+    assert proc.returncode == 0, err
+    assert_whole_csv(out, 2001, STEP)
+
+
+def test_bursts_of_signals_at_random_times_end_in_one_correct_line(built, tmp_path, sighup_default):
     """From the CLI's start (its handlers in) to well into the run, 1 to 3 signals with gaps of 1 to
     200 ms: always exit 128+signal, one line, a whole CSV holding exactly the rows the line names (or
     none when it says so), no part file, no temporary directory."""

@@ -20,6 +20,12 @@ def stop_on(*signals: int) -> None:
     STOP_SIGNALS[:] = list(signals)
 
 
+def wanted(signals) -> tuple[int, ...]:
+    """``signals`` less SIGHUP when this process was started with it ignored (``nohup``): it must
+    then not stop the run."""
+    return tuple(s for s in signals if s != signal.SIGHUP or signal.getsignal(s) != signal.SIG_IGN)
+
+
 def note(signum: int) -> bool:
     """Record a stop signal; True if it is the first this process received (a handler outside a run
     raises only then, so a second Ctrl-C never interrupts the cleanup the first one started)."""
@@ -69,7 +75,7 @@ class Interrupt:
     """
 
     def __init__(self, signals: tuple[int, ...] | None = None):
-        self.signals = tuple(STOP_SIGNALS) if signals is None else signals
+        self.signals = wanted(STOP_SIGNALS if signals is None else signals)
         self.signum: int | None = None
         self.count = 0
         self._old: dict[int, object] = {}

@@ -24,7 +24,7 @@ import time as clock
 from pathlib import Path
 
 from ..errors import SimulationError
-from .interrupt import STOP_SIGNALS, RunInterrupted, note, signal_name
+from .interrupt import STOP_SIGNALS, RunInterrupted, note, signal_name, wanted
 from .output_file import OutputFile
 
 # ``python -m cranefmu.master.worker`` without the working directory on the import path: ``-c`` puts
@@ -113,7 +113,7 @@ class _Forward:
     on to the worker, kills it on a second one or :data:`GRACE` seconds after the first."""
 
     def __init__(self, signals: tuple[int, ...]):
-        self.signals = signals
+        self.signals = wanted(signals)
         self.got: list[int] = []
         self.proc: subprocess.Popen | None = None
         self._old: dict[int, object] = {}

@@ -12,10 +12,11 @@ import sys
 from .interrupt import Interrupt
 
 # first of all: a signal from now on only asks the run to stop (never a KeyboardInterrupt inside an FMU)
-INTERRUPT = Interrupt((signal.SIGINT, signal.SIGTERM, signal.SIGHUP))
+STOPS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+INTERRUPT = Interrupt(STOPS)   # SIGHUP left out when inherited ignored (nohup)
 for _s in INTERRUPT.signals:
     signal.signal(_s, INTERRUPT.handle)
-signal.pthread_sigmask(signal.SIG_UNBLOCK, INTERRUPT.signals)   # blocked by the parent until now (isolated.py)
+signal.pthread_sigmask(signal.SIG_UNBLOCK, STOPS)   # blocked by the parent until now (isolated.py)
 
 ORPHAN_GRACE = 5.0   # seconds an orphaned worker gets to close its run before it exits regardless
 
