@@ -14,7 +14,7 @@ from .master.scene_names import register_scene_resolver as _register_scene_resol
 
 __version__ = "0.1.0"
 
-__all__ = ["simulate", "run", "resolve", "RunSpec", "build", "sweep", "__version__"]
+__all__ = ["simulate", "run", "resolve", "RunSpec", "build", "sweep", "fmu_path", "__version__"]
 
 
 def _resolve_scene_name(name: str) -> Path:
@@ -25,6 +25,20 @@ def _resolve_scene_name(name: str) -> Path:
 
 
 _register_scene_resolver(_resolve_scene_name)
+
+
+def fmu_path(name: str) -> Path:
+    """The built ``<name>.fmu`` (``"Rope"``), built first if missing or stale: in ``fmus/`` of a checkout,
+    in the user cache when installed (``cranefmu build --where`` prints the folder)."""
+    from . import build as b
+    from .errors import CraneFmuError
+    from .sources import fmu_scripts
+
+    known = sorted(s.stem for s in fmu_scripts())
+    if name not in known:
+        raise CraneFmuError(f"FMU {name!r} is unknown: one of {', '.join(known)}")
+    b.build(verbose=False, only=[name])
+    return b.FMU_DIR / f"{name}.fmu"
 
 
 def __getattr__(name: str):

@@ -364,8 +364,38 @@ def build(force: bool = False, verbose: bool = True, only: list[str] | None = No
                             f"({err.filename}){hint}") from None
 
 
+_TEMP_NAME = re.compile(r"\.(\d+)\.tmp$")   # <name>.fmu.<pid>.tmp, <scene>.ssp.<pid>.tmp, .<scene>.<pid>.tmp
+
+
+def remove_stale_temps() -> list[Path]:
+    """Remove the temporary files of builds whose process is gone (killed mid-build); returns them."""
+    removed = []
+    for folder in {FMU_DIR, SSP_DIR}:
+        for path in folder.glob("*.tmp") if folder.is_dir() else ():
+            found = _TEMP_NAME.search(path.name)
+            if found is None or _alive(int(found.group(1))):
+                continue
+            if path.is_dir() and not path.is_symlink():
+                shutil.rmtree(path, ignore_errors=True)
+            else:
+                path.unlink(missing_ok=True)
+            removed.append(path)
+    return removed
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True   # exists, another user's
+    return True
+
+
 def _build(force: bool, verbose: bool, only: list[str] | None) -> list[Path]:
     done = []
+    remove_stale_temps()
     scripts, scenes = _selected(only)
     FMU_DIR.mkdir(parents=True, exist_ok=True)
     for script in scripts:

@@ -2,11 +2,11 @@
 from __future__ import annotations
 
 import argparse
+import builtins
 import sys
 from pathlib import Path
 
 from .errors import CraneFmuError
-from .sweep.command import add_parser as add_sweep_parser
 
 
 def _cmd_build(args: argparse.Namespace) -> int:
@@ -43,7 +43,7 @@ MAX_ROWS = 10_000_000     # default --max-rows: a larger run is refused before i
 def _cmd_run(args: argparse.Namespace) -> int:
     from dataclasses import fields, replace
 
-    from .master.output_file import check_directory, check_target
+    from .master.output_file import check_directory, check_target, is_stream, same_file_as
     from .master.run import preview, run
     from .master.runspec import resolve
     from .master.settings import Settings
@@ -63,19 +63,26 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if prefix is not None:
         check_directory(prefix.parent, "--plot", str(prefix) + "_*.png")
     keep = rows <= KEEP_ROWS or not args.output
+    streamed = bool(args.output) and is_stream(args.output)
+    if streamed and prefix is not None and not keep:
+        raise CraneFmuError(f"--plot is not allowed with --output {args.output} and {rows:.3g} rows: a stream cannot "
+                            f"be read back and at most {KEEP_ROWS:g} rows are kept in memory; write a file instead")
+    say = sys.stderr if streamed and same_file_as(args.output, 1) else sys.stdout   # stdout holds the CSV
     if not args.in_process:   # the worker extracts its own copy; this one would outlive a killed parent
         from .master.extracted import clear
 
         clear()
     res = run(replace(spec, keep=keep))
-    _report(res, keep)
+    OUTSIDE.when = f" after the run ended: its {res.rows} rows are in {res.output}" if res.output \
+        else " after the run ended"
+    _report(res, keep, say)
     if prefix is not None:
         from .master.plot import write_plots
         from .master.results import read_csv
 
         data = res.result if keep else read_csv(res.output, [c for _, cols in plotted for c in cols])
         for path in write_plots(data, res.scene, prefix, plotted, units=scene.units):
-            print(f"figure: {path}")
+            print(f"figure: {path}", file=say)
     return 0
 
 
@@ -94,7 +101,10 @@ def _plot_plan(args: argparse.Namespace, scene) -> tuple[list[tuple[str, list[st
         from .scenes import plot_groups
 
         groups = plot_groups(scene.name, scene.columns) or _by_component(scene.columns)
-    prefix = Path(args.output).with_suffix("") if args.output else Path(scene.name)
+    from .master.output_file import is_stream
+
+    # next to the CSV; a stream's figures (--output - or /dev/stdout) go in the current directory
+    prefix = Path(args.output).with_suffix("") if args.output and not is_stream(args.output) else Path(scene.name)
     return groups, prefix
 
 
@@ -105,9 +115,13 @@ def _by_component(columns: list[str]) -> list[tuple[str, list[str]]]:
     return list(groups.items())
 
 
-def _report(res, kept: bool) -> None:
-    """The run's statistics, the scene's summary and where the results are."""
+def _report(res, kept: bool, out=None) -> None:
+    """The run's statistics, the scene's summary and where the results are (to ``out``, default stdout)."""
+    from functools import partial
+
     from .scenes import summary
+
+    print = partial(builtins.print, file=out or sys.stdout)   # noqa: A001 - every line below goes to ``out``
 
     st, s = res.stats, res.settings
     simulated = res.end_time - s.start_time if res.rows else 0.0
@@ -128,7 +142,7 @@ def _report(res, kept: bool) -> None:
         print(f"  power bond {name}: energy residual {energy:.6g} J of {st.bond_carried.get(name, 0.0):.6g} J "
               "carried")
     for line in res.warnings:
-        print(f"warning: {line}", file=sys.stderr)
+        builtins.print(f"warning: {line}", file=sys.stderr)
     if kept:
         for label, text in summary(res.scene, res.result):
             print(f"  {label:<24} {text}")
@@ -232,9 +246,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     r = sub.add_parser("run", help="run a scene (builds what is missing first)",
                        description="Run a scene.  A setting not given is the scene's stored one if it stores it "
-                       "(cranefmu info SCENE), else the default shown.  SIGINT or SIGTERM ends the run at the next "
-                       "step, keeps the rows so far in the CSV and exits 130 or 143.")
-    r.add_argument("scene", help="scene name under ssp/ or path to an .ssp file")
+                       "(cranefmu info SCENE), else the default shown.  SIGINT, SIGTERM or SIGHUP ends the run at the "
+                       "next step, keeps the rows so far in the CSV and exits 130, 143 or 129.")
+    r.add_argument("scene", help="a shipped scene's name (cranefmu scenes lists them) or the path to an .ssp file")
     from .master.settings import add_arguments
 
     add_arguments(r)   # every run setting, from cranefmu.master.settings.Settings
@@ -296,6 +310,11 @@ def build_parser() -> argparse.ArgumentParser:
                                            "adapter as the FMI 2.0 FMUs)")
     f3.add_argument("only", nargs="*", help="FMU names (default: all)")
     f3.set_defaults(func=_cmd_build_fmi3)
+    from .scene_list import add_parser as add_scenes_parser
+    from .sweep.command import add_parser as add_sweep_parser
+
+    add_scenes_parser(sub)
+
     add_sweep_parser(sub)
     from .export import add_parser as add_export_parser
 
@@ -303,30 +322,93 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _terminated(signum, frame):
-    """SIGTERM outside a run (before it starts, or after): end like an interrupt, cleaning up."""
-    from .master.interrupt import RunInterrupted
+STOP = ("SIGINT", "SIGTERM", "SIGHUP")   # end a run at the next step, rows kept (exit 130, 143, 129)
 
-    raise RunInterrupted("interrupted by SIGTERM", signum=signum)
+
+class _Outside:
+    """The handler of stop signals outside a run (start-up, checks, after the run): the first one
+    raises :class:`RunInterrupted` saying what was kept (``when``), later ones are only noted."""
+
+    def __init__(self) -> None:
+        self.when = " before the run started: no rows were written"
+
+    def __call__(self, signum, frame) -> None:
+        from .master.interrupt import raise_first
+
+        raise_first(signum, frame, self.when)
+
+
+OUTSIDE = _Outside()
+
+
+def _say(text: str) -> None:
+    """One line on stderr; a closed terminal (SIGHUP, a broken pipe) is not an error of its own."""
+    try:
+        print(text, file=sys.stderr, flush=True)
+    except (OSError, ValueError):
+        pass
 
 
 def main(argv: list[str] | None = None) -> int:
     import signal
 
-    from .master.interrupt import stop_on
+    from .master.interrupt import wanted
 
-    args = build_parser().parse_args(argv)
-    if args.func is _cmd_run:
-        stop_on(signal.SIGINT, signal.SIGTERM)   # during the run: stop between steps, keep the rows
-        signal.signal(signal.SIGTERM, _terminated)
+    # first of all, so that no signal gives a traceback; SIGHUP stays ignored under nohup
+    old = {s: signal.signal(s, OUTSIDE) for s in wanted(getattr(signal, name) for name in STOP)}
     try:
+        _check_working_directory()
+        if (sys.argv[1:] if argv is None else argv) == ["--version"]:   # without building the whole parser
+            from . import __version__
+
+            print(f"cranefmu {__version__}")
+            return 0
+        args = build_parser().parse_args(argv)
+        if args.func is _cmd_run:
+            from .master.interrupt import stop_on
+
+            stop_on(*old)   # during the run: stop between steps, keep the rows
+        else:   # the other commands keep Python's handling of signals
+            for signum, handler in old.items():
+                signal.signal(signum, handler)
         return args.func(args)
     except CraneFmuError as err:
-        print(f"cranefmu: error: {err}", file=sys.stderr)
+        _say(f"cranefmu: error: {err}")
         return 2
     except KeyboardInterrupt as err:
-        print(f"cranefmu: {err or 'interrupted'}", file=sys.stderr)
+        _say(f"cranefmu: {str(err) or 'interrupted'}")
         return getattr(err, "exit_code", 130)
+    except OSError as err:   # a file system refusal no check foresaw: one line naming the file
+        where = f" ({err.filename})" if err.filename else ""
+        _say(f"cranefmu: error: {err.strerror or err}{where}")
+        return 2
+    finally:
+        _quiet_streams()
+        for signum, handler in old.items():   # as the program: it ends now, a late signal must not replace
+            signal.signal(signum, signal.SIG_IGN if argv is None else handler)   # its exit code
+
+
+def _check_working_directory() -> None:
+    import os
+
+    try:
+        os.getcwd()
+    except FileNotFoundError:
+        raise CraneFmuError("the working directory does not exist any more (deleted or moved away): "
+                            "cd to an existing directory and run again") from None
+
+
+def _quiet_streams() -> None:
+    """Flush stdout now; if it is gone (a closed terminal, ``| head``), stop Python from reporting it at exit."""
+    import os
+
+    try:
+        sys.stdout.flush()
+    except (OSError, ValueError):
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
 
 
 if __name__ == "__main__":

@@ -200,7 +200,9 @@ def summary(name: str, result) -> list[tuple[str, str]]:
                   ("lift-off time", f"{m['lift_off_time']:.4g} s" if math.isfinite(m["lift_off_time"])
                    else "the load did not leave the ground")]
     elif name == "truck_telescope" and m:
-        lines += [("max sway", f"{m['max_sway_deg']:.3f} deg (after telescoping: {m['sway_after_deg']:.3f} deg)"),
+        after = f"after telescoping: {m['sway_after_deg']:.3f} deg" if math.isfinite(m["sway_after_deg"]) \
+            else "still telescoping when the run ended"
+        lines += [("max sway", f"{m['max_sway_deg']:.3f} deg ({after})"),
                   ("rope elongation", f"{m['elongation_min'] * 1e3:.3f} .. {m['elongation_max'] * 1e3:.3f} mm"),
                   ("settlements q1, q2", f"{m['q1_min'] * 1e3:.3f} .. {m['q1_max'] * 1e3:.3f} mm, "
                                          f"{m['q2_min'] * 1e3:.3f} .. {m['q2_max'] * 1e3:.3f} mm"),

@@ -188,15 +188,19 @@ def test_python_c_gives_the_checkout_rows(installed, checkout_rows):
     _same_rows(np.load(installed.work / "rows.npy"), checkout_rows[0])
 
 
-def test_reference_solve_gives_the_checkout_solution(installed):
-    from cranefmu.reference import solve
-
+def test_reference_solve_gives_the_checkout_solution(installed, tmp_path):
+    # both solves in a fresh process.  The checkout's solve ran in this test process, after whatever
+    # tests ran before in it, and its rope.tension differed in the last bit once in five runs (issue 23;
+    # the cause not found).  Fresh processes agreed bit for bit: 14 of them, over 8 hash seeds and
+    # 1, 2 and 4 OpenBLAS threads, and 6 solves in one process between allocations of other sizes.
     code = f"import numpy as np; from cranefmu.reference import solve; np.savez('ref.npz', **solve({SCENE!r}, {STOP}))"
     res = installed.run(str(installed.python), "-c", code)
     assert res.returncode == 0, res.stderr
-    ours, ref = np.load(installed.work / "ref.npz"), solve(SCENE, STOP)
-    assert sorted(ours.files) == sorted(ref) and len(ref["time"]) == 2001
-    for name in ref:
+    here = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert here.returncode == 0, here.stderr
+    ours, ref = np.load(installed.work / "ref.npz"), np.load(tmp_path / "ref.npz")
+    assert sorted(ours.files) == sorted(ref.files) and len(ref["time"]) == 2001
+    for name in ref.files:
         assert np.array_equal(ours[name], ref[name]), name
 
 

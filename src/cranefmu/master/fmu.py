@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import ParameterSetError, SceneError
 from .settings import parse_bool
+from .fmi_integer import fmi_integer
 
 _EXCEPTION_LINE = re.compile(r"^[A-Za-z_][\w.]*(Error|Exception|Exit|Interrupt)\b.*")
 
@@ -288,15 +289,20 @@ class FmuComponent:
                 self.fmu.setReal([v.valueReference], [value])
             elif v.type in ("Integer", "Enumeration"):
                 names = self.switches.get(name, {})
-                f = names[text.strip()] if isinstance(text, str) and text.strip() in names else float(text)
-                if f != int(f):
-                    raise ValueError
-                self.fmu.setInteger([v.valueReference], [int(f)])
+                given = names[text.strip()] if isinstance(text, str) and text.strip() in names else text
+                if names and isinstance(given, str):
+                    float(given)   # neither a name nor a number: the error lists the names
+                declared = v.declaredType
+                low = v.min if v.min is not None else getattr(declared, "min", None)
+                high = v.max if v.max is not None else getattr(declared, "max", None)
+                self.fmu.setInteger([v.valueReference], [fmi_integer(given, where, low, high)])
             elif v.type == "Boolean":
                 value = text if isinstance(text, bool) else parse_bool(text)
                 self.fmu.setBoolean([v.valueReference], [value])
             else:
                 self.fmu.setString([v.valueReference], [str(text)])
+        except ParameterSetError:
+            raise
         except (ValueError, KeyError, TypeError):
             names = self.switches.get(name)
             allowed = f": allowed {', '.join(f'{n} (= {c})' for n, c in names.items())}" if names else ""

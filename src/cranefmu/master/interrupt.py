@@ -1,4 +1,4 @@
-"""Stop a run cleanly on SIGINT/SIGTERM: an observer that asks the loop to stop at the next step.
+"""Stop a run cleanly on SIGINT/SIGTERM/SIGHUP: an observer that asks the loop to stop at the next step.
 
 A KeyboardInterrupt raised inside an FMU's Python code (pythonfmu) gives status fatal and leaves a
 dangling instance, so during a run the signal only sets a flag; the loop ends at the next
@@ -11,12 +11,33 @@ import signal
 import threading
 
 
-STOP_SIGNALS: list[int] = [signal.SIGINT]   # what stops a run; the CLI adds SIGTERM (see stop_on)
+STOP_SIGNALS: list[int] = [signal.SIGINT]   # what stops a run; the CLI adds SIGTERM and SIGHUP (see stop_on)
+RECEIVED: list[int] = []   # every stop signal this process's handlers saw, in order (see :func:`note`)
 
 
 def stop_on(*signals: int) -> None:
-    """Make ``signals`` stop every later run of this process between steps (the CLI: SIGINT, SIGTERM)."""
+    """Make ``signals`` stop every later run of this process between steps (the CLI: SIGINT, SIGTERM, SIGHUP)."""
     STOP_SIGNALS[:] = list(signals)
+
+
+def wanted(signals) -> tuple[int, ...]:
+    """``signals`` less SIGHUP when this process was started with it ignored (``nohup``): it must
+    then not stop the run."""
+    return tuple(s for s in signals if s != signal.SIGHUP or signal.getsignal(s) != signal.SIG_IGN)
+
+
+def note(signum: int) -> bool:
+    """Record a stop signal; True if it is the first this process received (a handler outside a run
+    raises only then, so a second Ctrl-C never interrupts the cleanup the first one started)."""
+    RECEIVED.append(int(signum))
+    return len(RECEIVED) == 1
+
+
+def raise_first(signum: int, frame=None, when: str = "") -> None:
+    """Signal handler outside a run: the first stop signal raises :class:`RunInterrupted`, later ones are noted."""
+    if note(signum):
+        raise RunInterrupted(f"interrupted by {signal_name(signum)}{when}", signum=signum)
+
 
 
 class RunInterrupted(KeyboardInterrupt):
@@ -31,7 +52,7 @@ class RunInterrupted(KeyboardInterrupt):
 
     @property
     def exit_code(self) -> int:
-        """What a shell reports for a process ended by this signal: 128 + its number (130, 143)."""
+        """What a shell reports for a process ended by this signal: 128 + its number (130, 143, 129)."""
         return 128 + self.signum
 
     def __reduce__(self):  # crosses the process boundary of an isolated run whole
@@ -54,12 +75,13 @@ class Interrupt:
     """
 
     def __init__(self, signals: tuple[int, ...] | None = None):
-        self.signals = tuple(STOP_SIGNALS) if signals is None else signals
+        self.signals = wanted(STOP_SIGNALS if signals is None else signals)
         self.signum: int | None = None
         self.count = 0
         self._old: dict[int, object] = {}
 
     def handle(self, signum: int, frame=None) -> None:
+        note(signum)
         self.count += 1
         if self.signum is None:
             self.signum = signum

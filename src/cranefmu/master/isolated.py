@@ -26,10 +26,15 @@ from dataclasses import replace
 from pathlib import Path
 
 from ..errors import SimulationError
-from .interrupt import STOP_SIGNALS, RunInterrupted, signal_name
+from .interrupt import STOP_SIGNALS, RunInterrupted, note, signal_name, wanted
 from .output_file import OutputFile
 from .runspec import RunSpec
 
+# ``python -m cranefmu.master.worker`` without the working directory on the import path: ``-c`` puts
+# it first as '' (``-m`` as its full name), and a numpy.py, pickle.py or cranefmu/ there would shadow
+# the real one.  (``-P`` does this from Python 3.11 on; ``-I`` would also drop the user's site-packages.)
+WORKER_COMMAND = [sys.executable, "-c", "import sys\nif sys.path and sys.path[0] == '': del sys.path[0]\n"
+                  "import runpy\nrunpy.run_module('cranefmu.master.worker', run_name='__main__', alter_sys=True)"]
 GRACE = 0.7        # seconds a signalled worker gets to close its run before it is killed
 TAIL_BYTES = 8192  # of the worker's stderr, kept for the message if it dies
 
@@ -40,80 +45,122 @@ def run_isolated(spec: RunSpec, claim: OutputFile | None, signals: tuple[int, ..
     if spec.settings.progress is None:   # the worker's stderr is a pipe: decide for it
         spec = replace(spec, settings=replace(spec.settings,
                                               progress=bool(getattr(sys.stderr, "isatty", lambda: False)())))
-    ssp = spec.ssp
-    jobdir = Path(tempfile.mkdtemp(prefix="cranefmu_run_"))
-    outcome = jobdir / "outcome.pickle"
-    job = dict(spec=spec, outcome=str(outcome), claim=(str(claim.target), str(claim.part) if claim.part else None, claim.fd)
-               if claim is not None else None)
-    proc = None
+    stop = _Forward(tuple(STOP_SIGNALS) if signals is None else signals)
+    jobdir = proc = None
     try:
+        stop.install()   # from here every stop signal is recorded and passed on, never raised
+        jobdir = Path(tempfile.mkdtemp(prefix="cranefmu_run_"))
+        outcome = jobdir / "outcome.pickle"
+        job = dict(spec=spec, outcome=str(outcome), claim=(str(claim.target), str(claim.part) if claim.part else None,
+                                                           claim.fd) if claim is not None else None)
         env = {**os.environ, "TMPDIR": str(jobdir), "PYTHONFAULTHANDLER": "1"}
-        proc = subprocess.Popen([sys.executable, "-m", "cranefmu.master.worker"], stdin=subprocess.PIPE,
-                                stderr=subprocess.PIPE, env=env, pass_fds=(claim.fd,) if claim else ())
+        # the worker starts with the stop signals blocked (inherited mask) until its handlers are in place
+        mask = signal.pthread_sigmask(signal.SIG_BLOCK, stop.signals)
+        try:
+            proc = subprocess.Popen(WORKER_COMMAND, stdin=subprocess.PIPE, stderr=subprocess.PIPE, env=env,
+                                    pass_fds=(claim.fd,) if claim else ())
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        stop.forward_to(proc)
         relay = _Relay(proc.stderr)
-        proc.stdin.write(pickle.dumps(job))
-        proc.stdin.flush()          # kept open: its end-of-file tells the worker the parent is gone
-        got = _wait(proc, tuple(STOP_SIGNALS) if signals is None else signals)
+        try:
+            proc.stdin.write(pickle.dumps(job))
+            proc.stdin.flush()          # kept open: its end-of-file tells the worker the parent is gone
+        except OSError:
+            pass                        # the worker is gone already: reported below
+        stop.wait()
         relay.join(2.0)
-        if outcome.is_file():
-            kind, value = pickle.loads(outcome.read_bytes())
-            if kind == "ok":
-                if got is not None:   # the worker finished before it saw the signal: report the interrupt
-                    raise RunInterrupted(f"interrupted by {signal_name(got)} after the run ended", value.result,
-                                         value.output, got)
-                return value
+        got = stop.got[0] if stop.got else None
+        kind, value = _outcome(outcome)
+        if kind == "ok":
+            if got is not None:   # the worker finished before it saw the signal: report the interrupt
+                raise RunInterrupted(f"interrupted by {signal_name(got)} after the run ended", value.result,
+                                     value.output, got)
+            return value
+        if kind == "error":
             raise value
         rows = claim.salvage() if claim is not None else 0
         where = claim.finish(rows) if claim is not None else None
         if got is not None:
             kept = f"the {rows} rows written before are in {where}" if rows else "no rows were written"
             raise RunInterrupted(f"interrupted by {signal_name(got)}: {kept}", None, where, got)
-        raise SimulationError(_death(ssp, proc.returncode, relay.tail(), rows, where))
+        raise SimulationError(_death(spec.ssp, proc.returncode, relay.tail(), rows, where))
     finally:
-        if proc is not None:
-            if proc.poll() is None:
-                proc.kill()
-            proc.wait()
-            for stream in (proc.stdin, proc.stderr):
-                try:
-                    stream.close()
-                except OSError:
-                    pass
-        shutil.rmtree(jobdir, ignore_errors=True)
-
-
-def _wait(proc: subprocess.Popen, signals: tuple[int, ...]) -> int | None:
-    """Wait for the worker, passing on the first of ``signals`` and killing it on a second one or
-    after :data:`GRACE`; returns the signal received, or None."""
-    got: list[int] = []
-
-    def handler(signum, frame):
-        got.append(signum)
         try:
-            proc.send_signal(signum if len(got) == 1 else signal.SIGKILL)
+            if proc is not None:
+                if proc.poll() is None:
+                    proc.kill()
+                proc.wait()
+                for stream in (proc.stdin, proc.stderr):
+                    try:
+                        stream.close()
+                    except OSError:
+                        pass
+            if jobdir is not None:
+                shutil.rmtree(jobdir, ignore_errors=True)
+        finally:
+            stop.restore()
+
+
+def _outcome(path: Path) -> tuple[str, object]:
+    """The worker's report: ("ok", RunResult), ("error", exception), or ("none", None) if it wrote none."""
+    try:
+        return pickle.loads(path.read_bytes())
+    except (OSError, EOFError, pickle.UnpicklingError):
+        return "none", None
+
+
+class _Forward:
+    """The parent's handler of stop signals during an isolated run: records each, passes the first
+    on to the worker, kills it on a second one or :data:`GRACE` seconds after the first."""
+
+    def __init__(self, signals: tuple[int, ...]):
+        self.signals = wanted(signals)
+        self.got: list[int] = []
+        self.proc: subprocess.Popen | None = None
+        self._old: dict[int, object] = {}
+
+    def install(self) -> None:
+        if threading.current_thread() is threading.main_thread():
+            for s in self.signals:
+                self._old[s] = signal.signal(s, self.handle)
+
+    def restore(self) -> None:
+        for s, h in self._old.items():
+            signal.signal(s, h)
+        self._old.clear()
+
+    def handle(self, signum, frame=None) -> None:
+        note(signum)
+        self.got.append(signum)
+        self._send()
+
+    def forward_to(self, proc: subprocess.Popen) -> None:
+        self.proc = proc
+        if self.got:   # arrived while the worker was starting
+            self._send()
+
+    def _send(self) -> None:
+        if self.proc is None:
+            return
+        try:
+            self.proc.send_signal(self.got[0] if len(self.got) == 1 else signal.SIGKILL)
         except OSError:
             pass
 
-    old = {}
-    if threading.current_thread() is threading.main_thread():
-        for s in signals:
-            old[s] = signal.signal(s, handler)
-    try:
+    def wait(self) -> None:
+        """Until the worker ends; it is killed :data:`GRACE` seconds after the first signal."""
         deadline = None
         while True:
             try:
-                proc.wait(timeout=0.05)
-                break
+                self.proc.wait(timeout=0.05)
+                return
             except subprocess.TimeoutExpired:
                 pass
-            if got and deadline is None:
+            if self.got and deadline is None:
                 deadline = clock.monotonic() + GRACE
             if deadline is not None and clock.monotonic() > deadline:
-                proc.kill()
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
-    return got[0] if got else None
+                self.proc.kill()
 
 
 def _death(ssp: Path, code: int, tail: str, rows: int, where: Path | None) -> str:

@@ -130,11 +130,16 @@ def execute(spec: RunSpec) -> RunResult:
         if spec.isolate:
             from .isolated import run_isolated
 
-            return run_isolated(spec, claim)
-        return _run_here(spec, claim)
+            result = run_isolated(spec, claim)
+        else:
+            result = _run_here(spec, claim)
     finally:
         if claim is not None:
+            claim.abandon()   # rows not yet in place (an early interrupt, a failed rename): again, or removed
             claim.release()
+    if claim is not None:
+        claim.check_placed(result.result)   # the target could not be replaced: one error naming both files
+    return result
 
 
 def _run_here(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt | None = None) -> RunResult:

@@ -32,6 +32,7 @@ from ..errors import ParameterSetError, SceneError, SettingsError
 from .settings import parse_bool, stored_settings
 from ..units import parse as parse_unit
 from .stop_conditions import read_stop_conditions
+from .fmi_integer import fmi_integer
 from .untrusted import check_xml_files, parse_xml, safe_extract
 
 SSD_NS = "http://ssp-standard.org/SSP1/SystemStructureDescription"
@@ -151,10 +152,7 @@ def typed_value(text: str, kind: str, where: str, unit: str = "") -> Value:
                 raise ValueError
             return value
         if kind == "Integer":
-            number = float(text)
-            if not math.isfinite(number) or number != int(number):
-                raise ValueError
-            return int(number)
+            return fmi_integer(text, where)   # 32 bits, quoted as given (the variable's range: at the FMU)
         if kind == "Boolean":
             return parse_bool(text)
         return str(text)
@@ -279,8 +277,14 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
     connections = []
     holder = _first(system, "Connections")
     for c in _children(holder, "Connection") if holder is not None else []:
-        ends = (c.get("startElement"), c.get("startConnector"), c.get("endElement"), c.get("endConnector"))
+        attributes = ("startElement", "startConnector", "endElement", "endConnector")
+        ends = tuple(c.get(a) for a in attributes)
         text = f"{ends[0]}.{ends[1]} -> {ends[2]}.{ends[3]}"
+        missing = [a for a, value in zip(attributes, ends) if not value]
+        if missing:
+            raise SceneError(f"{label}: connection {text.replace('None', '?')} has no {' and no '.join(missing)} "
+                             f"attribute: cranefmu needs all of {', '.join(attributes)} (no connection to the "
+                             "system's own connectors)")
         for role, comp in (("start", ends[0]), ("end", ends[2])):
             if comp not in names:
                 raise SceneError(f"{label}: connection {text}: {role} element {comp!r} is not a component "

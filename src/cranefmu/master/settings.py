@@ -127,6 +127,10 @@ class Settings:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise SettingsError(f"{name} = {value!r} is not allowed: an integer >= 1")
+        if self.order and self.algorithm != "gauss-seidel":   # silently unused otherwise
+            raise SettingsError(f"order = {','.join(map(str, self.order))!r} is not allowed with algorithm = "
+                                f"{self.algorithm!r}: only with 'gauss-seidel' (the others step every component "
+                                "at once)")
         if self.substeps > 1 and self.algorithm != "iterative":
             raise SettingsError(f"substeps = {self.substeps!r} is not allowed with algorithm = {self.algorithm!r}: "
                                 "only with 'iterative' (waveform iteration); use 1")

@@ -1,7 +1,9 @@
 """Untrusted input (an .ssp or .fmu from anywhere): safe zip extraction and guarded XML parsing.
 
 Archives: :func:`safe_extract` refuses members that would land outside the target (absolute paths,
-``..``, symbolic links) instead of letting zipfile rewrite them silently.
+``..``, symbolic links) instead of letting zipfile rewrite them silently, and archives that would
+unpack to more than ``CRANEFMU_EXTRACT_LIMIT_MB`` (default 512 MiB) or whose members expand more
+than ``CRANEFMU_EXTRACT_RATIO`` times (default 200; a zip bomb).
 
 XML (SSD, SSV, modelDescription.xml): documents with a DTD are refused before anything reads them.
 
@@ -13,8 +15,10 @@ ever sees documents that passed it.
 """
 from __future__ import annotations
 
+import os
 import re
 import zipfile
+import zlib
 from pathlib import Path
 
 from ..errors import SceneError
@@ -65,15 +69,55 @@ def check_xml_files(directory: Path, label: str) -> None:
             check_xml(path.read_bytes(), f"{label}: {path.relative_to(directory).as_posix()}")
 
 
+LIMIT_ENV = "CRANEFMU_EXTRACT_LIMIT_MB"   # the most an archive may unpack to [MiB]
+RATIO_ENV = "CRANEFMU_EXTRACT_RATIO"      # the most one member may expand over its compressed size
+LIMIT_MB = 512.0   # every scene of cranefmu unpacks to under 10 MiB; an FMU with big binaries, some 100
+RATIO = 200.0      # deflate on real files: 2-10x; a zip bomb's zeros: ~1000x
+RATIO_FROM = 1 << 20   # members smaller than this are never refused for their ratio
+
+
+def _limit(name: str, default: float) -> float:
+    text = os.environ.get(name, "")
+    if not text:
+        return default
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not value > 0:
+        raise SceneError(f"{name} = {text!r} is not allowed: give a positive number")
+    return value
+
+
+def check_sizes(zf: zipfile.ZipFile, label: str) -> None:
+    """Refuse an archive whose members would unpack to more than the limits (declared sizes:
+    zipfile never extracts more than a member declares)."""
+    limit, ratio = _limit(LIMIT_ENV, LIMIT_MB), _limit(RATIO_ENV, RATIO)
+    total = sum(info.file_size for info in zf.infolist())
+    if total > limit * 2 ** 20:
+        raise SceneError(f"{label} unpacks to {total / 2 ** 20:.1f} MiB, more than the limit of {limit:g} MiB "
+                         f"(refused as a possible zip bomb); set {LIMIT_ENV} to raise it")
+    for info in zf.infolist():
+        if info.file_size >= RATIO_FROM and info.file_size > ratio * max(info.compress_size, 1):
+            raise SceneError(f"{label}: entry {info.filename!r} expands {info.file_size / max(info.compress_size, 1):.0f}"
+                             f" times ({info.compress_size} to {info.file_size} bytes), more than {ratio:g} "
+                             f"(refused as a possible zip bomb); set {RATIO_ENV} to raise it")
+
+
 def safe_extract(archive: Path, target: Path) -> None:
-    """Extract a zip, refusing members that would land outside ``target`` (absolute, ``..``, links)."""
+    """Extract a zip, refusing members that would land outside ``target`` (absolute, ``..``, links),
+    an archive over the size limits (:func:`check_sizes`) and a file that is not a zip archive."""
     target = target.resolve()
-    with zipfile.ZipFile(archive) as zf:
-        for info in zf.infolist():
-            dest = (target / info.filename).resolve()
-            if dest != target and target not in dest.parents:
-                raise SceneError(f"{archive.name}: entry {info.filename!r} would be extracted outside "
-                                 f"{target}; refusing the archive")
-            if (info.external_attr >> 16) & 0o170000 == 0o120000:
-                raise SceneError(f"{archive.name}: entry {info.filename!r} is a symbolic link; refusing the archive")
-        zf.extractall(target)
+    try:
+        with zipfile.ZipFile(archive) as zf:
+            for info in zf.infolist():
+                dest = (target / info.filename).resolve()
+                if dest != target and target not in dest.parents:
+                    raise SceneError(f"{archive.name}: entry {info.filename!r} would be extracted outside "
+                                     f"{target}; refusing the archive")
+                if (info.external_attr >> 16) & 0o170000 == 0o120000:
+                    raise SceneError(f"{archive.name}: entry {info.filename!r} is a symbolic link; refusing the archive")
+            check_sizes(zf, archive.name)
+            zf.extractall(target)
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, NotImplementedError, zlib.error) as err:
+        raise SceneError(f"{archive} is not a readable zip archive ({err}): an .ssp or .fmu must be one") from None

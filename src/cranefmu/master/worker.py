@@ -1,6 +1,7 @@
 """The worker of an isolated run: ``python -m cranefmu.master.worker`` (see :mod:`.isolated`).
 
-Reads the job (a pickle holding the resolved :class:`.runspec.RunSpec`) from stdin, runs it with SIGINT and SIGTERM stopping the run between steps,
+Reads the job (a pickle holding the resolved :class:`.runspec.RunSpec`) from stdin, runs it with SIGINT, SIGTERM
+and SIGHUP stopping the run between steps,
 and writes ("ok", RunResult) or ("error", exception) to the job's outcome file.  End-of-file on
 stdin means the parent is gone: the run stops the same way, and the worker removes the parent's
 temporary directory itself.
@@ -12,9 +13,11 @@ import sys
 from .interrupt import Interrupt
 
 # first of all: a signal from now on only asks the run to stop (never a KeyboardInterrupt inside an FMU)
-INTERRUPT = Interrupt((signal.SIGINT, signal.SIGTERM))
+STOPS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+INTERRUPT = Interrupt(STOPS)   # SIGHUP left out when inherited ignored (nohup)
 for _s in INTERRUPT.signals:
     signal.signal(_s, INTERRUPT.handle)
+signal.pthread_sigmask(signal.SIG_UNBLOCK, STOPS)   # blocked by the parent until now (isolated.py)
 
 ORPHAN_GRACE = 5.0   # seconds an orphaned worker gets to close its run before it exits regardless
 
@@ -59,7 +62,10 @@ def main() -> int:
         data = pickle.dumps(outcome)
     except Exception as err:  # an exception that does not pickle: its text
         data = pickle.dumps(("error", RuntimeError(f"{type(outcome[1]).__name__}: {outcome[1]} ({err})")))
-    Path(job["outcome"]).write_bytes(data)
+    report = Path(job["outcome"])
+    partial = report.with_name(report.name + ".tmp")
+    partial.write_bytes(data)
+    os.replace(partial, report)   # whole or absent, even if the parent kills this process meanwhile
     jobdir = Path(job["outcome"]).parent
     if orphaned and jobdir.name.startswith("cranefmu_run_"):   # nobody else will remove it
         shutil.rmtree(jobdir, ignore_errors=True)

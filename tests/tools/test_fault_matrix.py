@@ -1,0 +1,364 @@
+"""The field-fault matrix (issue 23), each case as a real process checking the file and the message:
+output through symbolic links, to standard output, FIFOs and targets that cannot be replaced; Integer
+values beyond 32 bits; SIGHUP and bursts of signals at random times; modules in the working
+directory that shadow the real ones; archives that are not zips or unpack to too much; a deleted
+working directory; stale build files."""
+from __future__ import annotations
+
+import os
+import random
+import re
+import shutil
+import signal
+import stat
+import subprocess
+import sys
+import threading
+import time
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cranefmu.master.results import read_csv
+
+from cli_process import STEP, cranefmu, rows_on_disk, start, wait_for_rows
+from scene_edit import edit_ssp, repack, scene_ssp
+
+SEED = int(os.environ.get("CRANEFMU_FAULT_SEED", "23"))      # other seeds and more trials: a longer search
+TRIALS = int(os.environ.get("CRANEFMU_FAULT_TRIALS", "8"))
+QUICK = ("run", "elastic_pendulum", "--stop-time", "0.1")
+ROWS_QUICK = 6   # 0.1 s at the scene's stored 20 ms step, and the start
+
+
+def one_line(text: str) -> str:
+    """The single line a failure printed (no traceback, nothing else)."""
+    assert text.count("\n") == 1 and "Traceback" not in text, text
+    return text.strip()
+
+
+def assert_whole_csv(path: Path, rows: int | None = None, step: float | None = None) -> np.ndarray:
+    """Every line has the header's columns; ``rows`` data rows if given; times every ``step`` from 0."""
+    lines = path.read_text().splitlines()
+    assert len({line.count(",") for line in lines}) == 1, f"{path}: torn rows"
+    data = read_csv(path)
+    if rows is not None:
+        assert len(data) == rows
+    if step is not None:
+        assert np.allclose(data["time"], step * np.arange(len(data)), rtol=0, atol=1e-9)
+    return data
+
+
+def console_script() -> Path:
+    """The installed ``cranefmu`` entry point (its directory, not the working one, is on its import path)."""
+    script = Path(sys.executable).parent / "cranefmu"
+    if not script.exists():
+        pytest.skip("no cranefmu console script next to this interpreter")
+    return script
+
+
+# --- 1. output files ---------------------------------------------------------------------------
+
+def test_output_through_a_symlink_replaces_its_target_and_keeps_the_link(built, tmp_path):
+    (tmp_path / "real.csv").write_text("old\n")
+    (tmp_path / "link.csv").symlink_to("real.csv")
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "dangling.csv").symlink_to("sub/new.csv")
+    for name, target in [("link.csv", "real.csv"), ("dangling.csv", "sub/new.csv")]:
+        p = cranefmu(*QUICK, "--output", name, cwd=tmp_path)
+        assert p.returncode == 0, p.stderr
+        assert (tmp_path / name).is_symlink() and os.readlink(tmp_path / name) == target
+        assert_whole_csv(tmp_path / target, ROWS_QUICK)
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["dangling.csv", "link.csv", "real.csv", "sub"]
+    assert [x.name for x in (tmp_path / "sub").iterdir()] == ["new.csv"]
+
+
+@pytest.mark.parametrize("name", ["-", "/dev/stdout"])
+def test_output_to_standard_output_is_streamed_and_the_report_goes_to_stderr(built, tmp_path, name):
+    out = tmp_path / "captured.csv"
+    with open(out, "w") as f:
+        p = subprocess.run([sys.executable, "-m", "cranefmu.cli", *QUICK, "--output", name, "--plot"], stdout=f,
+                           stderr=subprocess.PIPE, text=True, cwd=tmp_path, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert os.path.islink("/dev/stdout") or not os.path.exists("/dev/stdout")   # never replaced (as root)
+    assert_whole_csv(out, ROWS_QUICK)
+    assert f"results: {name} ({ROWS_QUICK} rows" in p.stderr
+    figures = sorted(x.name for x in tmp_path.glob("*.png"))
+    assert figures and all(f.startswith("elastic_pendulum_") for f in figures)   # in the working directory
+
+
+def test_output_to_a_fifo_is_streamed_without_a_rename(built, tmp_path):
+    fifo = tmp_path / "rows.fifo"
+    os.mkfifo(fifo)
+    got: list[bytes] = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()))
+    reader.start()
+    p = cranefmu(*QUICK, "--output", str(fifo))
+    reader.join(60)
+    assert p.returncode == 0, p.stderr
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode) and [x.name for x in tmp_path.iterdir()] == ["rows.fifo"]
+    lines = got[0].decode().splitlines()
+    assert len(lines) == 1 + ROWS_QUICK and len({line.count(",") for line in lines}) == 1
+
+
+def test_a_target_that_cannot_be_replaced_keeps_the_rows_in_the_part_file(built, tmp_path):
+    proc, out, tmpdir = start(tmp_path, "--stop-time", "3")
+    wait_for_rows(proc, out, 200)
+    out.mkdir()   # now a directory: the final rename cannot replace it (as root too, unlike chmod)
+    (out / "keep").write_text("x")
+    _, err = proc.communicate(timeout=300)
+    line = one_line(err)
+    part = out.with_name(out.name + ".part")
+    assert proc.returncode == 2 and f"output {str(out)!r} cannot be replaced" in line and str(part) in line
+    assert_whole_csv(part, 3001, STEP)
+    assert "the 3001 rows are kept in" in line and list(tmpdir.iterdir()) == []
+
+
+def test_a_file_name_too_long_for_the_part_file_is_refused_before_the_run(built, tmp_path):
+    name = "x" * 251 + ".csv"   # 255 bytes: the file system's limit, so out.csv.part cannot exist
+    p = cranefmu(*QUICK, "--output", name, cwd=tmp_path)
+    assert p.returncode == 2 and "its file name is 255 bytes, at most 250" in one_line(p.stderr)
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- 2. Integer parameters -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("value, why", [("4294967298", "is out of range: allowed [-2147483648, 2147483647]"),
+                                        ("1e30", "is out of range: allowed [-2147483648, 2147483647]"),
+                                        ("-2147483649", "is out of range"),
+                                        ("2.5", "is not a valid Integer value")])
+def test_an_integer_beyond_32_bits_is_refused_quoted_as_given(built, tmp_path, value, why):
+    p = cranefmu(*QUICK, "--set", f"rope.n_lines={value}", "--output", str(tmp_path / "o.csv"))
+    assert p.returncode == 2 and f"rope.n_lines = {value!r} {why}" in one_line(p.stderr)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_integer_beyond_32_bits_is_refused_from_the_api_and_an_ssp_binding(built, tmp_path):
+    ssp = edit_ssp(tmp_path / "wide.ssp", ssv=lambda t: t.replace(
+        '"rope.n_lines"><ssv:Integer value="1"/>', '"rope.n_lines"><ssv:Integer value="4294967297"/>'))
+    code = ("import cranefmu, sys\n"
+            "for scene, parameters in [('elastic_pendulum', {'rope.n_lines': 2**32 + 2}), (sys.argv[1], {})]:\n"
+            "    try:\n"
+            "        cranefmu.run(scene, stop_time=0.1, parameters=parameters)\n"
+            "    except cranefmu.errors.ParameterSetError as err:\n"
+            "        print(err)\n")
+    p = subprocess.run([sys.executable, "-c", code, str(ssp)], capture_output=True, text=True, timeout=300)
+    lines = p.stdout.splitlines()
+    assert p.returncode == 0 and len(lines) == 2, p.stderr
+    assert lines[0].startswith("rope.n_lines = 4294967298 is out of range")
+    assert "rope.n_lines = '4294967297' is out of range" in lines[1]
+
+
+# --- 3. signals ------------------------------------------------------------------------------------
+
+@pytest.fixture
+def sighup_default():
+    """SIGHUP not ignored in the children (as under a terminal), even if this process runs under nohup."""
+    old = signal.signal(signal.SIGHUP, signal.SIG_DFL) if signal.getsignal(signal.SIGHUP) == signal.SIG_IGN else None
+    yield
+    if old is not None:
+        signal.signal(signal.SIGHUP, old)
+
+
+def test_sighup_keeps_the_rows_in_a_whole_csv_and_exits_129(built, tmp_path, sighup_default):
+    proc, out, tmpdir = start(tmp_path)
+    seen = wait_for_rows(proc, out, 500)
+    os.killpg(proc.pid, signal.SIGHUP)   # a closed terminal signals the whole foreground group
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 129, err
+    line = one_line(err)
+    data = assert_whole_csv(out, step=STEP)
+    assert len(data) >= seen and line.startswith("cranefmu: interrupted by SIGHUP") and f"{len(data)} rows" in line
+    assert list(tmpdir.iterdir()) == [] and not out.with_name("out.csv.part").exists()
+
+
+def handlers_in(pid: int, timeout: float = 60.0) -> None:
+    """Wait until the CLI's main() catches SIGHUP (its handlers are in: before that, during the
+    interpreter's start-up and the import of cranefmu.cli, a signal has Python's default effect)."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        status = Path(f"/proc/{pid}/status").read_text()
+        caught = int(re.search(r"SigCgt:\s*([0-9a-f]+)", status).group(1), 16)
+        if caught & (1 << (signal.SIGHUP - 1)):
+            return
+        time.sleep(0.002)
+    raise AssertionError("the CLI never installed its signal handlers")
+
+
+def test_under_nohup_sighup_does_not_stop_the_run(built, tmp_path):
+    out = tmp_path / "out.csv"
+    proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "run", "elastic_pendulum", "--stop-time", "2",
+                             "--step", str(STEP), "--output", str(out)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))
+    wait_for_rows(proc, out, 200)
+    os.killpg(proc.pid, signal.SIGHUP)
+    _, err = proc.communicate(timeout=300)
+    assert proc.returncode == 0, err
+    assert_whole_csv(out, 2001, STEP)
+
+
+def test_bursts_of_signals_at_random_times_end_in_one_correct_line(built, tmp_path, sighup_default):
+    """From the CLI's start (its handlers in) to well into the run, 1 to 3 signals with gaps of 1 to
+    200 ms: always exit 128+signal, one line, a whole CSV holding exactly the rows the line names (or
+    none when it says so), no part file, no temporary directory."""
+    rng = random.Random(SEED)
+    for trial in range(TRIALS):
+        case = tmp_path / f"t{trial}"
+        case.mkdir()
+        signum = rng.choice([signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
+        delay, count = rng.uniform(0.0, 3.0), rng.choice([1, 2, 2, 3])
+        gaps = [rng.choice([0.001, 0.01, 0.1, 0.2]) for _ in range(count - 1)]
+        proc, out, tmpdir = start(case, *(["--in-process"] if trial % 4 == 3 else []))
+        handlers_in(proc.pid)
+        time.sleep(delay)
+        for gap in [0.0, *gaps]:
+            time.sleep(gap)
+            try:
+                os.killpg(proc.pid, signum)
+            except ProcessLookupError:
+                pass
+        _, err = proc.communicate(timeout=120)
+        what = f"trial {trial}: {signal.Signals(signum).name} x{count} at {delay:.2f} s, gaps {gaps}: {err!r}"
+        assert proc.returncode == 128 + signum, what
+        line = one_line(err)
+        assert line.startswith(f"cranefmu: interrupted by {signal.Signals(signum).name}"), what
+        assert not out.with_name("out.csv.part").exists() and list(tmpdir.iterdir()) == [], what
+        said = re.search(r"(\d+) rows", line)
+        if said:
+            assert_whole_csv(out, int(said.group(1)), STEP)
+            assert str(out) in line, what
+        else:
+            assert "no rows were written" in line and not out.exists(), what
+
+
+# --- 4. modules in the working directory -----------------------------------------------------------
+
+@pytest.mark.parametrize("shadow", ["numpy.py", "fmpy.py", "pickle.py", "runpy.py", "cranefmu.py", "cranefmu/"])
+def test_modules_in_the_working_directory_do_not_shadow_the_real_ones(built, tmp_path, shadow):
+    path = tmp_path / shadow.rstrip("/")
+    if shadow.endswith("/"):
+        path.mkdir()
+        path = path / "__init__.py"
+    path.write_text("raise ImportError('the working directory was imported')\n")
+    p = subprocess.run([str(console_script()), *QUICK, "--output", "o.csv"], capture_output=True, text=True,
+                       cwd=tmp_path, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert_whole_csv(tmp_path / "o.csv", ROWS_QUICK)
+
+
+# --- 5. one line for every error --------------------------------------------------------------------
+
+def test_an_ssp_that_is_not_a_zip_is_one_line_and_a_scene_error_from_the_api(built, tmp_path):
+    bad = tmp_path / "bad.ssp"
+    bad.write_text("not a zip\n")
+    p = cranefmu("run", str(bad))
+    assert p.returncode == 2 and f"{bad} is not a readable zip archive" in one_line(p.stderr)
+    code = ("import cranefmu, sys\n"
+            "try:\n    cranefmu.run(sys.argv[1])\n"
+            "except cranefmu.errors.SceneError as err:\n    print(type(err).__name__)\n")
+    p = subprocess.run([sys.executable, "-c", code, str(bad)], capture_output=True, text=True, timeout=300)
+    assert p.stdout == "SceneError\n", p.stderr
+
+
+def test_a_deleted_working_directory_is_one_line(built, tmp_path):
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    code = ("import os, sys\nos.chdir(sys.argv[1])\nos.rmdir(sys.argv[1])\n"
+            "from cranefmu.cli import main\nsys.exit(main(['run', 'elastic_pendulum', '--stop-time', '0.1']))\n")
+    p = subprocess.run([sys.executable, "-c", code, str(gone)], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 2 and "the working directory does not exist any more" in one_line(p.stderr)
+
+
+# --- 6. archives and build files --------------------------------------------------------------------
+
+def test_a_zip_bomb_in_an_ssp_is_refused_before_extraction(built, tmp_path):
+    bomb = repack(scene_ssp(), tmp_path / "bomb.ssp", extra=[("resources/zeros.bin", bytes(64 << 20))])
+    tmpdir = tmp_path / "tmp"
+    tmpdir.mkdir()
+    env = {**os.environ, "TMPDIR": str(tmpdir)}
+    for extra_env, needle in [({}, "entry 'resources/zeros.bin' expands"),
+                              ({"CRANEFMU_EXTRACT_RATIO": "1e6", "CRANEFMU_EXTRACT_LIMIT_MB": "32"},
+                               "bomb.ssp unpacks to 6"),
+                              ({"CRANEFMU_EXTRACT_LIMIT_MB": "lots"}, "CRANEFMU_EXTRACT_LIMIT_MB = 'lots' is not")]:
+        p = subprocess.run([sys.executable, "-m", "cranefmu.cli", "run", str(bomb), "--stop-time", "0.1"],
+                           capture_output=True, text=True, env={**env, **extra_env}, timeout=300)
+        assert p.returncode == 2 and needle in one_line(p.stderr), p.stderr
+        assert list(tmpdir.iterdir()) == []
+    p = subprocess.run([sys.executable, "-m", "cranefmu.cli", "run", str(bomb), "--stop-time", "0.1"],
+                       capture_output=True, text=True, env={**env, "CRANEFMU_EXTRACT_RATIO": "1e6"}, timeout=300)
+    assert p.returncode == 0, p.stderr   # raised limits let it through
+
+
+def test_the_next_build_removes_the_temporary_files_of_a_killed_build(built, tmp_path):
+    from cranefmu import build as b
+
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()   # a pid that is gone
+    stale = [b.SSP_DIR / f"elastic_pendulum.ssp.{dead.pid}.tmp", b.FMU_DIR / f"Rope.fmu.{dead.pid}.tmp"]
+    live = b.SSP_DIR / f"elastic_pendulum.ssp.{os.getpid()}.tmp"
+    for path in [*stale, live]:
+        path.write_bytes(b"half a zip")
+    try:
+        assert sorted(b.remove_stale_temps()) == sorted(stale)
+        assert live.exists() and not any(p.exists() for p in stale)
+    finally:
+        for path in [*stale, live]:
+            path.unlink(missing_ok=True)
+
+
+# --- 8. unclear items ---------------------------------------------------------------------------------
+
+def test_scenes_lists_every_scene_with_its_question_and_version_is_one_line(built):
+    from cranefmu.scene_catalog import scene_names
+    from cranefmu.scenes import SCENES
+
+    p = cranefmu("scenes")
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.splitlines() == [f"{n:<{max(map(len, scene_names()))}}  {SCENES[n].question}"
+                                     for n in scene_names()]
+    p = subprocess.run([str(console_script()), "--version"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stdout == "cranefmu 0.1.0\n"   # its cost: benchmarks/cli_startup.py
+
+
+def test_fmu_path_gives_a_built_fmu_that_fmpy_simulates(built):
+    import fmpy
+
+    import cranefmu
+    from cranefmu.errors import CraneFmuError
+
+    res = fmpy.simulate_fmu(str(cranefmu.fmu_path("Rope")), stop_time=0.1, step_size=1e-3,
+                            start_values={"y_hook": -10.01, "zeta": 0.0}, output=["tension"])
+    assert res["tension"][-1] == pytest.approx(1e11 * 5.655e-5 / 10.0 * 0.01, rel=1e-9)   # E A / L x 1 cm
+    with pytest.raises(CraneFmuError, match="FMU 'Nope' is unknown: one of Boom, "):
+        cranefmu.fmu_path("Nope")
+
+
+def test_a_connection_without_an_attribute_names_it(built, tmp_path):
+    ssp = edit_ssp(tmp_path / "noattr.ssp", ssd=lambda t: t.replace('endConnector="x_hook"', "", 1))
+    p = cranefmu("run", str(ssp), "--stop-time", "0.1")
+    line = one_line(p.stderr)
+    assert p.returncode == 2 and "has no endConnector attribute" in line and "None" not in line
+
+
+def test_a_truck_summary_before_the_telescoping_ends_has_no_nan():
+    from cranefmu.scenes import summary
+
+    t = np.linspace(0.0, 2.0, 21)
+    result = {"time": t, "boom.boom_length": 10.5 + 0.1 * t, "pendulum.theta": 0.01 * np.sin(t),
+              "rope.elongation": np.full_like(t, 1e-3), "chassis.q1": np.full_like(t, 1e-3),
+              "chassis.q2": np.full_like(t, 2e-3), "chassis.N_front": np.full_like(t, 1e5),
+              "chassis.N_rear": np.full_like(t, 2e5)}
+    lines = dict(summary("truck_telescope", result))
+    largest = np.max(np.degrees(0.01 * np.sin(t)))
+    assert lines["max sway"] == f"{largest:.3f} deg (still telescoping when the run ended)"
+    assert not any("nan" in text for text in lines.values())
+
+
+def test_an_order_is_refused_where_the_algorithm_does_not_use_it(built):
+    p = cranefmu(*QUICK, "--order", "rope,pendulum")
+    assert p.returncode == 2
+    assert "order = 'rope,pendulum' is not allowed with algorithm = 'jacobi': only with 'gauss-seidel'" \
+        in one_line(p.stderr)
+    assert cranefmu(*QUICK, "--order", "rope,pendulum", "--algorithm", "gauss-seidel").returncode == 0
