@@ -28,8 +28,8 @@ from scene_edit import edit_ssp, repack, scene_ssp
 
 SEED = int(os.environ.get("CRANEFMU_FAULT_SEED", "23"))      # other seeds and more trials: a longer search
 TRIALS = int(os.environ.get("CRANEFMU_FAULT_TRIALS", "8"))
-QUICK = ("run", "elastic_pendulum", "--stop-time", "0.1")
-ROWS_QUICK = 6   # 0.1 s at the scene's stored 20 ms step, and the start
+QUICK = ("run", "elastic_pendulum", "--stop-time", "0.1", "--step", "0.02")
+ROWS_QUICK = 6   # 0.1 s at a 20 ms step, and the start (the step given: the stored one may change)
 
 
 def one_line(text: str) -> str:
@@ -135,8 +135,11 @@ def test_an_integer_beyond_32_bits_is_refused_quoted_as_given(built, tmp_path, v
 
 
 def test_an_integer_beyond_32_bits_is_refused_from_the_api_and_an_ssp_binding(built, tmp_path):
-    ssp = edit_ssp(tmp_path / "wide.ssp", ssv=lambda t: t.replace(
-        '"rope.n_lines"><ssv:Integer value="1"/>', '"rope.n_lines"><ssv:Integer value="4294967297"/>'))
+    # the set is bound twice (the .ssv, and the rope's own binding that libcosim reads): edit both alike
+    def wide(prefix):
+        return lambda text: re.sub(rf'("{prefix}n_lines">\s*<ssv:Integer value=)"1"', r'\1"4294967297"', text)
+
+    ssp = edit_ssp(tmp_path / "wide.ssp", ssv=wide("rope."), ssd=wide(""))
     code = ("import cranefmu, sys\n"
             "for scene, parameters in [('elastic_pendulum', {'rope.n_lines': 2**32 + 2}), (sys.argv[1], {})]:\n"
             "    try:\n"
