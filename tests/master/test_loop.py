@@ -5,7 +5,9 @@ import numpy as np
 import pytest
 
 from cranefmu.errors import SimulationError
+from cranefmu.master.algorithm_table import ALGORITHMS
 from cranefmu.master.algorithms import Algorithm, GaussSeidel, Iterative, Jacobi, StartUp
+from cranefmu.master.implicit_group import ImplicitGroup
 from cranefmu.master.loop import march
 from cranefmu.master.step_control import FixedSteps
 from cranefmu.master.system import RunStats
@@ -18,7 +20,7 @@ class _System:
     def __init__(self):
         self.x, self.stats, self.saved, self.restored = 0.0, RunStats(), 0, 0
 
-    def save(self):
+    def snapshot(self):
         self.saved += 1
         return self.x
 
@@ -38,7 +40,7 @@ class _Ramp(Algorithm):
 
     def step(self, t, h, snapshot=None):
         self.system.x += h          # dx/dt = 1
-        return 2
+        return h, 2
 
 
 class _EveryOtherRejected(FixedSteps):
@@ -50,7 +52,9 @@ class _EveryOtherRejected(FixedSteps):
         super().__init__(*args)
         self.tries = 0
 
-    def judge(self, t, h, algorithm):
+    judges = True
+
+    def judge(self, t, h, algorithm, flags):
         self.tries += 1
         return self.tries % 2 == 0
 
@@ -69,9 +73,25 @@ class _Log:
         return None
 
 
+class _Sample:
+    """The row is x; no flags, no bonds."""
+
+    def __init__(self, system):
+        self.system = system
+
+    def flags(self):
+        return []
+
+    def after(self, h):
+        return None
+
+    def row(self):
+        return np.array([self.system.x])
+
+
 def _run(control, observers):
     system = _System()
-    reason = march(system, _Ramp(system), control, lambda h: np.array([system.x]), observers, 0.0)
+    reason = march(system, _Ramp(system), control, _Sample(system), observers, 0.0)
     return system, reason
 
 
@@ -111,7 +131,7 @@ def test_an_alarm_raised_by_an_observer_fails_the_run_after_the_row_was_recorded
 
 
 def test_every_algorithm_implements_the_one_interface():
-    for cls in (Jacobi, GaussSeidel, Iterative, WaveformIterative, StartUp):
+    for cls in (Jacobi, GaussSeidel, Iterative, WaveformIterative, StartUp, ImplicitGroup, *ALGORITHMS.values()):
         assert issubclass(cls, Algorithm)
     with pytest.raises(TypeError):
         type("Missing", (Algorithm,), {"name": "x", "needs_snapshot": False})()   # no step(): refused

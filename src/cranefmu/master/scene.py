@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Union
 
+from .bond_declarations import read_bonds
 from ..errors import ParameterSetError, SceneError, SettingsError
 from .settings import stored_settings
 from ..units import parse as parse_unit
@@ -274,7 +275,6 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
             factor = _number(lt.get("factor", "1"), f"connection {text}: LinearTransformation factor", label)
             offset = _number(lt.get("offset", "0"), f"connection {text}: LinearTransformation offset", label)
         connections.append(ConnectionSpec(*ends, factor, offset))
-    from .power_bonds import read_bonds   # here: power_bonds imports the system, which imports this module
 
     start = stop = None
     for de in _children(root, "DefaultExperiment"):
