@@ -7,6 +7,7 @@ import ast
 from pathlib import Path
 
 import cranefmu.master
+from cranefmu.master.graph import strongly_connected
 
 MASTER = Path(cranefmu.master.__file__).parent
 
@@ -28,34 +29,8 @@ def import_graph(package: Path) -> dict[str, set[str]]:
 
 
 def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
-    """One circle per strongly connected component of more than one module (Tarjan)."""
-    index, low, stack, on, out = {}, {}, [], set(), []
-
-    def visit(v: str) -> None:
-        index[v] = low[v] = len(index)
-        stack.append(v)
-        on.add(v)
-        for w in sorted(graph[v]):
-            if w not in index:
-                visit(w)
-                low[v] = min(low[v], low[w])
-            elif w in on:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            block = []
-            while True:
-                w = stack.pop()
-                on.discard(w)
-                block.append(w)
-                if w == v:
-                    break
-            if len(block) > 1:
-                out.append(sorted(block))
-
-    for v in sorted(graph):
-        if v not in index:
-            visit(v)
-    return out
+    """The import circles: strongly connected blocks of more than one module."""
+    return [block for block in strongly_connected(graph) if len(block) > 1]
 
 
 def test_the_finder_sees_a_circle():

@@ -50,14 +50,6 @@ class Part:
         return self.n
 
 
-class Snapshot:
-    """The saved state of some FMUs (and of what their inputs were fed; of the whole coupling: also
-    the values' past).  Made by :meth:`Coupling.snapshot`."""
-
-    def __init__(self, members: list[int] | None, saved: object, fed_into: list):
-        self.members, self._saved, self._fed_into = members, saved, fed_into
-
-
 class Coupling:
     """The FMUs of a :class:`~.system.CoSystem` and the values between them, as whole vectors."""
 
@@ -229,75 +221,22 @@ class Coupling:
     def commit_as_read(self, t1: float) -> None:
         """libcosim's exchange: every output read once, now, and held by its input over the next step
         (no re-read after inputs that it depends on directly were set); the values recorded at t1."""
-        s = self._s
-        for i in self._all:
-            s.read(i)
-        values = [s.pull(g) for g in s.links]
-        for g, value in zip(s.links, values):
-            s.record_history(g, t1, value)
-            s.push(g, value, g.zero, g.zero)
-        for comp in s.comps:   # the row shows what was read right after the step, as libcosim's observers
-            comp.fresh = True
-        if values:
-            np.maximum(s.scale, np.abs(np.concatenate(values)), out=s.scale)
+        self._s.exchange_as_read(t1)
 
     def rest(self, t0: float, h: float) -> None:
         """Give every value a past at rest (its value at t0 also at t0 - h and t0 - 2 h), and feed
         the inputs from it."""
-        s = self._s
-        for g in s.links:
-            t, u = g.history[-1]
-            g.history[:] = [(t - 2 * h, u), (t - h, u), (t, u)]
-        s.exchange(t0)
+        self._s.rest(t0, h)
 
     # --- state --------------------------------------------------------------------------------
-    def snapshot(self, members: list[int] | None = None) -> Snapshot:
+    def snapshot(self, members: list[int] | None = None) -> list:
         """Save the state of the FMUs ``members`` (default all: also the values' past) for a retry."""
-        s = self._s
-        if members is None:
-            return Snapshot(None, s.save(), [])
-        states = []
-        try:
-            for i in members:
-                states.append(s.comps[i].fmu.getFMUstate())
-        except Exception:
-            self._free(members, states)
-            raise s.refused(s.comps[members[len(states)]], "saving its state (getFMUstate)") from None
-        inside = set(members)
-        fed_into = [g for g in s.links if g.dst in inside]
-        return Snapshot(list(members), [states, [g.fed for g in fed_into]], fed_into)
+        return self._s.save(members)
 
-    def restore(self, snap: Snapshot) -> None:
+    def restore(self, snap: list) -> None:
         """Back to the snapshot (it stays valid for another restore until released)."""
-        s = self._s
-        if snap.members is None:
-            s.restore(snap._saved)
-            return
-        states, fed = snap._saved
-        for i, state in zip(snap.members, states):
-            comp = s.comps[i]
-            comp.fresh = False
-            try:
-                comp.fmu.setFMUstate(state)
-            except Exception:
-                raise s.refused(comp, "restoring its state (setFMUstate)") from None
-        for g, f in zip(snap._fed_into, fed):
-            g.fed = f
-            g.rates_set = True  # the restored FMU holds the rates of the snapshot
+        self._s.restore(snap)
 
-    def release(self, snap: Snapshot | None) -> None:
+    def release(self, snap: list | None) -> None:
         """Free the snapshot's FMU states."""
-        if snap is None:
-            return
-        if snap.members is None:
-            self._s.release(snap._saved)
-        else:
-            self._free(snap.members, snap._saved[0])
-
-    def _free(self, members: list[int], states: list) -> None:
-        for i, state in zip(members, states):
-            try:
-                self._s.comps[i].fmu.freeFMUstate(state)
-            except Exception:
-                pass
-
+        self._s.release(snap)
