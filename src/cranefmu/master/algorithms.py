@@ -187,8 +187,8 @@ class Iterative(Algorithm):
         self.max_iterations = max_iterations
         # Degree 0 is the implicit coupling for stiff seams: there IQN-ILS keeps no secants of past
         # steps.  They model past maps, and a stiff seam's Jacobian turns with the state (a rope's
-        # force of E A / L along a rope that swings): reusing them made elastic_pendulum (E = 1.4e14,
-        # H = 10 ms) diverge within 8 s, where without them it runs 30 s (docs/master.md).
+        # force of E A / L along a rope that swings): reusing them made the stiff elastic_pendulum
+        # diverge (docs/master.md, "When the iterative coupling has converged").
         self.acc = ACCELERATORS[accelerator](**({"reuse": 0} if accelerator == "iqn-ils" and degree == 0 else {}))
         self.check = FixedPoint(tolerance, coupling.nominals(), coupling.names)
 
