@@ -1,6 +1,7 @@
 """An algorithm is added with the coupling's public operations only (:class:`~cranefmu.master.coupled.Coupling`):
 a damped fixed-point iteration defined here, registered by name, runs the two-mass oscillator and
-shows the order of the scheme it is (an implicit zero-order hold: first order in H)."""
+shows the order of the scheme it is (an implicit zero-order hold: first order in H); one that retries
+every step from a snapshot reproduces Jacobi bit for bit."""
 import numpy as np
 import pytest
 
@@ -60,3 +61,41 @@ def test_a_new_algorithm_runs_a_scene_and_has_its_order(oscillator_ssp, register
     assert order == pytest.approx(1.0, abs=0.3), errors
     assert errors[0] < 0.02 * X0
     assert min(iterations) > 2    # it did iterate (the loop counted what step() returned)
+
+
+class RetriedJacobi(Algorithm):
+    """Jacobi, but every step is taken, read, rolled back and taken again: through the coupling's
+    snapshot, restore, image and commit, the run must be bit for bit plain Jacobi's."""
+
+    name = "retried-jacobi"
+    needs_snapshot = False
+
+    def __init__(self, coupling):
+        self.c, self.differences = coupling, 0
+
+    def step(self, t, h, snapshot=None):
+        c = self.c
+        snap = c.snapshot()
+        try:
+            c.step(t, h)
+            first = c.image()
+            c.restore(snap)
+            c.step(t, h)
+            self.differences += int(not np.array_equal(first, c.image()))
+        finally:
+            c.release(snap)
+        c.commit(t + h)
+        return h, 2
+
+
+def test_a_step_retried_from_a_snapshot_gives_jacobi_bit_for_bit(oscillator_ssp, monkeypatch):
+    made = []
+    monkeypatch.setattr(RetriedJacobi, "from_settings", classmethod(lambda cls, c, s: made.append(cls(c)) or made[-1]))
+    monkeypatch.setitem(algorithm_table.ALGORITHMS, RetriedJacobi.name, RetriedJacobi)
+    monkeypatch.setattr(settings, "ALGORITHMS", (*settings.ALGORITHMS, RetriedJacobi.name))
+    kw = dict(stop_time=0.5, step_size=0.01, extrapolation=0, parameters={**OSC.parameters(), "mass.x0": X0})
+    retried = run(oscillator_ssp, algorithm=RetriedJacobi.name, **kw)
+    plain = run(oscillator_ssp, algorithm="jacobi", **kw)
+    assert made[0].differences == 0 and retried.stats.iterations == 2 * retried.stats.steps == 100
+    for name in plain.result.dtype.names:
+        assert np.array_equal(retried.result[name], plain.result[name]), name
