@@ -1,8 +1,9 @@
 """The FMUs of one scene and the values between them: batched exchange, extrapolation, snapshots.
 
 An algorithm (:mod:`.algorithms`) decides when FMUs step and when values move, through the
-vector operations of :class:`~.coupled.Coupling`; this class only moves them.  Every connection group (one source -> one destination component) is read with one
-``getReal`` and written with one ``setReal``; inputs that offer ``<input>_dt``/``<input>_dt2``
+vector operations of :class:`~.coupled.Coupling`; this class only moves them.  Every connection
+group (one source -> one destination component) is read with one ``getReal`` and written with one
+``setReal``; inputs that offer ``<input>_dt``/``<input>_dt2``
 get the slope and curvature of the polynomial through the last values (extrapolation order 0-2).
 """
 from __future__ import annotations
