@@ -3,8 +3,8 @@
 An algorithm (:mod:`.algorithms`) decides when FMUs step and when values move, through the
 vector operations of :class:`~.coupled.Coupling`; this class only moves them.  Every connection
 group (one source -> one destination component) is read with one ``getReal`` and written with one
-``setReal``; inputs that offer ``<input>_dt``/``<input>_dt2``
-get the slope and curvature of the polynomial through the last values (extrapolation order 0-2).
+``setReal``; inputs that offer ``<input>_dt``/``<input>_dt2`` get the slope and curvature of the
+polynomial through the last values (extrapolation order 0-2).
 """
 from __future__ import annotations
 
