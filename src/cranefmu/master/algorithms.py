@@ -122,7 +122,7 @@ class GaussSeidel(Algorithm):
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
         c = self.coupling
         for d, stepped, held in self.plan:
-            if len(stepped):
+            if stepped.n:
                 c.feed(t, h, c.read(stepped), self.p, stepped)
             c.step(t, h, (d,), ends=False)
             if held is not None:

@@ -172,6 +172,8 @@ class Coupling:
         """What the sources give now (nothing fed)."""
         s = self._s
         groups = (part or self.whole)._groups
+        if len(groups) == 1:   # pull() gives a new array
+            return s.pull(groups[0][0])
         if not groups:
             return np.zeros(0)
         return np.concatenate([s.pull(g) for g, _ in groups])
