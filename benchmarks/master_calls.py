@@ -12,6 +12,7 @@ initialization) spread over the steps.  Prints and saves a table.
 from __future__ import annotations
 
 import argparse
+import datetime
 import json
 import os
 import subprocess
@@ -59,8 +60,12 @@ def main() -> None:
     ap.add_argument("--out", default=str(HERE / "results" / "master_calls.md"))
     a = ap.parse_args()
     head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True, text=True).stdout
+    dirty = " + uncommitted changes" if subprocess.run(["git", "diff", "--quiet", "HEAD", "--", "src"],
+                                                       cwd=REPO).returncode else ""
+    when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     lines = [f"Python calls per macro step (cProfile total / steps; 0.5 s at H = 1 ms): before = master of "
-             f"{a.before}, after = this checkout ({head.strip()}).", "",
+             f"{a.before}, after = this checkout ({head.strip()}{dirty}); {when}, load {os.getloadavg()[0]:.1f} "
+             "(a count: the load does not change it).", "",
              "| scene | algorithm | extrapolation | steps | calls/step before | calls/step after | after - before |",
              "| --- | --- | --- | --- | --- | --- | --- |"]
     with tempfile.TemporaryDirectory() as tmp:
