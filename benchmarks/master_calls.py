@@ -1,13 +1,16 @@
-"""Python function calls per macro step, before and after a change to the master (a count, not a timing:
-it does not depend on the machine's load).
+"""The per-step cost of the loop before and after a change to the master, in two measures that a loaded
+machine disturbs little: Python function calls per macro step (a count) and CPU time per macro step.
 
-    python benchmarks/master_calls.py [--before COMMIT] [--out FILE]
+    python benchmarks/master_calls.py [--before COMMIT] [--rounds N] [--out FILE]
 
 Each case (scene, algorithm, extrapolation; 0.5 s at H = 1 ms, no implicit group) runs once under
 cProfile with the master of ``COMMIT`` (as :mod:`master_overhead` builds it: this checkout's package
 with ``cranefmu/master`` of the commit) and once with this checkout's, each in a fresh process.  The
 count includes the pythonfmu FMUs' own Python calls (the same on both sides) and the start (load,
-initialization) spread over the steps.  Prints and saves a table.
+initialization) spread over the steps.  Then, without the profiler, the CPU time of the loop
+(``time.process_time`` around ``run._loop``: FMUs and master, 2 s) per step, ``N`` alternating rounds
+per side, the median.  Wall time (:mod:`master_overhead`) on a machine shared by many processes
+varies by tens of percent between rounds; CPU time of one process far less.  Prints and saves a table.
 """
 from __future__ import annotations
 
@@ -15,6 +18,7 @@ import argparse
 import datetime
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -40,41 +44,78 @@ print("RESULT " + json.dumps(out))
 """
 
 
-def count(src: Path | None, case: tuple) -> dict:
-    """Calls and steps of one case with the master from ``src`` (None: this checkout), in a fresh process
-    (pythonfmu FMUs do not survive a second instantiation in one process)."""
+CPU_CHILD = """
+import json, time
+import cranefmu.master.run as runmod
+inner, box = runmod._loop, {{}}
+
+def timed(*args, **kwargs):
+    c0 = time.process_time()
+    try:
+        return inner(*args, **kwargs)
+    finally:
+        box["cpu"] = time.process_time() - c0
+
+runmod._loop = timed
+scene, algorithm, p = {case!r}
+res = runmod.run(scene, stop_time=2.0, step_size=1e-3, algorithm=algorithm, extrapolation=p, implicit=[],
+                 progress=False, isolate=False, keep=False)
+print("RESULT " + json.dumps(box["cpu"] / res.stats.steps))
+"""
+
+
+def _child(code: str, src: Path | None):
     env = dict(os.environ)
     if src is not None:
         env["PYTHONPATH"] = str(src) + os.pathsep + env.get("PYTHONPATH", "")
-    done = subprocess.run([sys.executable, "-c", CHILD.format(cases=[case])], cwd=REPO, env=env,
-                          capture_output=True, text=True, timeout=1800)
+    done = subprocess.run([sys.executable, "-c", code], cwd=REPO, env=env, capture_output=True, text=True,
+                          timeout=1800)
     line = next((x for x in done.stdout.splitlines() if x.startswith("RESULT ")), None)
     if line is None:
         raise RuntimeError(f"run failed ({'before' if src else 'after'}): {done.stderr[-2000:]}")
-    return json.loads(line[len("RESULT "):])[case[0]]
+    return json.loads(line[len("RESULT "):])
+
+
+def cpu_per_step(src: Path | None, case: tuple) -> float:
+    """CPU seconds of the loop per macro step, one run in a fresh process."""
+    return _child(CPU_CHILD.format(case=case), src)
+
+
+def count(src: Path | None, case: tuple) -> dict:
+    """Calls and steps of one case with the master from ``src`` (None: this checkout), in a fresh process
+    (pythonfmu FMUs do not survive a second instantiation in one process)."""
+    return _child(CHILD.format(cases=[case]), src)[case[0]]
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--before", default="7bdeec9", help="commit whose master is 'before' (default 7bdeec9)")
+    ap.add_argument("--rounds", type=int, default=3, help="CPU-time runs per side and case (default 3)")
     ap.add_argument("--out", default=str(HERE / "results" / "master_calls.md"))
     a = ap.parse_args()
     head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True, text=True).stdout
     dirty = " + uncommitted changes" if subprocess.run(["git", "diff", "--quiet", "HEAD", "--", "src"],
                                                        cwd=REPO).returncode else ""
     when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    lines = [f"Python calls per macro step (cProfile total / steps; 0.5 s at H = 1 ms): before = master of "
+    lines = [f"Per macro step: Python calls (cProfile total / steps; 0.5 s at H = 1 ms) and CPU time of the loop "
+             f"(2 s, median of {a.rounds} alternating runs per side): before = master of "
              f"{a.before}, after = this checkout ({head.strip()}{dirty}); {when}, load {os.getloadavg()[0]:.1f} "
              "(a count: the load does not change it).", "",
-             "| scene | algorithm | extrapolation | steps | calls/step before | calls/step after | after - before |",
-             "| --- | --- | --- | --- | --- | --- | --- |"]
+             "| scene | algorithm | extrapolation | steps | calls/step before | calls/step after | after - before | "
+             "CPU us/step before | CPU us/step after | after/before |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     with tempfile.TemporaryDirectory() as tmp:
         before_src = _package_with_master_of(a.before, Path(tmp))
         for case in CASES:
             b, f = count(before_src, case), count(None, case)
             per_b, per_f = b["calls"] / b["steps"], f["calls"] / f["steps"]
+            cpu = {"before": [], "after": []}
+            for _ in range(a.rounds):
+                cpu["before"].append(cpu_per_step(before_src, case))
+                cpu["after"].append(cpu_per_step(None, case))
+            cb, cf = statistics.median(cpu["before"]) * 1e6, statistics.median(cpu["after"]) * 1e6
             lines.append(f"| {case[0]} | {case[1]} | {case[2]} | {f['steps']} | {per_b:.1f} | {per_f:.1f} | "
-                         f"{per_f - per_b:+.1f} |")
+                         f"{per_f - per_b:+.1f} | {cb:.1f} | {cf:.1f} | {cf / cb:.3f} |")
     text = "\n".join(lines)
     print(text)
     Path(a.out).write_text(text + "\n")
