@@ -100,7 +100,7 @@ def main() -> None:
     lines = [f"Per macro step: Python calls (cProfile total / steps; 0.5 s at H = 1 ms) and CPU time of the loop "
              f"(2 s, median of {a.rounds} alternating runs per side): before = master of "
              f"{a.before}, after = this checkout ({head.strip()}{dirty}); {when}, load {os.getloadavg()[0]:.1f} "
-             "(a count: the load does not change it).", "",
+             "(the count does not depend on the load, the CPU time little).", "",
              "| scene | algorithm | extrapolation | steps | calls/step before | calls/step after | after - before | "
              "CPU us/step before | CPU us/step after | after/before |",
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
