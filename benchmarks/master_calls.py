@@ -7,9 +7,9 @@ Each case (scene, algorithm, extrapolation; 0.5 s at H = 1 ms, no implicit group
 cProfile with the master of ``COMMIT`` (as :mod:`master_overhead` builds it: this checkout's package
 with ``cranefmu/master`` of the commit) and once with this checkout's, each in a fresh process.  The
 count includes the pythonfmu FMUs' own Python calls (the same on both sides) and the start (load,
-initialization) spread over the steps.  Then, without the profiler, the CPU time of the loop
-(``time.process_time`` around ``run._loop``: FMUs and master, 2 s) per step, ``N`` alternating rounds
-per side, the median.  Wall time (:mod:`master_overhead`) on a machine shared by many processes
+initialization) spread over the steps.  Then, without the profiler, the CPU time per step of the
+stepping (FMUs and master): ``time.process_time`` around a public ``run()`` of 2 s minus one of 0.5 s,
+``N`` alternating rounds per side, the median.  Wall time (:mod:`master_overhead`) on a machine shared by many processes
 varies by tens of percent between rounds; CPU time of one process far less.  Prints and saves a table.
 """
 from __future__ import annotations
@@ -46,21 +46,12 @@ print("RESULT " + json.dumps(out))
 
 CPU_CHILD = """
 import json, time
-import cranefmu.master.run as runmod
-inner, box = runmod._loop, {{}}
-
-def timed(*args, **kwargs):
-    c0 = time.process_time()
-    try:
-        return inner(*args, **kwargs)
-    finally:
-        box["cpu"] = time.process_time() - c0
-
-runmod._loop = timed
-scene, algorithm, p = {case!r}
-res = runmod.run(scene, stop_time=2.0, step_size=1e-3, algorithm=algorithm, extrapolation=p, implicit=[],
-                 progress=False, isolate=False, keep=False)
-print("RESULT " + json.dumps(box["cpu"] / res.stats.steps))
+from cranefmu.master.run import run
+scene, algorithm, p, stop = {case!r}
+c0 = time.process_time()
+res = run(scene, stop_time=stop, step_size=1e-3, algorithm=algorithm, extrapolation=p, implicit=[],
+          progress=False, isolate=False, keep=False)
+print("RESULT " + json.dumps([time.process_time() - c0, res.stats.steps]))
 """
 
 
@@ -77,8 +68,11 @@ def _child(code: str, src: Path | None):
 
 
 def cpu_per_step(src: Path | None, case: tuple) -> float:
-    """CPU seconds of the loop per macro step, one run in a fresh process."""
-    return _child(CPU_CHILD.format(case=case), src)
+    """CPU seconds per macro step of the stepping alone: a run of 2 s minus a run of 0.5 s (the same
+    loading and initialization), each in a fresh process, over the steps between."""
+    long, n_long = _child(CPU_CHILD.format(case=(*case, 2.0)), src)
+    short, n_short = _child(CPU_CHILD.format(case=(*case, 0.5)), src)
+    return (long - short) / (n_long - n_short)
 
 
 def count(src: Path | None, case: tuple) -> dict:
@@ -97,12 +91,13 @@ def main() -> None:
     dirty = " + uncommitted changes" if subprocess.run(["git", "diff", "--quiet", "HEAD", "--", "src"],
                                                        cwd=REPO).returncode else ""
     when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    lines = [f"Per macro step: Python calls (cProfile total / steps; 0.5 s at H = 1 ms) and CPU time of the loop "
-             f"(2 s, median of {a.rounds} alternating runs per side): before = master of "
+    lines = [f"Per macro step: Python calls (cProfile total / steps; 0.5 s at H = 1 ms) and CPU time of the "
+             f"stepping ((2 s - 0.5 s) / steps between, median of {a.rounds} alternating rounds per side): before = "
+             f"master of "
              f"{a.before}, after = this checkout ({head.strip()}{dirty}); {when}, load {os.getloadavg()[0]:.1f} "
              "(the count does not depend on the load, the CPU time little).", "",
              "| scene | algorithm | extrapolation | steps | calls/step before | calls/step after | after - before | "
-             "CPU us/step before | CPU us/step after | after/before |",
+             "CPU us/step before (min-max) | CPU us/step after (min-max) | after/before |",
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     with tempfile.TemporaryDirectory() as tmp:
         before_src = _package_with_master_of(a.before, Path(tmp))
@@ -114,8 +109,10 @@ def main() -> None:
                 cpu["before"].append(cpu_per_step(before_src, case))
                 cpu["after"].append(cpu_per_step(None, case))
             cb, cf = statistics.median(cpu["before"]) * 1e6, statistics.median(cpu["after"]) * 1e6
+            spread = {k: f"{min(v) * 1e6:.0f}-{max(v) * 1e6:.0f}" for k, v in cpu.items()}
             lines.append(f"| {case[0]} | {case[1]} | {case[2]} | {f['steps']} | {per_b:.1f} | {per_f:.1f} | "
-                         f"{per_f - per_b:+.1f} | {cb:.1f} | {cf:.1f} | {cf / cb:.3f} |")
+                         f"{per_f - per_b:+.1f} | {cb:.1f} ({spread['before']}) | {cf:.1f} ({spread['after']}) | "
+                         f"{cf / cb:.3f} |")
     text = "\n".join(lines)
     print(text)
     Path(a.out).write_text(text + "\n")
