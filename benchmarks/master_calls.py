@@ -16,15 +16,13 @@ from __future__ import annotations
 
 import argparse
 import datetime
-import json
 import os
 import statistics
 import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
-from master_overhead import HERE, REPO, _package_with_master_of
+from master_overhead import HERE, REPO, _package_with_master_of, run_child
 
 CASES = [("elastic_pendulum", "jacobi", 1), ("hook_sway", "jacobi", 1), ("overhead_lift", "gauss-seidel", 1),
          ("truck_telescope", "iterative", 1)]
@@ -55,30 +53,18 @@ print("RESULT " + json.dumps([time.process_time() - c0, res.stats.steps]))
 """
 
 
-def _child(code: str, src: Path | None):
-    env = dict(os.environ)
-    if src is not None:
-        env["PYTHONPATH"] = str(src) + os.pathsep + env.get("PYTHONPATH", "")
-    done = subprocess.run([sys.executable, "-c", code], cwd=REPO, env=env, capture_output=True, text=True,
-                          timeout=1800)
-    line = next((x for x in done.stdout.splitlines() if x.startswith("RESULT ")), None)
-    if line is None:
-        raise RuntimeError(f"run failed ({'before' if src else 'after'}): {done.stderr[-2000:]}")
-    return json.loads(line[len("RESULT "):])
-
-
 def cpu_per_step(src: Path | None, case: tuple) -> float:
     """CPU seconds per macro step of the stepping alone: a run of 2 s minus a run of 0.5 s (the same
     loading and initialization), each in a fresh process, over the steps between."""
-    long, n_long = _child(CPU_CHILD.format(case=(*case, 2.0)), src)
-    short, n_short = _child(CPU_CHILD.format(case=(*case, 0.5)), src)
+    long, n_long = run_child(CPU_CHILD.format(case=(*case, 2.0)), src)
+    short, n_short = run_child(CPU_CHILD.format(case=(*case, 0.5)), src)
     return (long - short) / (n_long - n_short)
 
 
 def count(src: Path | None, case: tuple) -> dict:
     """Calls and steps of one case with the master from ``src`` (None: this checkout), in a fresh process
     (pythonfmu FMUs do not survive a second instantiation in one process)."""
-    return _child(CHILD.format(cases=[case]), src)[case[0]]
+    return run_child(CHILD.format(cases=[case]), src)[case[0]]
 
 
 def main() -> None:
