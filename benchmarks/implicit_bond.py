@@ -47,17 +47,21 @@ def reference(path: Path, stop: float) -> dict[str, np.ndarray]:
     return data
 
 
-def _timed(cls, name: str, totals: dict) -> None:
-    """Wrap cls.name to add its calls and seconds to totals[name]."""
+def _timed(cls, name: str, totals: dict, key: str | None = None, only=None) -> None:
+    """Wrap cls.name to add its calls and seconds to totals[key or name] (only calls whose first
+    argument passes ``only``, if given)."""
     inner = getattr(cls, name)
+    key = key or name
 
     def wrapper(self, *args, **kwargs):
+        if only is not None and not only(args[0] if args else None):
+            return inner(self, *args, **kwargs)
         t0 = clock.perf_counter()
         try:
             return inner(self, *args, **kwargs)
         finally:
-            calls, seconds = totals.get(name, (0, 0.0))
-            totals[name] = (calls + 1, seconds + clock.perf_counter() - t0)
+            calls, seconds = totals.get(key, (0, 0.0))
+            totals[key] = (calls + 1, seconds + clock.perf_counter() - t0)
 
     setattr(cls, name, wrapper)
 
@@ -65,11 +69,15 @@ def _timed(cls, name: str, totals: dict) -> None:
 def one_run(settings: dict, stop: float) -> dict:
     """One run in this (child) process: its result columns, stats and the group's snapshot costs."""
     from cranefmu.errors import SimulationError
+    from cranefmu.master.coupled import Coupling
     from cranefmu.master.implicit_group import ImplicitGroup
     from cranefmu.master.run import run
 
     totals: dict = {}
-    for name in ("_save", "_restore", "_evaluate", "_estimate"):
+    # the group's own snapshots (of a subset of the FMUs: they keep no past values), not the loop's
+    _timed(Coupling, "snapshot", totals, "_save", only=lambda members: members is not None)
+    _timed(Coupling, "restore", totals, "_restore", only=lambda snap: snap[1] is None)
+    for name in ("_evaluate", "_estimate"):
         _timed(ImplicitGroup, name, totals)
     out = {"totals": totals}
     settings = dict(settings)

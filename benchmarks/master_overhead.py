@@ -42,15 +42,20 @@ print("RESULT " + json.dumps(out))
 
 def measure(src: Path | None) -> dict:
     """One hot-path run of every case with the master's code from ``src`` (None: this checkout)."""
+    return run_child(CHILD.format(bench=str(HERE), cases=CASES), src)
+
+
+def run_child(code: str, src: Path | None):
+    """Run ``code`` in a fresh interpreter with the master from ``src`` (None: this checkout) first on
+    the path; the JSON it printed after ``RESULT ``."""
     env = dict(os.environ)
     if src is not None:
         env["PYTHONPATH"] = str(src) + os.pathsep + env.get("PYTHONPATH", "")
-    code = CHILD.format(bench=str(HERE), cases=CASES)
     done = subprocess.run([sys.executable, "-c", code], cwd=REPO, env=env, capture_output=True, text=True,
                           timeout=1800)
     line = next((x for x in done.stdout.splitlines() if x.startswith("RESULT ")), None)
     if line is None:
-        raise RuntimeError(f"hot path run failed ({'before' if src else 'after'}): {done.stderr[-2000:]}")
+        raise RuntimeError(f"run failed ({'before' if src else 'after'}): {done.stderr[-2000:]}")
     return json.loads(line[len("RESULT "):])
 
 

@@ -100,7 +100,7 @@ def parse_numbers(text: str, what: str) -> list[float]:
 
 def check_settings(steps: list[float], tolerances: list[float], algorithm: str, extrapolation: int,
                    reference: str, target: float, stop_time: float | None) -> None:
-    from .master.algorithms import ALGORITHMS
+    from .master.algorithm_table import ALGORITHMS
 
     if not steps and not tolerances:
         raise SettingsError("no runs asked for: give --steps and/or --tolerances")

@@ -62,47 +62,45 @@ def test_non_convergence_is_reported_with_connection_time_and_advice(oscillator_
     assert "->" in msg and "smaller --step" in msg
 
 
-class _Variable:
-    valueReference, nominal = 0, None
-
-
-class _StallingSystem:
+class _StallingCoupling:
     """One coupling value whose fixed-point map u -> 2 - u never contracts: fed u, the 'FMUs'
-    return 2 - u.  Undamped fixed-point steps cycle between u0 and 2 - u0 forever (a stall)."""
+    return 2 - u.  Undamped fixed-point steps cycle between u0 and 2 - u0 forever (a stall).
+    A stand-in for :class:`~cranefmu.master.coupled.Coupling`: the operations Iterative uses."""
+
+    names = ["a.y -> b.u"]
 
     def __init__(self, u0: float):
-        from types import SimpleNamespace
-        self.comps = [SimpleNamespace(md=SimpleNamespace(modelVariables=[_Variable()]))]
-        self.links = [SimpleNamespace(src=0, src_vrs=[0], factor=np.ones(1), history=[(0.0, np.array([u0]))])]
-        self.slices, self.n_coupling = [slice(0, 1)], 1
-        self.scale, self.variable_names = np.array([abs(u0)]), ["a.y -> b.u"]
         self.u0, self.fed, self.out = u0, None, None
+        self.value = np.array([u0])
         self.steps = 0
 
-    def predicted(self, t, h, order=None):
+    def nominals(self, part=None):
+        return np.array([np.nan])
+
+    def sizes(self, part=None):
+        return np.array([abs(self.u0)])
+
+    def predict(self, t, h, order=None):
         return np.array([self.u0])
 
-    def coupling_values(self):
-        return self.links[0].history[-1][1]
+    def values(self, part=None):
+        return self.value
 
     def restore(self, snapshot):
         pass
 
-    def push(self, g, value, d1, d2):
-        self.fed = np.array(value, dtype=float)
+    def feed(self, t, h, u, degree, part=None):
+        self.fed = np.array(u, dtype=float)
 
-    def do_step(self, i, t, h):
+    def step(self, t, h, members=None, ends=True):
         self.out = 2.0 - self.fed
         self.steps += 1
 
-    def capture_input_ends(self, h):
-        pass
-
-    def pull(self, g):
+    def image(self, part=None, fed_through_only=False):
         return self.out
 
-    def exchange(self, t):
-        self.links[0].history.append((t, self.out))
+    def commit(self, t):
+        self.value = self.out
 
 
 def test_a_stalled_iteration_is_refused_not_accepted():
@@ -110,7 +108,7 @@ def test_a_stalled_iteration_is_refused_not_accepted():
     the value still changing by up to 100 % at tolerance 1e-8.  Here every iterate changes by
     |2 - 2 u0| / u0 = 2/3 of its size: the step must be refused."""
     from cranefmu.master.algorithms import Iterative
-    system = _StallingSystem(1.5)
+    system = _StallingCoupling(1.5)
     algo = Iterative(system, degree=0, tolerance=1e-8, max_iterations=20, accelerator="none")
     with pytest.raises(SimulationError) as info:
         algo.step(0.0, 0.1, None)
@@ -122,11 +120,11 @@ def test_the_same_map_relaxed_converges_to_its_fixed_point():
     """The map of the regression test has the fixed point u = 1: relaxed (Aitken), the step is
     accepted there, to the tolerance."""
     from cranefmu.master.algorithms import Iterative
-    system = _StallingSystem(1.5)
+    system = _StallingCoupling(1.5)
     algo = Iterative(system, degree=0, tolerance=1e-8, max_iterations=20, accelerator="aitken")
-    k = algo.step(0.0, 0.1, None)
-    assert k < 20
-    assert system.coupling_values()[0] == pytest.approx(1.0, abs=1.5e-8)
+    h, k = algo.step(0.0, 0.1, None)
+    assert h == 0.1 and k < 20
+    assert system.values()[0] == pytest.approx(1.0, abs=1.5e-8)
 
 
 def test_criterion_floor_follows_the_signal_range_not_the_tolerance():

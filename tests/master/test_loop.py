@@ -5,7 +5,9 @@ import numpy as np
 import pytest
 
 from cranefmu.errors import SimulationError
+from cranefmu.master.algorithm_table import ALGORITHMS
 from cranefmu.master.algorithms import Algorithm, GaussSeidel, Iterative, Jacobi, StartUp
+from cranefmu.master.implicit_group import ImplicitGroup
 from cranefmu.master.loop import march
 from cranefmu.master.step_control import FixedSteps
 from cranefmu.master.system import RunStats
@@ -18,7 +20,7 @@ class _System:
     def __init__(self):
         self.x, self.stats, self.saved, self.restored = 0.0, RunStats(), 0, 0
 
-    def save(self):
+    def snapshot(self):
         self.saved += 1
         return self.x
 
@@ -38,7 +40,7 @@ class _Ramp(Algorithm):
 
     def step(self, t, h, snapshot=None):
         self.system.x += h          # dx/dt = 1
-        return 2
+        return h, 2
 
 
 class _EveryOtherRejected(FixedSteps):
@@ -50,7 +52,9 @@ class _EveryOtherRejected(FixedSteps):
         super().__init__(*args)
         self.tries = 0
 
-    def judge(self, t, h, algorithm):
+    judges = True
+
+    def judge(self, t, h, algorithm, flags):
         self.tries += 1
         return self.tries % 2 == 0
 
@@ -69,9 +73,25 @@ class _Log:
         return None
 
 
+class _Sample:
+    """The row is x; no flags, no bonds."""
+
+    def __init__(self, system):
+        self.system = system
+
+    def flags(self):
+        return []
+
+    def after(self, h):
+        return None
+
+    def row(self):
+        return np.array([self.system.x])
+
+
 def _run(control, observers):
     system = _System()
-    reason = march(system, _Ramp(system), control, lambda h: np.array([system.x]), observers, 0.0)
+    reason = march(system, _Ramp(system), control, _Sample(system), observers, 0.0)
     return system, reason
 
 
@@ -111,7 +131,7 @@ def test_an_alarm_raised_by_an_observer_fails_the_run_after_the_row_was_recorded
 
 
 def test_every_algorithm_implements_the_one_interface():
-    for cls in (Jacobi, GaussSeidel, Iterative, WaveformIterative, StartUp):
+    for cls in (Jacobi, GaussSeidel, Iterative, WaveformIterative, StartUp, ImplicitGroup, *ALGORITHMS.values()):
         assert issubclass(cls, Algorithm)
     with pytest.raises(TypeError):
         type("Missing", (Algorithm,), {"name": "x", "needs_snapshot": False})()   # no step(): refused
@@ -139,3 +159,85 @@ def test_jacobi_plain_refuses_extrapolation(oscillator_ssp):
     from cranefmu.master.run import run
     with pytest.raises(SettingsError, match="extrapolation = 1 is not allowed with algorithm = 'jacobi-plain'"):
         run(oscillator_ssp, stop_time=0.1, step_size=0.01, algorithm="jacobi-plain", extrapolation=1)
+
+
+class _CountingSample(_Sample):
+    """Counts how often the loop measures flags and bonds; the bonds 'measured' are the step h."""
+
+    def __init__(self, system):
+        super().__init__(system)
+        self.flag_reads, self.measured = 0, []
+
+    def flags(self):
+        self.flag_reads += 1
+        return [int(self.system.x > 0.25)]
+
+    def after(self, h):
+        self.measured.append(h)
+        return ("bonds of the step", h)
+
+
+class _Handed(_EveryOtherRejected):
+    """Records what the loop hands to judge() and accepted()."""
+
+    def __init__(self, *args):
+        super().__init__(*args)
+        self.started, self.judged, self.given = None, [], []
+
+    def begin(self, flags):
+        self.started = flags
+
+    def judge(self, t, h, algorithm, flags):
+        self.judged.append(flags)
+        return super().judge(t, h, algorithm, flags)
+
+    def accepted(self, h, bonds):
+        self.given.append(bonds)
+
+
+def test_the_loop_measures_flags_once_per_try_and_bonds_once_per_accepted_step_for_both():
+    """What the controller and the observers both need is measured once by the loop and handed to
+    both: the flags after every try (the controller judges them, the row records them), the bonds
+    after every accepted step (the row, then the controller's next step)."""
+    system = _System()
+    sample = _CountingSample(system)
+    control = _Handed(0.0, 0.5, 0.1)
+    march(system, _Ramp(system), control, sample, [_Log()], 0.0)
+    assert control.started == [0]
+    assert sample.flag_reads == 1 + 10                                  # the start, then 5 steps tried twice
+    assert control.judged == [[0]] * 4 + [[1]] * 6                     # x = 0.1, 0.1, 0.2, 0.2, 0.3, ...: x > 0.25
+    assert sample.measured == pytest.approx([0.1] * 5)                  # accepted steps only
+    assert [b[1] for b in control.given] == pytest.approx([0.1] * 5)    # what the loop measured, handed on
+
+
+def test_fixed_steps_read_the_flags_once_per_step_without_a_judge():
+    system = _System()
+    sample = _CountingSample(system)
+    march(system, _Ramp(system), FixedSteps(0.0, 1.0, 0.1), sample, [], 0.0)
+    assert sample.flag_reads == 1 + 10 and len(sample.measured) == 10
+
+
+def test_start_up_iterates_exactly_its_first_p_accepted_steps():
+    """StartUp counts the steps the loop accepted (not a counter the loop bumps elsewhere): a rejected
+    try does not count."""
+    class Tagged(Algorithm):
+        needs_snapshot = False
+
+        def __init__(self, name):
+            self.name, self.steps = name, 0
+
+        def step(self, t, h, snapshot=None):
+            self.steps += 1
+            return h, 1
+
+    start = StartUp.__new__(StartUp)
+    start.main, start.p, start.name, start.taken = Tagged("main"), 2, "main", 0
+    start.first = Tagged("first")
+    system = _System()
+    march(system, start, _EveryOtherRejected(0.0, 0.5, 0.1), _Sample(system), [], 0.0)
+    assert start.first.steps == 4 and start.main.steps == 6   # 2 accepted steps, each tried twice
+
+
+def test_the_settings_allow_exactly_the_algorithms_of_the_table():
+    from cranefmu.master import settings
+    assert set(settings.ALGORITHMS) == set(ALGORITHMS)

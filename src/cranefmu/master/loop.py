@@ -6,6 +6,11 @@ algorithm implements :class:`~.algorithms.Algorithm`, every step controller the 
 :class:`StepControl`, every observer :class:`Observer`.  An observer may end the run as a result
 by returning a reason (a stop condition), or fail it by raising :class:`~cranefmu.errors.SimulationError`
 (an alarm); the row it fails on is recorded first (the recorder is the first observer).
+
+What both the step controller and the observers need of a step is measured once, by the loop
+(:class:`Sampler`): the discrete outputs right after the algorithm's step (the controller judges
+them, the row records them) and, for an accepted step, the power bonds' energy residuals (the row
+records them, the ECCO controller sizes the next step from them).
 """
 from __future__ import annotations
 
@@ -14,7 +19,6 @@ from typing import Protocol
 import numpy as np
 
 from .algorithms import Algorithm
-from .step_control import FixedSteps
 
 
 class Observer(Protocol):
@@ -29,56 +33,74 @@ class Observer(Protocol):
 
 class StepControl(Protocol):
     rolls_back: bool   # a step may be rejected: the FMUs' state is saved before each step
+    judges: bool       # prepare() and judge() do something (False: every step is taken as proposed)
 
+    def begin(self, flags: list[int]) -> None: ...                    # the discrete outputs at the start
     def propose(self, t: float) -> float | None: ...                  # next step from t, None: done
     def prepare(self, t: float, h: float, algorithm: Algorithm) -> None: ...
-    def judge(self, t: float, h: float, algorithm: Algorithm) -> bool: ...  # accept the step taken?
+    def judge(self, t: float, h: float, algorithm: Algorithm, flags: list[int]) -> bool: ...  # accept it?
     def advance(self, t: float, h: float) -> float: ...               # the time the step reached
-    def accepted(self, h: float) -> None: ...                         # after the observers: next h
+    def accepted(self, h: float, bonds) -> None: ...                  # after the observers: next h
 
 
-def march(system, algorithm: Algorithm, control: StepControl, sample, observers: list[Observer],
-          t: float) -> str:
+class Coupled(Protocol):
+    """What the loop needs of the coupling (:class:`~.coupled.Coupling`): snapshots and statistics."""
+
+    stats: object
+
+    def snapshot(self): ...
+    def restore(self, snapshot) -> None: ...
+    def release(self, snapshot) -> None: ...
+
+
+def march(coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler,
+          observers: list[Observer], t: float) -> str:
     """Step from t until the controller is done or an observer stops the run; returns why it stopped
-    ('' at the end).  ``sample(h)`` gives the row of every output after a step of h (None: start)."""
-    reason = _first(o.simulation_initialized(t, sample(None)) for o in observers)
-    stats = system.stats
-    # a controller that never rejects nor prepares (fixed steps) and an algorithm without rollback
-    # step directly (what _attempt does for them, without its calls)
-    plain = not control.rolls_back and type(control).prepare is FixedSteps.prepare \
-        and type(control).judge is FixedSteps.judge
+    ('' at the end).  ``sample`` measures what a step gives (flags, bond residuals, the row)."""
+    control.begin(sample.flags())
+    reason = _first(o.simulation_initialized(t, sample.row()) for o in observers)
+    stats = coupling.stats
+    # a step nobody may reject and that needs no snapshot is taken directly (what _attempt does, without its calls)
+    direct = not control.rolls_back and not control.judges
     while not reason and (h := control.propose(t)) is not None:
-        if plain and not algorithm.needs_snapshot:
-            iterations = algorithm.step(t, h, None)
+        if direct and not algorithm.needs_snapshot:
+            h, iterations = algorithm.step(t, h, None)
+            sample.flags()
         else:
-            iterations = _attempt(system, algorithm, control, t, h)
-            if iterations is None:
+            taken = _attempt(coupling, algorithm, control, sample, t, h)
+            if taken is None:
                 continue
+            h, iterations = taken
+        algorithm.accepted()
         t = control.advance(t, h)
         _count(stats, h, iterations)
-        row = sample(h)
+        bonds = sample.after(h)
+        row = sample.row()
         for o in observers:   # the first reason to stop: those after it do not see the row
             reason = o.step_complete(t, h, row)
             if reason:
                 break
         if not reason:
-            control.accepted(h)
+            control.accepted(h, bonds)
     return reason or ""
 
 
-def _attempt(system, algorithm: Algorithm, control: StepControl, t: float, h: float) -> int | None:
-    """One try of the step: its coupling iterations, or None if the controller rejected it (rolled back)."""
-    snapshot = system.save() if control.rolls_back or algorithm.needs_snapshot else None
+def _attempt(coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler, t: float,
+             h: float) -> tuple[float, int] | None:
+    """One try of the step: (step taken, coupling iterations), or None if the controller rejected it
+    (rolled back)."""
+    snapshot = coupling.snapshot() if control.rolls_back or algorithm.needs_snapshot else None
     try:
         control.prepare(t, h, algorithm)
-        iterations = algorithm.step(t, h, snapshot)
-        if not control.judge(t, h, algorithm):
-            system.restore(snapshot)
-            system.stats.rejections += 1
+        taken = algorithm.step(t, h, snapshot)
+        flags = sample.flags()
+        if control.judges and not control.judge(t, h, algorithm, flags):
+            coupling.restore(snapshot)
+            coupling.stats.rejections += 1
             return None
-        return iterations
+        return taken
     finally:
-        system.release(snapshot)
+        coupling.release(snapshot)
 
 
 def _first(reasons) -> str | None:
@@ -98,21 +120,28 @@ def _count(stats, h: float, iterations: int) -> None:
 
 
 class Sampler:
-    """The row of a communication point: every output, then each power bond's dE and E (measured
-    over the step just taken)."""
+    """What a communication point gives, measured once: the discrete outputs (:meth:`flags`, right
+    after the algorithm's step), the power bonds' dE of an accepted step (:meth:`after`), and the row
+    (every output, then each bond's dE and E)."""
 
-    def __init__(self, system, bonds, adaptive: bool):
+    def __init__(self, system, bonds):
         self.system, self.bonds = system, bonds
-        self.read_flags = not adaptive and bool(system.flag_names)   # the adaptive controller read them
+        self.has_flags = bool(system.flag_names)
         self.n = len(system.columns)
-        self.row = np.zeros(self.n + len(bonds.row))   # reused: observers copy what they keep
+        self.row_ = np.zeros(self.n + len(bonds.row))   # reused: observers copy what they keep
 
-    def __call__(self, h: float | None) -> np.ndarray:
-        if h is not None and self.bonds.bonds:
+    def flags(self) -> list[int]:
+        """Every discrete output now (also kept for the row)."""
+        return self.system.flags() if self.has_flags else []
+
+    def after(self, h: float):
+        """The power bonds measured over the accepted step of h just taken; returns the monitor."""
+        if self.bonds.bonds:
             self.bonds.measure(h)
-        if self.read_flags:
-            self.system.flags()
-        row = self.system.fill_outputs(self.row)
+        return self.bonds
+
+    def row(self) -> np.ndarray:
+        row = self.system.fill_outputs(self.row_)
         if self.bonds.bonds:
             row[self.n:] = self.bonds.row
         return row

@@ -12,11 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .divergence import Growth, GrowthAlarm
 from ..errors import SceneError
 from .system import CoSystem
 
-ANNOTATION = "org.cranefmu.powerbonds"
 RESIDUAL_WARNING = 0.1   # a run warns when a bond's total residual exceeds this fraction of the energy it carried
 NEGLIGIBLE = 1e-3        # ... unless it is below this fraction of the most energy any bond of the scene carried
 
@@ -66,26 +64,6 @@ class Bond:
     name: str
     a: _Side
     b: _Side
-
-
-def read_bonds(system, label: str) -> list[tuple[str, list[dict]]]:
-    """(bond name, [side attributes a, b]) from the power-bond annotation of an SSD's parsed
-    ``System`` element (none if absent); ``label`` names the file in messages."""
-    from lxml import etree
-
-    out = []
-    for ann in system.iter("{*}Annotation"):
-        if ann.get("type") != ANNOTATION:
-            continue
-        for bond in ann.iter("{*}Bond"):
-            name = bond.get("name")
-            sides = [dict(s.attrib) for s in bond if isinstance(s.tag, str) and etree.QName(s).localname == "Side"]
-            if not name:
-                raise SceneError(f"{label}: a power bond has no name")
-            if len(sides) != 2:
-                raise SceneError(f"{label}: power bond {name!r} has {len(sides)} Side elements; exactly 2 allowed")
-            out.append((name, sides))
-    return out
 
 
 def resolve(system: CoSystem, bonds: list[tuple[str, list[dict]]]) -> list[Bond]:
@@ -156,8 +134,6 @@ class BondMonitor:
         self.carried = np.zeros(len(bonds))    # energy through each bond in the last step [J]
         self.carried_total = np.zeros(len(bonds))   # ... summed over the run [J]
         self.row = np.zeros(2 * len(bonds))
-        self.growth_alarm: GrowthAlarm | None = None   # set by the run: fixed step, alarm on
-        self.grown: Growth | None = None
         self.imbalance = [0.0] * len(bonds)   # signed P_a - P_b times h of the last step [J]
         self.residual_list = [0.0] * len(bonds)   # residual and carried of the last step as lists
         self.carried_list = [0.0] * len(bonds)
@@ -221,8 +197,6 @@ class BondMonitor:
         self.carried_total += self.carried
         self.row[0::2] = self.residual
         self.row[1::2] = self.total
-        if self.growth_alarm is not None and self.grown is None:
-            self.grown = self.growth_alarm.update(self.residual, self.carried)
 
     def between(self, k: int) -> str:
         """The components bond k joins, as 'a and b'."""

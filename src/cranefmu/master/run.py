@@ -19,8 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .algorithms import make_algorithm
+from .algorithm_table import make_algorithm
 from .bond_inference import scene_bonds
+from .coupled import Coupling
 from .divergence import ValueCheck, Watch
 from ..errors import CraneFmuError, SettingsError, SimulationError
 from .extracted import discard, extracted_scene, fresh_fmu_dirs
@@ -267,7 +268,8 @@ def _solved(system: CoSystem, s: Settings) -> set[int]:
         return set()
     from .implicit_group import group_members
 
-    return set(group_members(system, list(s.implicit)))
+    c = Coupling(system)
+    return set(group_members(c.components, c.bonds(), list(s.implicit), c.scene_name))
 
 
 def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor, progress: Progress,
@@ -275,10 +277,11 @@ def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor,
     """Step from start to stop (:func:`.loop.march`): the algorithm and its start-up, the step
     controller and the observers the settings ask for (and ``observers``, e.g. an
     :class:`~.interrupt.Interrupt`), in the order they see each row."""
-    algorithm = make_algorithm(system, s)
-    control = make_step_control(system, s, bonds)
+    coupling = Coupling(system)
+    algorithm = make_algorithm(coupling, s)
+    control = make_step_control(coupling, s, bonds)
     everyone = [recorder, ValueCheck(system, bonds, s.energy_alarm), watch, stopper, *observers, progress]
-    system.stats.stopped = march(system, algorithm, control, Sampler(system, bonds, s.adaptive),
+    system.stats.stopped = march(coupling, algorithm, control, Sampler(system, bonds),
                                  [o for o in everyone if o is not None], s.start_time)
 
 

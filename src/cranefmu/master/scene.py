@@ -28,6 +28,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Union
 
+from .bond_declarations import ANNOTATION as BONDS_ANNOTATION, read_bonds
 from ..errors import ParameterSetError, SceneError, SettingsError
 from .settings import parse_bool, stored_settings
 from ..units import parse as parse_unit
@@ -295,7 +296,6 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
             offset = _number(lt.get("offset", "0"), f"connection {text}: LinearTransformation offset", label)
             transformed = True
         connections.append(ConnectionSpec(*ends, factor, offset, transformed))
-    from .power_bonds import ANNOTATION as BONDS_ANNOTATION, read_bonds   # here: power_bonds imports the system, which imports this module
 
     start = stop = None
     for de in _children(root, "DefaultExperiment"):

@@ -7,6 +7,9 @@ FMUs were fed: O(h^(p+1)).  A step is accepted when the error is <= 1.
 
 ``ecco_error``: the power bonds' energy residuals, relative to the energy the bond carried in the
 step (ECCO, Sadjina et al. 2017); used without rejection.
+
+``ESTIMATES`` maps the ``step_control`` setting to its error estimate; each checks what it needs
+(:meth:`from_settings`).  :func:`make_step_control` gives the controller a run's settings ask for.
 """
 from __future__ import annotations
 
@@ -14,6 +17,8 @@ import math
 
 import numpy as np
 
+from .coupled import Coupling
+from ..errors import SettingsError
 from .residual import relative_residual
 
 
@@ -61,12 +66,16 @@ class FixedSteps:
     """Fixed macro step H on the grid t0 + n H (the last step ends exactly at the stop time)."""
 
     rolls_back = False
+    judges = False   # every step is taken as proposed
 
     def __init__(self, start: float, stop: float, step: float):
         self.start, self.stop, self.step = start, stop, step
         self.count = max(1, round((stop - start) / step))
         self.n = 0
         self.t_next = start
+
+    def begin(self, flags: list[int]) -> None:
+        pass
 
     def propose(self, t: float) -> float | None:
         """The next step from t [s], or None at the end."""
@@ -78,14 +87,14 @@ class FixedSteps:
     def prepare(self, t: float, h: float, algorithm) -> None:
         pass
 
-    def judge(self, t: float, h: float, algorithm) -> bool:
+    def judge(self, t: float, h: float, algorithm, flags: list[int]) -> bool:
         return True
 
     def advance(self, t: float, h: float) -> float:
         self.n += 1
         return self.t_next
 
-    def accepted(self, h: float) -> None:
+    def accepted(self, h: float, bonds) -> None:
         pass
 
 
@@ -97,15 +106,18 @@ class AdaptiveSteps:
     ``estimate``: :class:`ExtrapolationError` (rejecting) or :class:`EccoError` (never rejecting)."""
 
     rolls_back = True
+    judges = True
 
-    def __init__(self, system, estimate, start: float, stop: float, step: float, h_min: float, h_max: float,
-                 order: int):
-        self.system, self.estimate, self.stop = system, estimate, stop
+    def __init__(self, estimate, start: float, stop: float, step: float, h_min: float, h_max: float, order: int):
+        self.estimate, self.stop = estimate, stop
         self.h, self.h_min = step, h_min
         self.controller = PIController(order, h_min, h_max)
-        self.flags = system.flags()
+        self.flags: list[int] = []
         self.locating = self.event = False
         self.err = 0.0
+
+    def begin(self, flags: list[int]) -> None:
+        self.flags = flags
 
     def propose(self, t: float) -> float | None:
         remaining = self.stop - t
@@ -118,11 +130,11 @@ class AdaptiveSteps:
     def prepare(self, t: float, h: float, algorithm) -> None:
         self.estimate.prepare(t, h)
 
-    def judge(self, t: float, h: float, algorithm) -> bool:
-        """Accept the step just taken, or set the step to retry with (the caller rolls back)."""
+    def judge(self, t: float, h: float, algorithm, flags: list[int]) -> bool:
+        """Accept the step just taken (``flags``: the discrete outputs after it), or set the step to
+        retry with (the caller rolls back)."""
         self.err = 0.0
-        new_flags = self.system.flags()
-        self.event = new_flags != self.flags
+        self.event = flags != self.flags
         if self.event and h > self.h_min * (1 + 1e-9):
             self.h, self.locating = max(0.5 * h, self.h_min), True
             return False
@@ -131,43 +143,64 @@ class AdaptiveSteps:
             if self.err > 1.0 and h > self.h_min * (1 + 1e-9) and not self.locating:
                 self.h = self.controller.rejected(h, self.err)
                 return False
-        self.flags = new_flags
+        self.flags = flags
         return True
 
     def advance(self, t: float, h: float) -> float:
         return t + h
 
-    def accepted(self, h: float) -> None:
+    def accepted(self, h: float, bonds) -> None:
+        """``bonds``: the power bonds as the loop measured them over the accepted step."""
         if self.locating and self.event:      # the switch is located to min_step: restart small
             self.locating = False
             self.h = self.h_min
         elif not self.locating:
-            self.h = self.controller.accepted(h, self.estimate.after(self.err))
+            self.h = self.controller.accepted(h, self.estimate.after(self.err, bonds))
 
 
 class ExtrapolationError:
     """The coupling values' error against their extrapolation (:func:`coupling_error`); rejects."""
 
-    def __init__(self, system, tolerance: float):
-        self.system, self.tolerance = system, tolerance
+    def __init__(self, coupling, tolerance: float):
+        self.coupling, self.tolerance = coupling, tolerance
         self.predicted = None
 
+    @classmethod
+    def from_settings(cls, coupling, s, bonds) -> ExtrapolationError:
+        return cls(coupling, s.tolerance)
+
+    @staticmethod
+    def order(s) -> int:
+        """The order in h of the error: that of the extrapolation's local error."""
+        return s.extrapolation + 1
+
     def prepare(self, t: float, h: float) -> None:
-        self.predicted = self.system.predicted(t, h)
+        self.predicted = self.coupling.predict(t, h)
 
     def rejecting(self, h: float) -> float:
-        s = self.system
-        return coupling_error(self.predicted, s.coupling_values(), s.scale, self.tolerance)[0]
+        c = self.coupling
+        return coupling_error(self.predicted, c.values(), c.sizes(), self.tolerance)[0]
 
-    def after(self, err: float) -> float:
+    def after(self, err: float, bonds) -> float:
         return err
 
 
 class EccoError:
     """The power bonds' energy residuals of the accepted step (:func:`ecco_error`); never rejects."""
 
-    def __init__(self, bonds, tolerance: float):
-        self.bonds, self.tolerance = bonds, tolerance
+    def __init__(self, tolerance: float):
+        self.tolerance = tolerance
+
+    @classmethod
+    def from_settings(cls, coupling, s, bonds) -> EccoError:
+        if not bonds.bonds:
+            raise SettingsError("step_control = 'ecco' is not allowed for this scene: it declares no power bonds "
+                                "(see docs/power_bonds.md, 'Declaring a bond')")
+        return cls(s.tolerance)
+
+    @staticmethod
+    def order(s) -> int:
+        return 2
 
     def prepare(self, t: float, h: float) -> None:
         pass
@@ -175,16 +208,19 @@ class EccoError:
     def rejecting(self, h: float) -> float:
         return 0.0
 
-    def after(self, err: float) -> float:
-        b = self.bonds
-        return ecco_error(b.residual, b.carried, self.tolerance, 1e-3 * self.tolerance)
+    def after(self, err: float, bonds) -> float:
+        return ecco_error(bonds.residual, bonds.carried, self.tolerance, 1e-3 * self.tolerance)
+
+
+ESTIMATES = {"extrapolation": ExtrapolationError, "ecco": EccoError}
 
 
 def make_step_control(system, s, bonds):
-    """The step controller the settings ``s`` ask for (``bonds``: the run's power-bond monitor)."""
+    """The step controller the settings ``s`` ask for (``system``: the run's
+    :class:`~.coupled.Coupling` or :class:`~.system.CoSystem`; ``bonds``: its power-bond monitor)."""
     if not s.adaptive:
         return FixedSteps(s.start_time, s.stop_time, s.step_size)
-    ecco = s.step_control == "ecco"
-    estimate = EccoError(bonds, s.tolerance) if ecco else ExtrapolationError(system, s.tolerance)
-    return AdaptiveSteps(system, estimate, s.start_time, s.stop_time, s.step_size, s.h_min, s.h_max,
-                         2 if ecco else s.extrapolation + 1)
+    coupling = system if isinstance(system, Coupling) else Coupling(system)
+    kind = ESTIMATES[s.step_control]
+    return AdaptiveSteps(kind.from_settings(coupling, s, bonds), s.start_time, s.stop_time, s.step_size,
+                         s.h_min, s.h_max, kind.order(s))

@@ -1,9 +1,10 @@
 """The FMUs of one scene and the values between them: batched exchange, extrapolation, snapshots.
 
-An algorithm (:mod:`.algorithms`) decides when FMUs step and when values move; this class only
-moves them.  Every connection group (one source -> one destination component) is read with one
-``getReal`` and written with one ``setReal``; inputs that offer ``<input>_dt``/``<input>_dt2``
-get the slope and curvature of the polynomial through the last values (extrapolation order 0-2).
+An algorithm (:mod:`.algorithms`) decides when FMUs step and when values move, through the
+vector operations of :class:`~.coupled.Coupling`; this class only moves them.  Every connection
+group (one source -> one destination component) is read with one ``getReal`` and written with one
+``setReal``; inputs that offer ``<input>_dt``/``<input>_dt2`` get the slope and curvature of the
+polynomial through the last values (extrapolation order 0-2).
 """
 from __future__ import annotations
 
@@ -317,6 +318,27 @@ class CoSystem:
                 self._exchange_phase(phase, t, p)
         np.maximum(self.scale, np.abs(self._new), out=self.scale)
 
+    def exchange_as_read(self, t: float) -> None:
+        """libcosim's exchange at t: every output read once, now, and held by its input over the next
+        step (no re-read after inputs that it depends on directly were set)."""
+        for i in range(len(self.comps)):
+            self.read(i)
+        values = [self.pull(g) for g in self.links]
+        for g, value in zip(self.links, values):
+            self.record_history(g, t, value)
+            self.push(g, value, g.zero, g.zero)
+        for comp in self.comps:   # the row shows what was read right after the step, as libcosim's observers
+            comp.fresh = True
+        if values:
+            np.maximum(self.scale, np.abs(np.concatenate(values)), out=self.scale)
+
+    def rest(self, t0: float, h: float) -> None:
+        """Give every connection a past at rest (its value at t0 also at t0 - h and t0 - 2 h), then exchange."""
+        for g in self.links:
+            t, u = g.history[-1]
+            g.history[:] = [(t - 2 * h, u), (t - h, u), (t, u)]
+        self.exchange(t0)
+
     def _plan_phases(self) -> list[_Phase]:
         total = sum(len(c.read_vrs) for c in self.comps)
         self._read_all = (ctypes.c_double * max(1, total))()
@@ -603,34 +625,47 @@ class CoSystem:
             self.stats.fmu_calls[comp.name] += 1
 
     # --- rollback -------------------------------------------------------------------------------
-    def save(self) -> list:
-        """Snapshot every FMU's state and the coupling history (for a retry of the step)."""
+    def save(self, members: list[int] | None = None) -> list:
+        """Snapshot the state of the FMUs ``members`` (default all: also the coupling values' past)
+        and what their inputs were fed, for a retry of the step."""
+        index = range(len(self.comps)) if members is None else members
+        states = []
         try:
-            states = [c.fmu.getFMUstate() for c in self.comps]
+            for i in index:
+                states.append(self.comps[i].fmu.getFMUstate())
         except Exception:
-            bad = next((c for c in self.comps if c.messages), self.comps[0])
-            raise self.refused(bad, "saving its state (getFMUstate)") from None
-        return [states, [list(g.history) for g in self.links], [g.fed for g in self.links]]
+            self._free(index, states)
+            raise self.refused(self.comps[index[len(states)]], "saving its state (getFMUstate)") from None
+        inside = set(index)
+        fed_into = [g for g in self.links if g.dst in inside]
+        histories = [list(g.history) for g in self.links] if members is None else None
+        return [states, histories, [(g, g.fed) for g in fed_into], list(index)]
 
     def restore(self, snap: list) -> None:
-        states, histories, fed = snap
-        for c, s in zip(self.comps, states):
+        """Back to the snapshot (it stays valid for another restore until released)."""
+        states, histories, fed, index = snap
+        for i, s in zip(index, states):
+            c = self.comps[i]
             c.fresh = False
             try:
                 c.fmu.setFMUstate(s)
             except Exception:
                 raise self.refused(c, "restoring its state (setFMUstate)") from None
-        for g, hist, f in zip(self.links, histories, fed):
-            g.history[:] = hist
+        if histories is not None:
+            for g, hist in zip(self.links, histories):
+                g.history[:] = hist
+        for g, f in fed:
             g.fed = f
             g.rates_set = True  # the restored FMU holds the rates of the snapshot
 
     def release(self, snap: list | None) -> None:
-        if snap is None:
-            return
-        for c, s in zip(self.comps, snap[0]):
+        if snap is not None:
+            self._free(snap[3], snap[0])
+
+    def _free(self, index, states: list) -> None:
+        for i, s in zip(index, states):
             try:
-                c.fmu.freeFMUstate(s)
+                self.comps[i].fmu.freeFMUstate(s)
             except Exception:
                 pass
 

@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .algorithms import Iterative
-from .system import CoSystem
+from .algorithms import Iterative, floored
+from .coupled import Coupling
 
 
 def _projection(degree: int) -> np.ndarray:
@@ -50,58 +50,58 @@ def stencil(n_points: int, j: int, size: int) -> slice:
 
 
 class WaveformIterative(Iterative):
-    """Iterative coupling with ``substeps`` sub-intervals per macro step (see the module doc)."""
+    """Iterative coupling with ``substeps`` sub-intervals per macro step (see the module doc); the
+    iteration, its accelerator and convergence test are :class:`~.algorithms.Iterative`'s."""
 
-    name = "iterative"
+    name = "waveform"
     needs_snapshot = True
 
-    def __init__(self, system: CoSystem, substeps: int, tolerance: float, max_iterations: int,
+    def __init__(self, coupling: Coupling, substeps: int, tolerance: float, max_iterations: int,
                  accelerator: str, degree: int = 5):
-        super().__init__(system, degree=degree, tolerance=tolerance, max_iterations=max_iterations,
+        super().__init__(coupling, degree=degree, tolerance=tolerance, max_iterations=max_iterations,
                          accelerator=accelerator)
         self.m = substeps
         self.past: list[tuple[float, np.ndarray]] = []   # the last accepted sub-points, oldest first
 
+    @classmethod
+    def from_settings(cls, coupling: Coupling, s) -> Iterative:
+        return cls(coupling, s.substeps, tolerance=s.coupling_tolerance, max_iterations=s.max_iterations,
+                   accelerator=s.accelerator)
+
     def _points(self, t: float, h: float, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
         """(times, values, index of t): past sub-points, the value at t, the waveform w (m x n)."""
-        s = self.system
         past = [p for p in self.past if p[0] < t - 1e-12 * max(1.0, abs(t))][-self.degree:]
         ts = np.array([p[0] for p in past] + [t + h * j / self.m for j in range(self.m + 1)])
-        values = np.vstack([*(p[1] for p in past), s.coupling_values(), w])
+        values = np.vstack([*(p[1] for p in past), self.coupling.values(), w])
         return ts, values, len(past)
 
     def _feed_sub(self, ts: np.ndarray, values: np.ndarray, j: int) -> None:
         sel = stencil(len(ts), j, self.degree + 1)
         quad = fed_quadratic(ts[sel], values[sel], ts[j], ts[j + 1] - ts[j])
-        s = self.system
-        for g, sl in zip(s.links, s.slices):
-            s.push(g, quad[0, sl], quad[1, sl], quad[2, sl])
+        self.coupling.feed_polynomial(quad[0], quad[1], quad[2])
 
-    def step(self, t: float, h: float, snapshot=None) -> int:
-        s, m = self.system, self.m
-        n = s.n_coupling
-        w = np.vstack([s.predicted(t, h * j / m, order=2) for j in range(1, m + 1)])
-        scale = np.tile(self._scale(), m)
-        self.criterion.start(s.coupling_values())
+    def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
+        c, m = self.coupling, self.m
+        n = c.n
+        w = np.vstack([c.predict(t, h * j / m, order=2) for j in range(1, m + 1)])
+        scale = np.tile(floored(c.sizes()), m)
+        self.check.criterion.start(c.values())
         self.acc.start_step()
-        self.span, errors = (t, h), []
+        span, errors = (t, h), []
         for k in range(1, self.max_iterations + 1):
             if k > 1:
-                s.restore(snapshot)
+                c.restore(snapshot)
                 w = (scale * self.acc.next(w.ravel() / scale, gw.ravel() / scale)).reshape(m, n)
             ts, values, i0 = self._points(t, h, w)
             gw = np.empty((m, n))
             for j in range(m):
                 self._feed_sub(ts, values, i0 + j)
-                for i in self.index:
-                    s.do_step(i, ts[i0 + j], ts[i0 + j + 1] - ts[i0 + j])
-                if j == m - 1:
-                    s.capture_input_ends(ts[i0 + m] - ts[i0 + m - 1])
-                gw[j] = self._image(ts[i0 + j + 1])
-            done, worst = self._converged(w.ravel(), gw.ravel(), scale, errors, m)
+                c.step(ts[i0 + j], ts[i0 + j + 1] - ts[i0 + j], ends=j == m - 1)
+                gw[j] = c.image()
+            done, worst = self.check.converged(w.ravel(), gw.ravel(), scale, errors, span, m)
             if done:
-                s.exchange(t + h)
+                c.commit(t + h)
                 self.past = [p for p in self.past if p[0] < t] + [(ts[i0 + j], gw[j - 1]) for j in range(1, m + 1)]
                 del self.past[:-self.degree]
-                return k
-        raise self._not_converged(k, w.ravel(), gw.ravel(), scale, worst)
+                return h, k
+        raise self.check.failure(k, w.ravel(), gw.ravel(), scale, worst, span)
