@@ -38,7 +38,7 @@ def slave_class(messages: dict[str, list[str]]):
         return _SLAVE
     from fmpy.fmi3 import FMU3Slave, fmi3Boolean, fmi3Float64
 
-    from .fmu import FatalAware
+    from .fatal_status import FatalAware
 
     class FMU3SlaveAsFmi2(FatalAware, FMU3Slave):   # fmpy binds the fmi3 functions of a class not named FMU1/FMU2
         start_time = 0.0

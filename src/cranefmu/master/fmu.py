@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterSetError, SceneError
+from .fatal_status import FatalAware
 from .settings import parse_bool
 from .fmi_integer import fmi_integer
 
@@ -78,23 +79,6 @@ def _callbacks():
 
 
 _SLAVE = None
-
-
-class FatalAware:
-    """Mixin for fmpy's slave classes: remember a status fatal (:attr:`fatal`), after which FMI allows
-    no further call on the instance."""
-
-    fatal = False
-
-    def _call(self, fname, *args):
-        from fmpy.fmi1 import FMICallException
-
-        try:
-            return super()._call(fname, *args)
-        except FMICallException as err:
-            if err.status == 4:
-                self.fatal = True
-            raise
 
 
 def _slave_class():
