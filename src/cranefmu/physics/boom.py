@@ -39,9 +39,12 @@ at the commanded angle.  ``tip = "kinematic"``: the tip follows the prescribed l
 Base reactions (derived, Newton-Euler of the boom; reduced to O2): the chassis receives
 F = F_tip + m g - sum m_i a_i and M = r_B x F_tip + sum r_i x m_i g - dH_O2/dt, with
 sum m_i a_i = (S'' - S psi'^2) e_r + (2 S' psi' + S psi'') e_psi and dH/dt = J_O psi'' + J_O' psi'.
-Neglected: the foot's acceleration (inputs carry no accelerations; the boom is ~5 % of the chassis
-mass), the horizontal motion of O2 due to the tilt (eq. 11), masses m6, m7 (the seed drops them in
-eq. 30), and the lateral tip force Fz_tip (planar model: it is taken by the slewing gear).
+The foot's acceleration is not in these reactions: the boom's inertia as the foot moves it goes to
+the chassis as added mass (outputs m_carried, Sx_carried, J_carried; Chassis ``boom_inertia =
+"carried"``), exact for the rigid cylinder; with the elastic cylinder the foot carries the boom's
+mass, and psi's equation neglects the foot's heave acceleration.  Neglected: the horizontal motion
+of O2 due to the tilt (eq. 11), masses m6, m7 (the seed drops them in eq. 30), and the lateral tip
+force Fz_tip (planar model: it is taken by the slewing gear).
 """
 from __future__ import annotations
 
@@ -283,6 +286,14 @@ class BoomModel(Model):
         Signal("cylinder_force", "N", "push force of the luffing cylinder", depends_on=_REACT_DEPS),
         Signal("cylinder_length", "m", "length s3 of the luffing cylinder O1-D (eq. 1)", depends_on=("gamma",)),
         Signal("constraint_residual", "m", "|f| of the loop constraint eq. 1", depends_on=("gamma",)),
+        Signal("extension", "m", "telescoped length s1 + s2 = boom_length - boom_length_start (grows the rope "
+               "run along the boom, seed 000 eq. 26)"),
+        Signal("m_carried", "kg", "boom mass the foot O2 carries along (for the chassis' mass matrix; 0 with "
+               "a kinematic tip)"),
+        Signal("Sx_carried", "kg.m", "first moment S cos psi about O2 of the boom turning with the chassis "
+               "(rigid cylinder; 0 otherwise)", depends_on=("gamma",)),
+        Signal("J_carried", "kg.m2", "moment of inertia about O2 of the boom turning with the chassis (rigid "
+               "cylinder; 0 otherwise)"),
     )
 
     def state_names(self) -> tuple[str, ...]:
@@ -390,7 +401,12 @@ class BoomModel(Model):
             force, _ = self._cylinder_force(t, psi, psi_rate, float(x[2]), float(u[_G]), float(u[_GR]))
         else:
             force = -mb / lever   # the cylinder carries the whole moment about the pivot O2
-        return [tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3, residual]
+        if p.tip == "kinematic":
+            carried = (0.0, 0.0, 0.0)
+        else:   # the elastic boom keeps its own elevation: the foot carries only its mass
+            carried = (ms.mass, 0.0, 0.0) if self.elastic else (ms.mass, ms.S * c, ms.J)
+        return [tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3, residual,
+                L - p.boom_length_start, *carried]
 
     def energy(self, t: float, x: np.ndarray, u: np.ndarray) -> float:
         """Mechanical energy [J] of the elastic boom with the constant tip force as a potential:
