@@ -170,7 +170,7 @@ def test_luffing_set_ends_in_the_static_reactions_of_its_new_angle():
     about 0.08 deg under the larger moment, and the luffing sets the load swinging (about 2 deg)."""
     T = 30.0
     t = np.linspace(0.0, T, 3001)
-    r = solve("truck_telescope", T, t, parameter_set="luffing", rtol=1e-8)
+    r = solve("truck_telescope", T, t, parameter_set="luffing", rtol=1e-6)
     w = t >= T - 4.0 * math.pi * math.sqrt(9.1 / G)
     phi = math.degrees(float(np.mean(r["boom.luff_angle_out"][w])))
     assert 44.8 < phi < 45.0
