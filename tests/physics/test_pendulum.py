@@ -19,7 +19,7 @@ def _model(**kw) -> PendulumModel:
 
 
 def _u(fx=0.0, fy=0.0, fz=0.0, top=(0.0, 0.0, 0.0), drop=10.0) -> np.ndarray:
-    return np.array([fx, fy, fz, *top, drop])
+    return np.array([fx, fy, fz, *top, drop, 0.0, 0.0, 0.0])   # v_top: the top at rest
 
 
 def _rope_u(x: np.ndarray, k: float, length: float) -> np.ndarray:
@@ -191,6 +191,37 @@ def test_double_pendulum_normal_modes(payload, dimension):
     measured = groups.mean(axis=1)
     assert np.allclose(measured, expect, rtol=5e-3)
     assert np.allclose(measured, expect, rtol=1e-4)  # far better than the 0.5 % asked for
+
+
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_hook_pin_damper_gives_the_damped_double_pendulum(dimension):
+    """c_pin: the linearized hook + payload (seed 002 sizes, stiff rope) has the eigenvalues of the double
+    pendulum with the dissipation 0.5 c_pin (beta' - alpha')^2 on the relative angle (closed form, Lagrange):
+    M = [[(m_h + m_p) l^2, m_p l L], [m_p l L, m_p L^2]], K = diag((m_h + m_p) g l, m_p g L),
+    C = c_pin [[1, -1], [-1, 1]]."""
+    mh, mp, l1, l2, k, c = 4.0, 10.0, 0.45, 0.5, 1e8, 0.2
+    y0 = -(l1 + (mh + mp) * G / k)
+    m = _model(dimension=dimension, payload="rigid", mass=mh, m_payload=mp, L_sling=l2, y0=y0, g=G, c_pin=c)
+    x0 = m.initial_state(_rope_u(np.array([0.0, y0, 0.0]), k, l1))
+
+    def f(x):
+        return m.derivatives(0.0, x, _rope_u(x, k, l1))
+
+    n = len(x0)
+    jac = np.column_stack([(f(x0 + dx) - f(x0 - dx)) / 2e-7 for dx in np.eye(n) * 1e-7])
+    lam = np.linalg.eigvals(jac)
+    slow = np.sort_complex(lam[(np.abs(lam) > 1e-3) & (np.abs(lam) < 50.0) & (lam.imag > 0)])
+    ell = -y0
+    mass = np.array([[(mh + mp) * ell ** 2, mp * ell * l2], [mp * ell * l2, mp * l2 ** 2]])
+    stiff = np.diag([(mh + mp) * G * ell, mp * G * l2])
+    damp = c * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    a = np.block([[np.zeros((2, 2)), np.eye(2)], [-np.linalg.solve(mass, stiff), -np.linalg.solve(mass, damp)]])
+    exact = np.linalg.eigvals(a)
+    exact = np.sort_complex(exact[exact.imag > 0])
+    assert len(slow) == 2 * (dimension - 1)
+    for lam_model in slow.reshape(dimension - 1, 2) if dimension == 2 else (slow[::2], slow[1::2]):
+        assert np.allclose(np.sort_complex(lam_model), exact, rtol=2e-3)
+    assert np.all(exact.real < 0.0)   # both modes decay
 
 
 # --- energy and angular momentum --------------------------------------------------------------

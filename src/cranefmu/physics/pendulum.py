@@ -61,6 +61,13 @@ That holds only if the rope sees the point the hook was placed from: feed the ro
 outputs x/y/z_suspension (the inputs x/y/z_top handed on), else an iteration sweep can pair a new
 tip with a hook placed from the old one, and the loop gain is back.
 
+Hook-pin damper (``c_pin``; derived, seed 002 names friction in the hook's pin as what makes a heavier,
+longer hook damp the payload sooner): a rotational damper between the rope link (top -> hook, angular
+velocity w_r = e_r x (v_h - v_top) / l) and the rigid sling (w_s = e x (v_p - v_h) / L), torque
+tau = -c_pin (w_s - w_r) on the sling and -tau on the rope link, applied as the force pairs tau x e / L
+(payload, and its opposite on the hook) and -tau x e_r / l (hook; its opposite on the top is not fed
+back; v_top from the inputs vx/vy/vz_top).  Power: -c_pin |w_s - w_r|^2.
+
 Ground contact (seed 001 eq. 7, with the damper b_p of Fig. 4 / Table 6): the lowest body
 (payload if any, else hook) and a unilateral spring-damper at y = ground_height,
     pen = ground_height - y,  N = max(0, c_g pen - b_g v_y) if pen > 0 else 0.
@@ -121,6 +128,8 @@ class PendulumParams(Params):
                                   "the hook (dimension >= 2)", min=-math.pi, max=math.pi)
     phi_payload0: float = param(0.0, "rad", "initial lateral payload angle out of the x-y plane (dimension 3)",
                                 min=-_HALF_PI, max=_HALF_PI, min_open=True, max_open=True)
+    c_pin: float = param(0.0, "N.m.s/rad", "rotational damper at the hook pin on the relative rotation of rope and "
+                         "rigid sling (0: none, seed 002; the hook_sway scene states its value)", min=0, tunable=True)
     # --- ground contact (seed 001 eq. 7) ---
     ground: str = param("none", "", "ground under the load: none, or a unilateral spring-damper (seed 001 eq. 7)",
                         choices=("none", "spring_damper"))
@@ -177,6 +186,11 @@ def _floats(a) -> list:
     return a.tolist() if hasattr(a, "tolist") else [float(v) for v in a]
 
 
+def _cross(a, b) -> tuple[float, float, float]:
+    """a x b of two 3-vectors on plain floats."""
+    return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
+
+
 def _unit(theta: float, phi: float) -> tuple[float, float, float]:
     """Unit vector from the pivot down to the bob for payload angles theta, phi."""
     cp = math.cos(phi)
@@ -193,6 +207,8 @@ class PendulumModel(Model):
         Signal("drop", "m", "start = 'below_top': distance suspension point -> hook at rest (Rope hang_length: "
                "rope length + static stretch under rest_tension)", start=10.0,
                coupling=True),   # constant; coupling so that the group rope -> pendulum keeps its rates
+        *(Signal(f"v{c}_top", "m/s", f"{c} velocity of the suspension point (for the hook-pin damper's rope "
+                 "rotation; 0: at rest)", coupling=True) for c in "xyz"),
     )
     # resting on the ground / the sling's share of the rope force; with start = 'below_top' the hook
     # is placed from the suspension point (declared for every start: the FMU's ModelStructure cannot
@@ -236,7 +252,7 @@ class PendulumModel(Model):
         self._has_ground = p.ground != "none"
         # rigid sling without ground or drag (hook_sway): the right-hand side written out (_rigid_free)
         self._free_rigid = p.payload == "rigid" and not self._has_ground and self._k_load == 0.0 \
-            and self._k_hook == 0.0
+            and self._k_hook == 0.0 and p.c_pin == 0.0
         self._rest_tension = self._start_tension()
 
     # --- helpers ---------------------------------------------------------------------------
@@ -283,6 +299,8 @@ class PendulumModel(Model):
               x[5] + L * ep[2] * dph)
         fp, n = self._payload_accel(x[1] + L * e[1], vp)
         fh = self._hook_force(x, u)
+        if p.c_pin != 0.0:
+            fp, fh = self._pin_damper(x, u, e, et, ep, dth, dph, fp, fh)
         mh = p.mass
         w2 = L * (cp * cp * dth * dth + dph * dph)
         s = self._mu * (e[0] * (fp[0] - fh[0] / mh) + e[1] * (fp[1] - fh[1] / mh) + e[2] * (fp[2] - fh[2] / mh) + w2)
@@ -295,6 +313,25 @@ class PendulumModel(Model):
             ddph = (ep[0] * r[0] + ep[1] * r[1] + ep[2] * r[2] - L * sp * cp * dth * dth) / L \
                 if p.dimension == 3 else 0.0
         return ah, ddth, ddph, s, n, e, vp
+
+    def _pin_damper(self, x, u, e, et, ep, dth, dph, fp, fh):
+        """f_p and F_h with the hook-pin damper (module docstring): torque tau = -c_pin (w_s - w_r) on the sling,
+        w_s = e x (e_t theta' + e_p phi') its angular velocity, w_r = e_r x (v_h - v_top) / l that of the rope
+        link top -> hook (length l); the payload gets tau x e / L, the hook the opposite
+        and the rope link's reaction -tau x e_r / l.  Dissipates c_pin |w_s - w_r|^2, nothing else (derived)."""
+        p, m, L = self.p, self._m, self.p.L_sling
+        d = (x[0] - u[3], x[1] - u[4], x[2] - u[5])
+        ell = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        er = (d[0] / ell, d[1] / ell, d[2] / ell)
+        wr = _cross(er, ((x[3] - u[7]) / ell, (x[4] - u[8]) / ell, (x[5] - u[9]) / ell))
+        ws = _cross(e, (et[0] * dth + ep[0] * dph, et[1] * dth + ep[1] * dph, et[2] * dth + ep[2] * dph))
+        tau = tuple(-p.c_pin * (ws[i] - wr[i]) for i in range(3))
+        f_p = _cross(tau, (e[0] / L, e[1] / L, e[2] / L))
+        g_h = _cross(tau, (-er[0] / ell, -er[1] / ell, -er[2] / ell))
+        inv = 1.0 / p.m_payload
+        fp = tuple(fp[i] + f_p[i] * inv * m[i] for i in range(3))
+        fh = tuple(fh[i] + (g_h[i] - f_p[i]) * m[i] for i in range(3))
+        return fp, fh
 
     def _rigid_free(self, x: list[float], u: list[float]) -> list[float]:
         """:meth:`derivatives_list` of :meth:`_rigid` without ground and drag (f_p = g_vec, F_h = F_rope +
