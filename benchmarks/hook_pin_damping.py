@@ -13,18 +13,16 @@ payload sway in the last 2 s over the first 2 s.  Writes benchmarks/results/hook
 from __future__ import annotations
 
 import math
-import os
-import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
+
+from result_table import save, stamp
 
 from cranefmu.reference import solve
 from cranefmu.scenes import hook_sway_metrics, hook_sway_parameters
 
-ROOT = Path(__file__).resolve().parent.parent
 G, M_P, L_P = 9.81, 10.0, 0.5
 HOOKS = [(m, l) for m in (3.0, 4.0, 5.0) for l in (0.4, 0.45, 0.5)]
 
@@ -46,12 +44,9 @@ def modes(m_h: float, l_h: float, c_pin: float) -> list[tuple[float, float, floa
 
 
 def main(c_pin: float) -> None:
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
-                            text=True).stdout.strip()
     t0 = time.time()
     lines = [f"# hook_sway: hook-pin damper c_pin = {c_pin:g} N m s/rad against hook mass and length (seed 002)", "",
-             f"Commit {commit}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load "
-             f"{os.getloadavg()[0]:.1f} (benchmarks/hook_pin_damping.py).  Payload 10 kg on L_p = 0.5 m.", "",
+             f"{stamp('hook_pin_damping.py')}).  Payload 10 kg on L_p = 0.5 m.", "",
              "| m_h [kg] | L_h [m] | f1 [Hz] | sigma1 [1/s] | relative rotation, mode 1 | payload half-life [s] "
              "| f2 [Hz] | sigma2 [1/s] | monolith: last/first 2 s of 30 s | without c_pin |",
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
@@ -67,10 +62,7 @@ def main(c_pin: float) -> None:
         lines.append(f"| {m_h:g} | {l_h:g} | {f1:.4f} | {s1:.5f} | {r1:.4f} | {math.log(2) / s1:.1f} | {f2:.3f} | "
                      f"{s2:.3f} | {ratios[0]:.4f} | {ratios[1]:.4f} |")
         print(lines[-1], flush=True)
-    lines += ["", f"Run time {time.time() - t0:.0f} s."]
-    text = "\n".join(lines) + "\n"
-    print(text)
-    (ROOT / "benchmarks" / "results" / "hook_pin_damping.md").write_text(text)
+    save("hook_pin_damping", lines, t0)
 
 
 if __name__ == "__main__":

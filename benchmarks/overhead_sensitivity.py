@@ -9,18 +9,16 @@ dynamic factor is max rope tension / (T(0) + N(0)).  Writes benchmarks/results/o
 """
 from __future__ import annotations
 
-import os
-import subprocess
 import time
-from pathlib import Path
 
 import numpy as np
+
+from result_table import save, stamp
 
 from cranefmu.errors import CraneFmuError
 from cranefmu.reference import solve
 from cranefmu.scenes import overhead_lift_metrics
 
-ROOT = Path(__file__).resolve().parent.parent
 MEASURED = {"tight": 1.31, "loose": 1.55}   # seed 001 Table 7, the values its Bouc-Wen model met within 2 %
 HEIGHT_TABLE = 11.011367949395796           # girder.height that keeps L_0 = 10 m with m1 = 5000 kg
 G, C1 = 9.81, 4.6e6
@@ -64,12 +62,9 @@ def factor(rope: str, case: str, params: dict) -> str:
 
 
 def main() -> None:
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
-                            text=True).stdout.strip()
     t0 = time.time()
     lines = ["# overhead_lift: sensitivity of the dynamic factor (seed 001)", "",
-             f"Commit {commit}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load "
-             f"{os.getloadavg()[0]:.1f} (benchmarks/overhead_sensitivity.py; monolithic solve, Radau, rtol 1e-6).  "
+             f"{stamp('overhead_sensitivity.py')}; monolithic solve, Radau, rtol 1e-6).  "
              f"Measured (Table 7): tight {MEASURED['tight']}, loose {MEASURED['loose']}.  The Bouc-Wen rope "
              "takes its elasticity from its nine parameters, so E and zeta apply to Kelvin-Voigt only.", "",
              "| change from the shipped scene | KV tight | KV loose | BW tight | BW loose |",
@@ -81,10 +76,7 @@ def main() -> None:
                 cells.append(factor(rope, case, params) if rope in ropes else "-")
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
         print(lines[-1], flush=True)
-    lines += ["", f"Run time {time.time() - t0:.0f} s."]
-    text = "\n".join(lines) + "\n"
-    print(text)
-    (ROOT / "benchmarks" / "results" / "overhead_sensitivity.md").write_text(text)
+    save("overhead_sensitivity", lines, t0)
 
 
 if __name__ == "__main__":

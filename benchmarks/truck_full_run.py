@@ -9,19 +9,16 @@ maximum and largest sway.
 """
 from __future__ import annotations
 
-import os
-import subprocess
 import sys
-import time
-from pathlib import Path
 
 import numpy as np
+
+from result_table import save, stamp
 
 from cranefmu.master.run import run
 from cranefmu.reference import solve
 from cranefmu.scenes import metrics
 
-ROOT = Path(__file__).resolve().parent.parent
 STOP = 40.0
 KEYS = ("N_front_min", "N_rear_max", "max_sway_deg", "tipping_time")
 
@@ -31,11 +28,8 @@ def row(engine: str, end: float, m: dict) -> str:
 
 
 def main(steps: list[float]) -> None:
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
-                            text=True).stdout.strip()
     lines = [f"# truck_telescope: stored settings over {STOP:g} s", "",
-             f"Commit {commit}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load "
-             f"{os.getloadavg()[0]:.1f} (benchmarks/truck_full_run.py).", "",
+             f"{stamp('truck_full_run.py')}).", "",
              "| engine | end [s] | " + " | ".join(KEYS) + " |", "|" + " --- |" * (len(KEYS) + 2)]
     ref = solve("truck_telescope", STOP, np.linspace(0.0, STOP, 4001), rtol=1e-6)
     lines.append(row("monolithic (Radau, rtol 1e-6)", STOP, metrics("truck_telescope", ref)))
@@ -43,9 +37,7 @@ def main(steps: list[float]) -> None:
         res = run("truck_telescope", stop_time=STOP, step_size=h, progress=False).result
         lines.append(row(f"stored settings, H = {h:g} s", float(res["time"][-1]), metrics("truck_telescope", res)))
         print(lines[-1], flush=True)
-    text = "\n".join(lines) + "\n"
-    print(text)
-    (ROOT / "benchmarks" / "results" / "truck_full_run.md").write_text(text)
+    save("truck_full_run", lines)
 
 
 if __name__ == "__main__":
