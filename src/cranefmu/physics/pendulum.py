@@ -182,6 +182,7 @@ class PendulumParams(Params):
 
 _FORCE = ("Fx_rope", "Fy_rope", "Fz_rope")
 _TOP = ("x_top", "y_top", "z_top")
+_VTOP = ("vx_top", "vy_top", "vz_top")
 _MASKS = {1: (0.0, 1.0, 0.0), 2: (1.0, 1.0, 0.0), 3: (1.0, 1.0, 1.0)}
 
 
@@ -237,7 +238,8 @@ class PendulumModel(Model):
         *(Signal(f"v{c}_payload", "m/s", f"{c} velocity of the payload (the hook's without payload)") for c in "xyz"),
         Signal("theta_payload", "rad", "payload angle in the x-y plane from the vertical through the hook"),
         Signal("phi_payload", "rad", "lateral payload angle out of the x-y plane, about the hook"),
-        Signal("sling_force", "N", "sling tension between hook and payload (0 without payload)", depends_on=_FORCE),
+        Signal("sling_force", "N", "sling tension between hook and payload (0 without payload)",
+               depends_on=_FORCE + _TOP + _VTOP),   # the top enters through the hook-pin damper and J_hook
         Signal("lifted", "1", "1 while the load is off the ground (no ground reaction), else 0", discrete=True),
         # why: a rope fed its top from here sees, in every exchange of an iteration, the very point
         # the hook start was placed from ('below_top'); fed from the boom directly, a Jacobi or
