@@ -5,10 +5,12 @@ test_hook_pin_damper_gives_the_damped_double_pendulum): M = [[(m_h + m_p) L_h^2,
 [m_p L_h L_p, m_p L_p^2]], K = diag((m_h + m_p) g L_h, m_p g L_p), C = c_pin [[1, -1], [-1, 1]].  For each
 hook (3-5 kg, 0.4-0.5 m, seed 002's experiment) the table gives both modes' frequency and decay rate, the
 relative hook-payload rotation per unit payload angle in mode 1, and the time for the slow (payload) mode
-to lose half its amplitude.  Then the monolithic solve of the scene (30 s, payload released from 10 deg;
-Radau, rtol 1e-7): payload sway in the last 2 s over the first 2 s.  Writes benchmarks/results/hook_pin_damping.md.
+to lose half its amplitude.  With --monolith also the monolithic solve of the scene for the three corner
+hooks (30 s, payload released from 10 deg; Radau, rtol 1e-7): payload sway in the last 2 s over the first
+2 s, with and without the damper (docs/validation.md has the 20 s runs of seed 002's five hooks).  Writes
+benchmarks/results/hook_pin_damping.md.
 
-    nice -n 10 .venv/bin/python benchmarks/hook_pin_damping.py [c_pin]
+    nice -n 10 .venv/bin/python benchmarks/hook_pin_damping.py [c_pin] [--monolith]
 """
 from __future__ import annotations
 
@@ -43,7 +45,15 @@ def modes(m_h: float, l_h: float, c_pin: float) -> list[tuple[float, float, floa
     return out
 
 
-def main(c_pin: float) -> None:
+def sway_ratio(m_h: float, l_h: float, c_pin: float) -> float:
+    """Payload sway, last 2 s over the first 2 s of 30 s (monolithic solve)."""
+    t = np.linspace(0.0, 30.0, 6001)
+    r = solve("hook_sway", 30.0, t, parameters={**hook_sway_parameters(m_hook=m_h, hook_length=l_h),
+                                                "pendulum.c_pin": c_pin}, rtol=1e-7)
+    return hook_sway_metrics(r)["sway_ratio"]
+
+
+def main(c_pin: float, monolith: bool) -> None:
     t0 = time.time()
     lines = [f"# hook_sway: hook-pin damper c_pin = {c_pin:g} N m s/rad against hook mass and length (seed 002)", "",
              f"{stamp('hook_pin_damping.py')}).  Payload 10 kg on L_p = 0.5 m.", "",
@@ -52,17 +62,13 @@ def main(c_pin: float) -> None:
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for m_h, l_h in HOOKS:
         (f1, s1, r1), (f2, s2, _) = modes(m_h, l_h, c_pin)
-        ratios = []
-        for c in (c_pin, 0.0):
-            t = np.linspace(0.0, 30.0, 6001)
-            r = solve("hook_sway", 30.0, t, parameters={**hook_sway_parameters(m_hook=m_h, hook_length=l_h),
-                                                        "pendulum.c_pin": c}, rtol=1e-7)
-            m = hook_sway_metrics(r)
-            ratios.append(m["sway_ratio"])
+        corner = monolith and (m_h, l_h) in ((3.0, 0.4), (5.0, 0.4), (3.0, 0.5))
+        ratios = [f"{sway_ratio(m_h, l_h, c):.4f}" if corner else "-" for c in (c_pin, 0.0)]
         lines.append(f"| {m_h:g} | {l_h:g} | {f1:.4f} | {s1:.5f} | {r1:.4f} | {math.log(2) / s1:.1f} | {f2:.3f} | "
-                     f"{s2:.3f} | {ratios[0]:.4f} | {ratios[1]:.4f} |")
+                     f"{s2:.3f} | {ratios[0]} | {ratios[1]} |")
         save("hook_pin_damping", lines, t0)   # after every row: a long run keeps what it measured
 
 
 if __name__ == "__main__":
-    main(float(sys.argv[1]) if len(sys.argv) > 1 else 2.0)
+    args = [a for a in sys.argv[1:] if a != "--monolith"]
+    main(float(args[0]) if args else 2.0, "--monolith" in sys.argv[1:])
