@@ -26,7 +26,8 @@ import numpy as np  # noqa: E402
 from cranefmu.errors import CraneFmuError  # noqa: E402
 from cranefmu.reference import solve  # noqa: E402
 from cranefmu.scenes import (hook_sway_metrics, hook_sway_parameters, overhead_lift_metrics,  # noqa: E402
-                             payload_sway, truck_telescope_metrics, truck_telescope_parameters)
+                             payload_sway, static_outrigger_loads, truck_telescope_metrics,
+                             truck_telescope_parameters)
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
@@ -39,6 +40,7 @@ COSIM_STEP = 5e-5         # Bouc-Wen loose: the co-simulation converges only bel
 TRUCK_STEP = 1e-2         # truck_telescope, Jacobi x1: 4.6e-4 of range over 30 s (benchmarks/results/speed_accuracy.md)
 ANGLE_SETS = ((30.0, "luff30"), (45.0, "luff45"), (60.0, "default"))
 MEASURED = {"tight": (1.31, 1.29, 1.32), "loose": (1.55, 1.45, 1.55)}   # seed 001 Table 7
+PIN = 2.0                 # hook_sway parameter set pin_damper: c_pin [N m s/rad]
 
 
 def run(scene: str, stop: float, n: int, parameter_set: str = "default", parameters: dict | None = None) -> dict:
@@ -117,13 +119,24 @@ def overhead_lift(quick: bool) -> list[str]:
                     results[(rope, case)] = {"error": f"{type(err2).__name__}: {err2}"}
                     continue
             m = {**overhead_lift_metrics(r), "engine": engine}
+            if case == "loose":   # the hoist's take-up speed at the hook when the rope goes taut
+                taut = int(np.flatnonzero(r["rope.tension"] > 0.0)[0])
+                m["take_up"] = -float(r["drive.payout_rate"][taut - 1]) / 4.0
             results[(rope, case)] = m
             curves.append((r["time"], r["rope.tension"] / 1e3, f"{rope}, {case}"))
     md = ["## overhead_lift: dynamic factor of lifting a grounded load (seed 001)", "",
           "1800 kg load and 30 kg hook on the ground, 4-line reeving on a twin drum, motor SZUDe 56b started "
           "at t = 0.2 s with a 0.5 s frequency ramp; the dynamic factor is the largest rope tension over the "
-          "suspended weight W = T(0) + N(0) = 1830 kg x g.  EN 13001-2: phi2 = phi2,min + beta2 v_h with "
-          f"v_h = {HOOK_SPEED} m/s (HD1: no creep speed, so v_h = v_h,max; seed 001 Table 6 V_p).", "",
+          "suspended weight W = T(0) + N(0) = 1830 kg x g.  Girder: Table 6's 5000 kg read as the girder's mass, "
+          "its reduced mass at mid-span 17/35 of it (`girder.mass_model = beam`, Rayleigh).  EN 13001-2: "
+          "phi2 = phi2,min + beta2 v_h with "
+          f"v_h = {HOOK_SPEED} m/s (HD1: no creep speed, so v_h = v_h,max; seed 001 Table 6 V_p).  Loose rope: "
+          "the rope is taken up at "
+          + ", ".join(f"{m['take_up']:.4f} m/s ({rope})" for (rope, case), m in results.items()
+                      if case == "loose" and "take_up" in m)
+          + " at the hook when it goes taut (motor unloaded, near synchronous speed: 1000 rpm / 60 x 2 pi x "
+          "0.25 m x 2 / 4 = 0.2182 m/s).  Sensitivity of these factors: benchmarks/results/overhead_sensitivity.md.",
+          "",
           "| rope model | start | dynamic factor | lift-off [s] | measured (Table 7) | model - measured |",
           "| --- | --- | --- | --- | --- | --- |"]
     for (rope, case), m in results.items():
@@ -157,8 +170,20 @@ def truck(quick: bool) -> list[str]:
            f"| front outrigger N1 | {n1[0] / 1e3:.2f} kN | 77.8 kN | {100 * (n1[0] / 77800 - 1):+.2f} % |",
            f"| settlement rear q2 | {r['chassis.q2'][0] * 1e3:.3f} mm | 2.57 mm | |",
            f"| settlement front q1 | {r['chassis.q1'][0] * 1e3:.3f} mm | 1.92 mm | |",
-           f"| rope static elongation | {r['rope.elongation'][0] * 1e3:.3f} mm | 9.03 mm (3.5 t) | "
-           f"{100 * (r['rope.elongation'][0] / 0.00903 - 1):+.1f} % (2.5 t vs 3.5 t: -28.6 % expected) |", ""]
+           f"| rope static elongation | {r['rope.elongation'][0] * 1e3:.3f} mm | {x_s0(2500.0) * 1e3:.3f} mm "
+           f"(x_s0 = P (l5 + s0 / n_p) / E F at 2.5 t; printed 9.03 mm, the formula gives "
+           f"{x_s0(3500.0) * 1e3:.2f} mm at 3.5 t) | {100 * (r['rope.elongation'][0] / x_s0(2500.0) - 1):+.2f} % |", ""]
+    n35 = static_outrigger_loads(10.5, 60.0, 3500.0)
+    md += ["Which load belongs to which mass (statics, `cranefmu.scenes.static_outrigger_loads`, boom 10.5 m at 60 deg): "
+           f"2.5 t gives N2 = {static_outrigger_loads(10.5, 60.0, 2500.0)[1] / 1e3:.2f} kN (boom side) and "
+           f"N1 = {static_outrigger_loads(10.5, 60.0, 2500.0)[0] / 1e3:.2f} kN, the printed 104.13 / 77.8 kN; the 3.5 t "
+           f"the text simulates gives N2 = {n35[1] / 1e3:.2f} kN and N1 = {n35[0] / 1e3:.2f} kN.", "",
+           "Static tipping boom length (front outrigger unloaded; segments 3 and 4 extended with the tip):", "",
+           "| load | 30 deg | 45 deg | 60 deg |", "| --- | --- | --- | --- |"]
+    for load in (2500.0, 3500.0):
+        md.append(f"| {load / 1e3:g} t | " + " | ".join(f"{static_tipping_length(a, load):.2f} m" for a in (30.0, 45.0, 60.0))
+                  + " |")
+    md += [""]
     phases = (("0-3 s (accelerating)", 0.0, 3.0, (68.3, 93.6)), ("3-17 s (steady)", 3.0, 17.0, None),
               ("17-20 s (decelerating)", 17.0, 20.0, (141.5, 152.4)), ("after 20 s (at rest)", 20.0, t[-1], (130.6, 147.2)))
     md += ["Outrigger reactions by phase (kN):", "",
@@ -229,7 +254,39 @@ def truck(quick: bool) -> list[str]:
     rr = run("truck_telescope", 20.0 + extra, 2001, "default", truck_telescope_parameters(load=3500.0))
     mm = truck_telescope_metrics(rr)
     md += [f"With the 3.5 t load of the text at 60 deg: tipping {tipping_text(mm)}.", ""]
+    md += luffing(quick)
     return md, speed_rows
+
+
+def x_s0(load: float) -> float:
+    """Seed 000's static rope stretch x_s0 = P (l5 + s10 + s20 + s0 / n_p) / (E F) [m] at the start (s10 = s20 = 0)."""
+    return load * G * (9.0 + 9.09 / 2) / (1.4e11 * math.pi * 0.02 ** 2 / 4)
+
+
+def static_tipping_length(angle_deg: float, load: float) -> float:
+    """Boom length [m] at which the front outrigger unloads, statically."""
+    from scipy.optimize import brentq
+
+    return brentq(lambda length: static_outrigger_loads(length, angle_deg, load)[0], 10.5, 60.0, xtol=1e-6)
+
+
+def luffing(quick: bool) -> list[str]:
+    """Parameter set luffing: the elastic cylinder luffs the retracted boom 60 -> 45 deg."""
+    stop = 20.0 if quick else 30.0
+    r = run("truck_telescope", stop, 3001, "luffing")
+    t = r["time"]
+    w = t >= t[-1] - 4.0 * math.pi * math.sqrt(9.1 / G)   # two swings of the load
+    phi = math.degrees(float(np.mean(r["boom.luff_angle_out"][w])))
+    front, rear = static_outrigger_loads(10.5, phi, 2500.0)
+    n1, n2 = float(np.mean(r["chassis.N_front"][w])), float(np.mean(r["chassis.N_rear"][w]))
+    return ["### Luffing on the elastic cylinder (parameter set luffing)", "",
+            "The retracted boom luffed from 60 to 45 deg at 0.05 rad/s by the spring-damper cylinder (seed 000's "
+            f"luffing degree of freedom), 2.5 t.  Averaged over two swings of the load at the end of {stop:g} s: "
+            f"angle {phi:.3f} deg (the oil column sags under the larger moment), N1 {n1 / 1e3:.2f} kN against the "
+            f"statics at that angle {front / 1e3:.2f} kN ({100 * (n1 / front - 1):+.3f} %), N2 {n2 / 1e3:.2f} kN "
+            f"against {rear / 1e3:.2f} kN ({100 * (n2 / rear - 1):+.3f} %); the load swings "
+            f"{math.degrees(np.ptp(r['pendulum.theta'][w]) / 2):.2f} deg; cylinder force "
+            f"{r['boom.cylinder_force'].min() / 1e3:.1f} .. {r['boom.cylinder_force'].max() / 1e3:.1f} kN.", ""]
 
 
 def tipping_text(m: dict) -> str:
@@ -249,16 +306,23 @@ def hook(quick: bool) -> list[str]:
           "the two pendulum modes: the hook draws energy off the payload and gives it back); 'half at' = first "
           "time a swing peak is below half the first.", "",
           "| hook mass m_h [kg] | hook length L_h [m] | first [deg] | last [deg] | last / first | smallest swing | "
-          "half at [s] |", "| --- | --- | --- | --- | --- | --- | --- |"]
+          f"half at [s] | last / first with c_pin = {PIN} N m s/rad (set pin_damper) |",
+          "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     curves_m, rows = [], []
     for mh, lh in ((3.0, 0.4), (4.0, 0.4), (5.0, 0.4), (3.0, 0.45), (3.0, 0.5)):
         rr = run("hook_sway", stop, 2001, "default", hook_sway_parameters(m_hook=mh, hook_length=lh))
         mm = hook_sway_metrics(rr)
         rows.append((mh, lh, mm))
         curves_m.append((rr["time"], np.degrees(payload_sway(rr)), f"m_h {mh:g} kg, L_h {lh:g} m"))
+        pin = hook_sway_metrics(run("hook_sway", stop, 2001, "pin_damper", hook_sway_parameters(m_hook=mh, hook_length=lh)))
         md.append(f"| {mh:g} | {lh:g} | {mm['sway_first_deg']:.3f} | {mm['sway_last_deg']:.3f} | {mm['sway_ratio']:.3f} | "
-                  f"{mm['min_peak_ratio']:.3f} | {mm['half_time']:.2f} |")
+                  f"{mm['min_peak_ratio']:.3f} | {mm['half_time']:.2f} | {pin['sway_ratio']:.3f} |")
     md += ["", figure("hook_sway", "hook_sway: payload sway", curves_m, "sway [deg]"), ""]
+    cm = run("hook_sway", 15.0, 3001, "crane_motion")
+    md += ["Crane motions (parameter set crane_motion: travel 1 m at 0.3 m/s, then steering 45 deg at 0.2 rad/s, "
+           "hook-pin damper on; payload at rest at the start): largest payload sway "
+           f"{np.degrees(payload_sway(cm)).max():.2f} deg, hook sway up to {np.degrees(np.abs(cm['pendulum.theta'])).max():.2f} "
+           f"deg in the x-y plane and {np.degrees(np.abs(cm['pendulum.phi'])).max():.2f} deg out of it.", ""]
     md += suppression()
     return md, rows
 

@@ -270,15 +270,24 @@ def hook_sway_parameters(m_hook: float = 3.0, hook_length: float = 0.4, L_sling:
             "pendulum.m_payload": m_payload}
 
 
-def static_outrigger_loads(boom_length: float, angle_deg: float, load: float) -> tuple[float, float]:
-    """(N_front, N_rear) [N] of the truck crane at rest with the boom at ``boom_length`` [m] and
-    ``angle_deg``, hook load ``load`` [kg] hanging from the tip, statically determinate (negative:
-    the crane tips).  Uses the truck_telescope scene's Boom and Chassis models with their defaults."""
+def static_outrigger_loads(boom_length: float, angle_deg: float, load: float,
+                           retracted: float | None = None) -> tuple[float, float]:
+    """(N_front, N_rear) [N] of the truck crane at rest with the boom telescoped to ``boom_length`` [m] at
+    ``angle_deg``, hook load ``load`` [kg] hanging from the tip, statically determinate (negative: the
+    crane tips).  Uses the truck_telescope scene's Boom and Chassis models with their defaults.
+
+    The boom is the retracted boom (``retracted`` [m], default the Boom's boom_length_start, seed 000's
+    L_min = 10.5 m) with segments 4 and 3 extended by the telescoping law (s1 = s2 = (boom_length -
+    retracted) / 2 at V10 = V20): their masses move out with the tip, as in the scene after telescoping."""
     from .physics.boom import BoomModel, BoomParams
     from .physics.chassis import ChassisModel, ChassisParams
 
-    boom = BoomModel(BoomParams(boom_length_start=boom_length, boom_length_end=boom_length,
+    start = BoomParams().boom_length_start if retracted is None else retracted
+    if not boom_length >= start:
+        raise ValueError(f"boom_length = {boom_length!r} m is shorter than the retracted boom: allowed >= {start!r} m")
+    boom = BoomModel(BoomParams(boom_length_start=start, boom_length_end=boom_length, t_acc=0.0,
                                 luff_angle=math.radians(angle_deg)))
-    y = boom.output_values(0.0, np.zeros(3), np.array([0.0, 0.0, 0.0, 0.0, 0.0, -load * G, 0.0]))
+    t_end = (boom_length - start) / (2.0 * boom.p.telescope_speed) + 1.0   # after the extension (no accelerations)
+    y = boom.output_values(t_end, np.zeros(3), np.array([0.0, 0.0, 0.0, 0.0, 0.0, -load * G, 0.0]))
     n = ChassisModel(ChassisParams()).static_reactions(np.array(y[6:9]))
     return float(n[0]), float(n[1])

@@ -65,20 +65,23 @@ def test_only_with_jacobi(oscillator_ssp):
 
 # explicit Jacobi x1 (implicit=[]: not the scene's stored group)
 TRUCK = dict(stop_time=13.0, algorithm="jacobi", extrapolation=1, implicit=[], progress=False, coupling_tolerance=1e-5)
+ALL_TRUCK_BONDS = ["foot_heave", "foot_tilt", "tip", "hook", "drum"]
 
 
-def test_truck_foot_bond_implicit_runs_at_20_ms_where_jacobi_trips(built):
-    """truck_telescope at H = 20 ms: Jacobi's alarm trips through the soil-stiff foot bond (t ~ 11 s);
-    with foot_heave implicit the run goes through and agrees with Jacobi at 10 ms (0.05 % of range
-    from the monolith, benchmarks/results/implicit_bond.md) to 0.5 % of each key output's range."""
+def test_truck_foot_bond_implicit_runs_at_40_ms_where_jacobi_trips(built):
+    """truck_telescope at H = 40 ms: Jacobi's alarm trips through the soil-stiff foot bond (foot_tilt,
+    t ~ 10 s); with every bond implicit the run goes through and agrees with Jacobi at 10 ms to 0.5 % of
+    each key output's range.  (Before the rope per seed 000 eq. 28 and the boom's inertia carried by the
+    chassis, Jacobi tripped at 20 ms and foot_heave alone sufficed; at 40 ms the stiffer rope's bonds
+    hook and drum need the group as well.)"""
     with pytest.raises(SimulationError, match="foot_"):
-        run("truck_telescope", step_size=0.02, **TRUCK)
-    imp = run("truck_telescope", step_size=0.02, **{**TRUCK, "implicit": ["foot_heave"]})
+        run("truck_telescope", step_size=0.04, **TRUCK)
+    imp = run("truck_telescope", step_size=0.04, **{**TRUCK, "implicit": ALL_TRUCK_BONDS})
     fine = run("truck_telescope", step_size=0.01, **TRUCK).result
-    assert imp.stats.iterations / imp.stats.steps < 3   # one Newton correction with a frozen Jacobian
+    assert imp.stats.iterations / imp.stats.steps < 4   # a few Newton corrections with a frozen Jacobian
     res = imp.result
     for k in key_outputs("truck_telescope"):
-        ref = fine[k][::2]
+        ref = fine[k][::4]
         assert np.max(np.abs(res[k] - ref)) < 5e-3 * np.ptp(ref), k
 
 
@@ -89,17 +92,16 @@ def test_unknown_truck_name_lists_bonds_and_components(built):
     assert "'foot_heav'" in msg and "foot_heave" in msg and "foot_tilt" in msg and "chassis" in msg
 
 
-ALL_TRUCK_BONDS = ["foot_heave", "foot_tilt", "tip", "hook", "drum"]
-
-
 def test_bonds_solved_inside_the_group_are_not_watched_by_the_alarm(built):
     """With every bond implicit the residuals are the Newton iteration's (at its tolerance): the growth
-    alarm read them as an unstable explicit coupling at 60 ms (t = 0.6 s) though the run stays
+    alarm read them as an unstable explicit coupling at 60 ms (t = 0.6 s) though the run stayed
     within 0.09 % of range without it (benchmarks/results/implicit_bond.md).  The alarm now watches
-    only the bonds an explicit coupling crosses, so the run goes on, and its bonds stay balanced."""
+    only the bonds an explicit coupling crosses, so the run goes on, and its bonds stay balanced.
+    (Run at 20 ms, the scene's stored step, since the rope per seed 000 eq. 28 makes 60 ms grow an
+    oscillation of its own: benchmarks/results/truck_full_run.md.)"""
     from cranefmu.master.divergence import Watch
 
-    res = run("truck_telescope", stop_time=6.0, step_size=0.06, algorithm="jacobi", extrapolation=1,
+    res = run("truck_telescope", stop_time=2.0, step_size=0.02, algorithm="jacobi", extrapolation=1,
               implicit=ALL_TRUCK_BONDS, coupling_tolerance=1e-3, progress=False)
     assert res.stats.steps == 100
     for bond, residual in res.stats.bond_energy.items():

@@ -143,7 +143,7 @@ def test_info_shows_units_and_each_set_as_its_changes_from_default(built, tmp_pa
 
     lines = describe(load_scene(b.SSP_DIR / "truck_telescope.ssp", tmp_path))
     text = "\n".join(lines)
-    assert "    rope.E = 42293120638.08574 Pa" in lines and "    pendulum.start = 1 (below_top)" in lines
+    assert "    rope.E = 140000000000.0 Pa" in lines and "    rope.run_length = 9.0 m" in lines and "    pendulum.start = 1 (below_top)" in lines
     assert "    rope.n_lines = 2" in lines and "    boom.t_acc = 3.0 s" in lines
     # luff30.ssv repeats 11 default values; only the two it changes are shown
     i = lines.index("  parameter set luff30: 2 change(s) from default:")

@@ -244,3 +244,30 @@ def test_bad_parameters_are_refused():
         BoomParams(telescope_speed=-0.35)
     with pytest.raises(ParameterError, match=r"boom\.cyl_base_angle"):
         BoomParams(cyl_base_angle=math.radians(100.0))
+
+
+def test_crane_motions_carry_a_kinematic_tip_in_3d():
+    """Seed 002's floor-crane motions (travel, steering about the vertical axis through the origin, the
+    auxiliary boom on the main boom): the tip is (x_c + r cos psi, y, r sin psi) and its velocity the time
+    derivative of that (central differences), with travel 1 m, steering 90 deg and the auxiliary boom turned."""
+    p = BoomParams(tip="kinematic", boom_length_end=10.5, luff_angle=0.5, luff_delta=-0.3,
+                   luff_rate=0.1, travel_distance=1.0, travel_speed=0.3, steer_delta=math.pi / 2, steer_rate=0.3,
+                   aux_length=1.2, aux_angle=-0.8, aux_delta=0.4, aux_rate=0.2, aux_start=0.5)
+    m = BoomModel(p)
+    u, x = m.default_inputs(), np.zeros(3)
+
+    def tip(t):
+        y = m.output_values(t, x, u)
+        return y[0:3], y[3:6]
+
+    for t in (0.7, 2.2, 4.1, 6.3):
+        h = 1e-6
+        vel = (tip(t + h)[0] - tip(t - h)[0]) / (2 * h)
+        assert np.allclose(tip(t)[1], vel, rtol=0, atol=1e-7)
+    end, v_end = tip(30.0)
+    beta, beta_a = 0.5 - 0.3, 0.5 - 0.3 - 0.8 + 0.4
+    r = 10.5 * math.cos(beta) + 1.2 * math.cos(beta_a)
+    assert end == pytest.approx([1.0, 10.5 * math.sin(beta) + 1.2 * math.sin(beta_a), r], abs=1e-12)
+    assert np.all(v_end == 0.0)
+    with pytest.raises(ParameterError, match="kinematic tip"):
+        BoomParams(travel_distance=1.0)

@@ -183,6 +183,47 @@ def test_heave_and_pitch_frequencies_of_symmetric_body():
         assert abs(sol.sol(period / 2)[1 - dof] - x0[1 - dof]) < 1e-9 * amp
 
 
+def test_carried_boom_adds_its_inertia_about_the_foot():
+    """boom_inertia = 'carried': a symmetric body with the boom's mass m_b at O2 (S = 0) and its J_b about O2
+    heaves at omega^2 = 2c/(M + m_b) and pitches at omega^2 = c (x1^2 + x2^2)/(J + J_b); the exact step
+    (solver 'exact') and the right-hand side agree, and energy is conserved without damping."""
+    p = ChassisParams(damping=0.0, x_body=1.54, x_platform=1.54, x_slew=1.54, boom_inertia="carried")
+    m = ChassisModel(p)
+    m_b, j_b, c = 756.0, 1.61e5, 40.5e6   # the seed 000 boom at 22.4 m: J about O2 6.6 x the chassis' J_O
+    u = np.array([0.0, 0.0, 0.0, m_b, 0.0, j_b])
+    mass, j = p.m_body + p.m_platform + m_b, p.J_body + p.J_platform + j_b
+    m.carry(u)
+    a, _, _ = m.linear_system()
+    omegas = sorted(np.sqrt(-np.linalg.eigvals(a[2:, :2]).real))
+    assert omegas == [pytest.approx(math.sqrt(c * 2 * 1.54 ** 2 / j), rel=1e-12),
+                      pytest.approx(math.sqrt(2 * c / mass), rel=1e-12)]
+    # a boom leaning out (S cos psi > 0) couples heave and pitch; energy is still conserved
+    u[4] = 4.0e3
+    x0 = m.initial_state(u) + np.array([2e-4, 1e-4, 0.0, 0.0])
+    sol = integrate(m, u, x0, 0.5)
+    e = np.array([m.energy(x, u) for x in sol.y.T])
+    assert np.max(np.abs(e - e[0])) < 1e-8 * abs(e[0] - m.energy(m.initial_state(u), u))
+    x_exact = m.exact_step(0.0, x0, 0.5, u, np.zeros(6), np.zeros(6), 0.01)
+    assert np.allclose(x_exact, sol.y[:, -1], rtol=1e-7, atol=1e-13)
+
+
+def test_boom_hands_the_chassis_its_inertia_about_the_foot():
+    """Rigid cylinder: m_carried = sum m_i, Sx_carried = S cos psi, J_carried = J about O2 (eq. 15-18);
+    elastic cylinder: only the mass (the boom keeps its own elevation)."""
+    from cranefmu.physics.boom import mass_state
+    for cylinder in ("prescribed", "spring_damper"):
+        boom = BoomModel(BoomParams(luff_angle=math.radians(60.0), cylinder=cylinder))
+        u = boom.default_inputs()
+        y = boom.output_values(10.0, boom.initial_state(u), u)
+        ms = mass_state(10.0, boom.p)
+        carried = [y[BOUT[k]] for k in ("m_carried", "Sx_carried", "J_carried")]
+        if cylinder == "prescribed":
+            assert carried == pytest.approx([755.8, ms.S * 0.5, ms.J], rel=1e-12)
+        else:
+            assert carried == [pytest.approx(755.8, rel=1e-12), 0.0, 0.0]
+        assert y[BOUT["extension"]] == pytest.approx(ms.length - 10.5, rel=1e-12)
+
+
 def test_bad_parameters_are_refused():
     with pytest.raises(ParameterError, match=r"chassis\.x_slew = 4\.0"):
         ChassisParams(x_slew=4.0)

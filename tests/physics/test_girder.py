@@ -86,6 +86,27 @@ def test_elastic_bearing_eigenfrequencies():
     assert w_model[0] == pytest.approx(math.sqrt(p.c1 / modal_mass(p)), rel=2e-3)
 
 
+def test_beam_reduced_mass_is_17_35_of_the_girder_and_sets_the_frequency():
+    """mass_model = 'beam': a uniform simply supported girder of mass M moves at mid-span with Rayleigh's
+    17/35 M (static deflection shape, c1 = 48 E I / L^3); 5000 kg -> 2428.6 kg, and the rigid-bearing mode
+    oscillates at sqrt(c1 / (17/35 M + m3)); for the beam alone Rayleigh's frequency is 0.72 % above the exact
+    first bending mode's sqrt(pi^4 E I / (2 L^3) / (M / 2)) (an upper bound, as Rayleigh's quotient must be)."""
+    p = dataclasses.replace(P, mass_model="beam", girder_mass=5000.0, bearing="rigid", b1=0.0)
+    assert modal_mass(p) - p.m3 == pytest.approx(2428.571428571, rel=1e-12)
+    m = GirderModel(p)
+    u = _u(LOAD)
+    jac = np.column_stack([(m.derivatives(0.0, m.initial_state(u) + e, u) - m.derivatives(0.0, m.initial_state(u) - e, u))
+                           / 2e-6 for e in np.eye(4) * 1e-6])
+    w = np.max(np.abs(np.linalg.eigvals(jac[:2, :2]).imag))
+    assert w == pytest.approx(math.sqrt(p.c1 / (17.0 / 35.0 * 5000.0 + p.m3)), rel=1e-9)
+    # the girder alone: Rayleigh (static shape) against the exact sine mode, both with c1 = 48 E I / L^3
+    ei_over_l3 = p.c1 / 48.0
+    exact = math.sqrt(math.pi ** 4 / 2.0 * ei_over_l3 / 2500.0)
+    assert 0.0 < math.sqrt(p.c1 / (17.0 / 35.0 * 5000.0)) / exact - 1.0 < 7.5e-3
+    with pytest.raises(ParameterError, match=r"girder\.m1 = 4000.0 is not used with girder\.mass_model = 'beam'"):
+        dataclasses.replace(p, m1=4000.0)
+
+
 @pytest.mark.parametrize("damping_model,height", [("table", 1.0), ("decrement", 1.0), ("decrement", 2.0)])
 def test_logarithmic_decrement(damping_model, height):
     p = dataclasses.replace(P, bearing="rigid", damping_model=damping_model, girder_height=height)

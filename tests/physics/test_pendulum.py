@@ -19,7 +19,7 @@ def _model(**kw) -> PendulumModel:
 
 
 def _u(fx=0.0, fy=0.0, fz=0.0, top=(0.0, 0.0, 0.0), drop=10.0) -> np.ndarray:
-    return np.array([fx, fy, fz, *top, drop])
+    return np.array([fx, fy, fz, *top, drop, 0.0, 0.0, 0.0])   # v_top: the top at rest
 
 
 def _rope_u(x: np.ndarray, k: float, length: float) -> np.ndarray:
@@ -193,6 +193,40 @@ def test_double_pendulum_normal_modes(payload, dimension):
     assert np.allclose(measured, expect, rtol=1e-4)  # far better than the 0.5 % asked for
 
 
+@pytest.mark.parametrize("dimension", [2, 3])
+@pytest.mark.parametrize("j_hook,j_payload", [(0.0, 0.0), (0.02, 0.3)])
+def test_hook_pin_damper_gives_the_damped_double_pendulum(dimension, j_hook, j_payload):
+    """c_pin, J_hook, J_payload: the linearized hook + payload (seed 002 sizes, stiff rope) has the eigenvalues
+    of the double pendulum with the dissipation 0.5 c_pin (beta' - alpha')^2 on the relative angle and the
+    bodies turning with their links (closed form, Lagrange):
+    M = [[(m_h + m_p) l^2 + J_h, m_p l L], [m_p l L, m_p L^2 + J_p]], K = diag((m_h + m_p) g l, m_p g L),
+    C = c_pin [[1, -1], [-1, 1]]."""
+    mh, mp, l1, l2, k, c = 4.0, 10.0, 0.45, 0.5, 1e8, 0.2
+    y0 = -(l1 + (mh + mp) * G / k)
+    m = _model(dimension=dimension, payload="rigid", mass=mh, m_payload=mp, L_sling=l2, y0=y0, g=G, c_pin=c,
+               J_hook=j_hook, J_payload=j_payload)
+    x0 = m.initial_state(_rope_u(np.array([0.0, y0, 0.0]), k, l1))
+
+    def f(x):
+        return m.derivatives(0.0, x, _rope_u(x, k, l1))
+
+    n = len(x0)
+    jac = np.column_stack([(f(x0 + dx) - f(x0 - dx)) / 2e-7 for dx in np.eye(n) * 1e-7])
+    lam = np.linalg.eigvals(jac)
+    slow = np.sort_complex(lam[(np.abs(lam) > 1e-3) & (np.abs(lam) < 50.0) & (lam.imag > 0)])
+    ell = -y0
+    mass = np.array([[(mh + mp) * ell ** 2 + j_hook, mp * ell * l2], [mp * ell * l2, mp * l2 ** 2 + j_payload]])
+    stiff = np.diag([(mh + mp) * G * ell, mp * G * l2])
+    damp = c * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    a = np.block([[np.zeros((2, 2)), np.eye(2)], [-np.linalg.solve(mass, stiff), -np.linalg.solve(mass, damp)]])
+    exact = np.linalg.eigvals(a)
+    exact = np.sort_complex(exact[exact.imag > 0])
+    assert len(slow) == 2 * (dimension - 1)
+    for lam_model in slow.reshape(dimension - 1, 2) if dimension == 2 else (slow[::2], slow[1::2]):
+        assert np.allclose(np.sort_complex(lam_model), exact, rtol=2e-3)
+    assert np.all(exact.real < 0.0)   # both modes decay
+
+
 # --- energy and angular momentum --------------------------------------------------------------
 
 @pytest.mark.parametrize("payload", ["rigid", "elastic"])
@@ -223,6 +257,38 @@ def test_energy_and_vertical_angular_momentum_conserved_3d(payload):
     assert abs(l1_ - l0) < 1e-7 * abs(l0)
     # the payload did swing (the run tests the non-linear terms, not a resting state)
     assert np.ptp(sol.y[6]) > 0.1
+
+
+def test_payload_inertia_conserves_energy_in_3d_and_the_pin_damper_takes_it():
+    """J_payload (the payload turning with the sling): kinetic energy 0.5 J_p |w_s|^2 joins the point masses';
+    conserved without the damper over a large 3-D swing on an elastic rope, and with c_pin the energy falls by
+    exactly the damper's work, int c_pin |w_s - w_r|^2 dt.  (J_hook leaves out the rope's stretch rate, so its
+    energy balance holds for an inextensible link only: it is checked in the linear test above.)"""
+    mh, mp, l1, l2, k, jh, jp = 4.0, 10.0, 0.45, 0.5, 1e6, 0.0, 0.3
+    u_of = lambda x: _rope_u(x, k, l1)   # noqa: E731
+
+    def parts(m, x):
+        rh, vh = x[0:3], x[3:6]
+        rp, vp = _payload_state(m, x)
+        d, s = rh, rp - rh
+        wr = np.cross(d, vh) / (d @ d)
+        ws = np.cross(s, vp - vh) / (s @ s)
+        energy = (0.5 * mh * vh @ vh + 0.5 * mp * vp @ vp + 0.5 * jh * wr @ wr + 0.5 * jp * ws @ ws
+                  + G * (mh * rh[1] + mp * rp[1]) + 0.5 * k * (math.sqrt(d @ d) - l1) ** 2)
+        return energy, (ws - wr) @ (ws - wr)
+
+    for c in (0.0, 0.5):
+        m = _model(dimension=3, payload="rigid", mass=mh, m_payload=mp, L_sling=l2, x0=0.1, y0=-0.44, z0=0.05,
+                   vz0=0.3, theta_payload0=0.5, phi_payload0=0.3, J_hook=jh, J_payload=jp, c_pin=c)
+        x0 = m.initial_state(u_of(np.array([0.1, -0.44, 0.05])))
+        sol = solve_ivp(lambda t, x: m.derivatives(t, x, u_of(x)), (0.0, 2.0), x0, method="DOP853", rtol=1e-11,
+                        atol=1e-12, dense_output=True)
+        ts = np.linspace(0.0, 2.0, 4001)
+        e, rate = np.array([parts(m, sol.sol(t)) for t in ts]).T
+        work = c * np.sum(0.5 * (rate[1:] + rate[:-1]) * np.diff(ts))   # trapezoid rule
+        scale = (mh + mp) * G * (l1 + l2)
+        assert abs(e[-1] - e[0] + work) < 1e-6 * scale
+        assert (work > 1e-3 * scale) == (c > 0.0)
 
 
 def test_rigid_sling_equations_agree_with_newton_on_the_payload():

@@ -60,3 +60,29 @@ def test_damping_coefficient_of_seed_001_eq_9():
 def test_bad_parameters_are_refused_with_name_and_range(field, value):
     with pytest.raises(ParameterError, match=f"rope.{field}"):
         RopeParams(**{field: value})
+
+
+def test_series_run_softens_the_reeving_as_seed_000_eq_28_prints():
+    """Seed 000 eq. 26-28: c = E F / (l5 + s1 + s2 + s / n_p), with the run growing by the input
+    run_extension (s1 + s2), and the hook at rest hangs by the static stretch load / c."""
+    E, A, s, run, n = 1.4e11, math.pi * 0.02 ** 2 / 4, 9.09, 9.0, 2
+    m = RopeModel(RopeParams(length=s, n_lines=n, E=E, A=A, zeta=0.0, run_length=run))
+    for extension in (0.0, 5.95):
+        c = E * A / (run + extension + s / n)
+        u = m.default_inputs()
+        u[7], u[15], u[16] = -(s + 0.004), 24525.0, extension   # y_hook, load (2.5 t), run_extension
+        y = m.output_values(0.0, np.zeros(0), u)
+        assert y[0] == pytest.approx(c * 0.004, rel=1e-12)
+        hang = y[12]
+        assert hang - s == pytest.approx(24525.0 / c, rel=1e-12)   # 7.553 mm retracted (seed 000 x_s0 form)
+    assert 24525.0 * (run + s / n) / (E * A) == pytest.approx(7.553e-3, abs=1e-6)
+
+
+def test_taut_start_with_a_series_run_carries_the_load_at_rest():
+    """start = 'taut' takes up the falls so that falls and run together carry the load between the end points."""
+    E, A, s, run, n, load = 1.4e11, 3.1416e-4, 9.0, 9.0, 2, 24525.0
+    m = RopeModel(RopeParams(n_lines=n, E=E, A=A, zeta=0.0, run_length=run, start="taut"))
+    u = m.default_inputs()
+    u[7], u[15], u[16] = -s, load, 1.5
+    x = m.initial_state(u)
+    assert m.output_values(0.0, x, u)[0] == pytest.approx(load, rel=1e-12)

@@ -26,7 +26,7 @@ def test_reference_wires_every_output_of_the_scene():
     mono = Monolith("truck_telescope")
     assert "chassis.N_rear" in mono.columns and "boom.x_tip" in mono.columns
     ssd = (Path(__file__).resolve().parents[2] / "ssp" / "truck_telescope" / "SystemStructure.ssd").read_text()
-    assert len(mono.links) == ssd.count("<ssd:Connection ") == 34
+    assert len(mono.links) == ssd.count("<ssd:Connection ") == 38
 
 
 @pytest.mark.parametrize("extrapolation, order, steps", [(0, 1.0, (4e-3, 2e-3, 1e-3)),

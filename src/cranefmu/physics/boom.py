@@ -34,14 +34,19 @@ telescoping):
 J_O = sum m_i (r_i^2 + l_i^2/12) + m2 L^2 and S = sum m_i r_i (eq. 15-18).  ``offset`` (a state held
 constant) is the static oil-column compression chosen in ``initial_state`` so the loaded boom rests
 at the commanded angle.  ``tip = "kinematic"``: the tip follows the prescribed laws from a fixed foot
-(base inputs ignored, no dynamics), e.g. a tip at rest for the hook_sway scene.
+(base inputs ignored, no dynamics), e.g. a tip at rest for the hook_sway scene; seed 002's floor-crane
+motions (travel along x, steering about the vertical axis through the origin, an auxiliary boom on the
+main boom's tip, each a trapezoid law) carry it in 3-D (:func:`crane_motion_tip`).
 
 Base reactions (derived, Newton-Euler of the boom; reduced to O2): the chassis receives
 F = F_tip + m g - sum m_i a_i and M = r_B x F_tip + sum r_i x m_i g - dH_O2/dt, with
 sum m_i a_i = (S'' - S psi'^2) e_r + (2 S' psi' + S psi'') e_psi and dH/dt = J_O psi'' + J_O' psi'.
-Neglected: the foot's acceleration (inputs carry no accelerations; the boom is ~5 % of the chassis
-mass), the horizontal motion of O2 due to the tilt (eq. 11), masses m6, m7 (the seed drops them in
-eq. 30), and the lateral tip force Fz_tip (planar model: it is taken by the slewing gear).
+The foot's acceleration is not in these reactions: the boom's inertia as the foot moves it goes to
+the chassis as added mass (outputs m_carried, Sx_carried, J_carried; Chassis ``boom_inertia =
+"carried"``), exact for the rigid cylinder; with the elastic cylinder the foot carries the boom's
+mass, and psi's equation neglects the foot's heave acceleration.  Neglected: the horizontal motion
+of O2 due to the tilt (eq. 11), masses m6, m7 (the seed drops them in eq. 30), and the lateral tip
+force Fz_tip (planar model: it is taken by the slewing gear).
 """
 from __future__ import annotations
 
@@ -106,6 +111,26 @@ class BoomParams(Params):
                                       min=0, min_open=True)
     cylinder_damping: float = param(1.0e5, "N.s/m", "damping of the luffing cylinder (estimate: about 4 % of "
                                     "critical for the 3.8 Hz luffing mode of the retracted boom)", min=0, tunable=True)
+    # --- crane motions of a kinematic tip (seed 002's floor crane: travel, steering, two boom rotations)
+    travel_distance: float = param(0.0, "m", "tip = 'kinematic': travel of the crane along x (trapezoid; 0: none)")
+    travel_speed: float = param(0.3, "m/s", "steady travel speed", min=0, min_open=True)
+    travel_t_acc: float = param(1.0, "s", "acceleration (and deceleration) time of the travel", min=0)
+    travel_start: float = param(0.0, "s", "time the travel starts", min=0)
+    steer_delta: float = param(0.0, "rad", "tip = 'kinematic': steering, a rotation of the crane about the vertical "
+                               "axis through the scene origin (fixed-axis rotation, seed 002; 0: none)",
+                               min=-math.pi, max=math.pi)
+    steer_rate: float = param(0.2, "rad/s", "steady steering rate", min=0, min_open=True)
+    steer_t_acc: float = param(1.0, "s", "acceleration (and deceleration) time of the steering", min=0)
+    steer_start: float = param(0.0, "s", "time the steering starts", min=0)
+    aux_length: float = param(0.0, "m", "tip = 'kinematic': length of the auxiliary (outer) boom on the tip of the "
+                              "main boom (seed 002 L_Ba; 0: none)", min=0)
+    aux_angle: float = param(0.0, "rad", "angle of the auxiliary boom relative to the main boom at the start",
+                             min=-math.pi, max=math.pi)
+    aux_delta: float = param(0.0, "rad", "change of the auxiliary boom's angle (its rotation manoeuvre; 0: none)",
+                             min=-math.pi, max=math.pi)
+    aux_rate: float = param(0.1, "rad/s", "steady rotation rate of the auxiliary boom", min=0, min_open=True)
+    aux_t_acc: float = param(1.0, "s", "acceleration (and deceleration) time of the auxiliary boom", min=0)
+    aux_start: float = param(0.0, "s", "time the auxiliary boom starts to rotate", min=0)
     # --- frame
     x_foot: float = param(0.0, "m", "x of the boom foot O2 in the scene frame")
     y_foot: float = param(0.0, "m", "y of the boom foot O2 in the scene frame at zero settlement")
@@ -128,6 +153,15 @@ class BoomParams(Params):
                 raise ParameterError(f"boom.{name} = {off!r} is not allowed: the segment would reach beyond the "
                                      f"retracted tip; allowed <= boom_length_start - its length = "
                                      f"{self.boom_length_start - length:.6g} m")
+        for name, delta, rate, t_acc in (("travel", self.travel_distance, self.travel_speed, self.travel_t_acc),
+                                         ("steer", self.steer_delta, self.steer_rate, self.steer_t_acc),
+                                         ("aux", self.aux_delta, self.aux_rate, self.aux_t_acc)):
+            if delta != 0.0 and t_acc > abs(delta) / rate:
+                raise ParameterError(f"boom.{name}_t_acc = {t_acc!r} is too long: allowed <= |{name} change| / "
+                                     f"steady rate = {abs(delta) / rate:.6g} s")
+        if self.tip == "dynamic" and (self.travel_distance, self.steer_delta, self.aux_length) != (0.0, 0.0, 0.0):
+            raise ParameterError("boom.travel_distance, steer_delta and aux_length move a kinematic tip: allowed 0 "
+                                 "with boom.tip = 'dynamic' (the chassis moves a dynamic boom's foot)")
         for phi in (self.luff_angle, self.luff_angle + self.luff_delta):
             rel = math.remainder(phi - self.cyl_base_angle, 2.0 * math.pi)
             if not 0.0 < rel < math.pi:
@@ -242,6 +276,29 @@ def base_reactions(ms: MassState, psi: float, psi_rate: float, psi_acc: float, f
     return fbx, fby, mb
 
 
+def crane_motion_tip(t: float, p: BoomParams, beta: float, beta_rate: float, length: float, length_rate: float
+                     ) -> tuple[tuple[tuple[float, float], float], tuple[tuple[float, float], float]]:
+    """((x, y), z) and ((vx, vy), vz) of a kinematic tip carried by seed 002's crane motions (derived):
+    the main boom (``length`` [m], elevation ``beta`` [rad] and their rates) with the auxiliary boom at
+    beta + beta_a on its tip reaches r = x_foot + L cos beta + L_a cos(beta + beta_a) from the steering axis
+    (the scene's vertical axis x = z = 0) at height y = y_foot + L sin beta + L_a sin(beta + beta_a); steering
+    turns that plane by psi about the axis and travel moves the axis by x_c along x:
+
+        tip = (x_c + r cos psi, y, r sin psi),   all four angles and x_c from trapezoid laws."""
+    xc, vxc, _ = trapezoid_motion(t, p.travel_start, p.travel_distance, p.travel_speed, p.travel_t_acc)
+    psi, dpsi, _ = trapezoid_motion(t, p.steer_start, p.steer_delta, p.steer_rate, p.steer_t_acc)
+    da, dda, _ = trapezoid_motion(t, p.aux_start, p.aux_delta, p.aux_rate, p.aux_t_acc)
+    ang, ang_rate = beta + p.aux_angle + da, beta_rate + dda
+    cb, sb, ca, sa = math.cos(beta), math.sin(beta), math.cos(ang), math.sin(ang)
+    r = p.x_foot + length * cb + p.aux_length * ca
+    y = p.y_foot + length * sb + p.aux_length * sa
+    dr = length_rate * cb - length * sb * beta_rate - p.aux_length * sa * ang_rate
+    dy = length_rate * sb + length * cb * beta_rate + p.aux_length * ca * ang_rate
+    cp, sp = math.cos(psi), math.sin(psi)
+    return (((xc + r * cp, y), r * sp),
+            ((vxc + dr * cp - r * sp * dpsi, dy), dr * sp + r * cp * dpsi))
+
+
 # --- the model ----------------------------------------------------------------------------------
 _BASE = ("y_base", "gamma", "vy_base", "gamma_rate")
 _TIP_F = ("Fx_tip", "Fy_tip", "Fz_tip")
@@ -269,10 +326,10 @@ class BoomModel(Model):
     outputs = (
         Signal("x_tip", "m", "x of the boom tip B", depends_on=("gamma",)),
         Signal("y_tip", "m", "y of the boom tip B", depends_on=("y_base", "gamma")),
-        Signal("z_tip", "m", "z of the boom tip B (0: working plane)"),
+        Signal("z_tip", "m", "z of the boom tip B (0: working plane; a steered kinematic tip leaves it)"),
         Signal("vx_tip", "m/s", "x velocity of the boom tip", depends_on=("gamma", "gamma_rate")),
         Signal("vy_tip", "m/s", "y velocity of the boom tip", depends_on=("gamma", "vy_base", "gamma_rate")),
-        Signal("vz_tip", "m/s", "z velocity of the boom tip (0: working plane)"),
+        Signal("vz_tip", "m/s", "z velocity of the boom tip (0: working plane; a steered kinematic tip leaves it)"),
         Signal("Fx_base", "N", "x force the boom (pivot and cylinder) exerts on the chassis", depends_on=_REACT_DEPS),
         Signal("Fy_base", "N", "y force the boom (pivot and cylinder) exerts on the chassis", depends_on=_REACT_DEPS),
         Signal("M_base", "N.m", "moment about z at the boom foot O2 that the boom exerts on the chassis "
@@ -283,7 +340,20 @@ class BoomModel(Model):
         Signal("cylinder_force", "N", "push force of the luffing cylinder", depends_on=_REACT_DEPS),
         Signal("cylinder_length", "m", "length s3 of the luffing cylinder O1-D (eq. 1)", depends_on=("gamma",)),
         Signal("constraint_residual", "m", "|f| of the loop constraint eq. 1", depends_on=("gamma",)),
+        Signal("extension", "m", "telescoped length s1 + s2 = boom_length - boom_length_start (grows the rope "
+               "run along the boom, seed 000 eq. 26)"),
+        Signal("m_carried", "kg", "boom mass the foot O2 carries along (for the chassis' mass matrix; 0 with "
+               "a kinematic tip)"),
+        Signal("Sx_carried", "kg.m", "first moment S cos psi about O2 of the boom turning with the chassis "
+               "(rigid cylinder; 0 otherwise)", depends_on=("gamma",)),
+        Signal("J_carried", "kg.m2", "moment of inertia about O2 of the boom turning with the chassis (rigid "
+               "cylinder; 0 otherwise)"),
     )
+
+    def __init__(self, params: BoomParams):
+        super().__init__(params)
+        p = self.p
+        self._crane_moves = (p.travel_distance, p.steer_delta, p.aux_length) != (0.0, 0.0, 0.0)
 
     def state_names(self) -> tuple[str, ...]:
         # The vector keeps its size in every mode; it is frozen (derivatives 0) unless the
@@ -383,6 +453,9 @@ class BoomModel(Model):
         L, Ld = ms.length, ms.length_rate
         tip = (p.x_foot + L * c, p.y_foot + y_base + L * s)
         vtip = (Ld * c - L * psi_rate * s, vy_base + Ld * s + L * psi_rate * c)
+        tip_z = vtip_z = 0.0
+        if self._crane_moves:
+            (tip, tip_z), (vtip, vtip_z) = crane_motion_tip(t, p, psi, psi_rate, L, Ld)
         fx, fy = u[_FX:_FY + 1].tolist()
         fbx, fby, mb = base_reactions(ms, psi, psi_rate, psi_acc, fx, fy, p.g)
         s3, lever, _, residual = self._cylinder_at(phi1)
@@ -390,7 +463,12 @@ class BoomModel(Model):
             force, _ = self._cylinder_force(t, psi, psi_rate, float(x[2]), float(u[_G]), float(u[_GR]))
         else:
             force = -mb / lever   # the cylinder carries the whole moment about the pivot O2
-        return [tip[0], tip[1], 0.0, vtip[0], vtip[1], 0.0, fbx, fby, mb, L, phi1, force, s3, residual]
+        if p.tip == "kinematic":
+            carried = (0.0, 0.0, 0.0)
+        else:   # the elastic boom keeps its own elevation: the foot carries only its mass
+            carried = (ms.mass, 0.0, 0.0) if self.elastic else (ms.mass, ms.S * c, ms.J)
+        return [tip[0], tip[1], tip_z, vtip[0], vtip[1], vtip_z, fbx, fby, mb, L, phi1, force, s3, residual,
+                L - p.boom_length_start, *carried]
 
     def energy(self, t: float, x: np.ndarray, u: np.ndarray) -> float:
         """Mechanical energy [J] of the elastic boom with the constant tip force as a potential:

@@ -18,6 +18,20 @@ with M = m8 + m9, M x_G = m8 x8 + m9 x9, J_O = J8 + J9 + m8 x8^2 + m9 x9^2 (eq. 
 coordinates).  Fx_base acts at the height h_foot of O2 above the pads; seed 000 neglects it
 (h_foot = 0, eq. 11 keeps O2 from moving horizontally).
 
+Boom carried by the foot (``boom_inertia = "carried"``; seed 000 eq. 24 keeps the boom's terms in
+y_O2' and (phi1' - gamma')).  The boom moves with O2: a boom point at r along the axis (elevation psi)
+moves up by y - gamma r cos psi and sideways by gamma r sin psi, so its kinetic energy adds
+
+    [m_b       -S cos psi] [y'']                         m_b = boom mass, S = sum m_i r_i,
+    [-S cos psi       J_b] [gamma'']   to the mass matrix,  J_b = inertia about O2 (Boom outputs)
+
+while the boom's base reactions keep only its motion relative to the foot (telescoping, luffing).
+With the elastic cylinder (own elevation psi) the boom does not turn with the chassis: it adds only
+m_b (the foot's heave), and its psi equation still neglects the foot's acceleration.  The inputs are
+held over a step (not extrapolated): the exact step uses the mass matrix at the step's start.
+"neglected": the chassis' own mass matrix (the earlier model; the boom's inertia about O2 is 6.6 x
+the chassis' J_O with the boom at 22.4 m).
+
 Soil (seed 000 "C0 = q0 F", Table 2): each outrigger stands on ``pads_per_outrigger`` pads of
 area F = 0.45 x 0.45 m2 on soil with coefficient q0 = 100 MN/m3, c = n q0 F = 40.5 MN/m.  The
 factor 2 (left and right pad) is what the printed settlements need: q = N/c with 104.13 kN ->
@@ -78,6 +92,9 @@ class ChassisParams(Params):
                                     min=1, max=8)
     damping: float = param(405000.0, "N.s/m", "soil damping per outrigger position (b1 = b2, seed 000)",
                            min=0, tunable=True)
+    boom_inertia: str = param("neglected", "", "the boom's inertia as the foot moves it: neglected, or carried "
+                              "(inputs m_boom, Sx_boom, J_boom added to the mass matrix, seed 000 eq. 24)",
+                              choices=("neglected", "carried"))
     g: float = param(9.81, "m/s2", "gravitational acceleration", min=0)
 
     def check(self) -> None:
@@ -86,7 +103,7 @@ class ChassisParams(Params):
                                  f"between the outriggers, [0, {self.outrigger_base!r}] m")
 
 
-_FX, _FY, _M = range(3)
+_FX, _FY, _M, _MB, _SB, _JB = range(6)
 
 
 class ChassisModel(Model):
@@ -99,6 +116,9 @@ class ChassisModel(Model):
         Signal("Fy_base", "N", "y force of the boom on the chassis at the boom foot O2", coupling=True),
         Signal("M_base", "N.m", "moment about z at O2 of the boom on the chassis (negative tips toward the boom)",
                coupling=True),
+        Signal("m_boom", "kg", "mass the foot O2 carries along (Boom m_carried; boom_inertia = 'carried')"),
+        Signal("Sx_boom", "kg.m", "its first moment about O2 toward the boom side (Boom Sx_carried)"),
+        Signal("J_boom", "kg.m2", "its moment of inertia about O2 turning with the chassis (Boom J_carried)"),
     )
     initial_state_inputs = ("Fx_base", "Fy_base", "M_base")  # static settlements under the boom loads
     outputs = (
@@ -124,6 +144,7 @@ class ChassisModel(Model):
         self.mass_matrix = np.array([[self.mass, -self.first_moment], [-self.first_moment, self.inertia]])
         self.stiffness = p.pads_per_outrigger * p.soil_coefficient * p.pad_area   # c1 = c2
         self.inverse_mass = np.linalg.inv(self.mass_matrix)
+        self._carried = (0.0, 0.0, 0.0)   # boom inertia in self.mass_matrix (m_b, S_x, J_b)
         self._linear: LinearPropagator | None = None
         self._checks: dict[tuple[float, int], tuple[np.ndarray, np.ndarray, float]] = {}
         self._last_maps: tuple | None = None   # (h as given, k, _step_maps' result) of the last call
@@ -162,6 +183,22 @@ class ChassisModel(Model):
         n2 = (m + w * (-x1)) / (x2 - x1)   # moments about the front pad
         return np.array([w - n2, n2])
 
+    def carry(self, u: np.ndarray) -> None:
+        """Take the boom's inertia of the inputs into the mass matrix (boom_inertia = 'carried'; a new
+        matrix drops the exact step's cached propagators)."""
+        if self.p.boom_inertia != "carried":
+            return
+        carried = (float(u[_MB]), float(u[_SB]), float(u[_JB]))
+        if carried == self._carried:
+            return
+        mb, sb, jb = carried
+        self._carried = carried
+        self.mass_matrix = np.array([[self.mass + mb, -self.first_moment - sb],
+                                     [-self.first_moment - sb, self.inertia + jb]])
+        self.inverse_mass = np.linalg.inv(self.mass_matrix)
+        self._linear, self._last_maps = None, None
+        self._checks.clear()
+
     # --- Model interface ------------------------------------------------------------------------
     def initial_state(self, u: np.ndarray) -> np.ndarray:
         """Static equilibrium under the inputs.  If the resultant lies outside the support base there
@@ -184,7 +221,8 @@ class ChassisModel(Model):
         # plain floats: the same law as _pads() and applied_loads() (runs 40 times per macro
         # step under rk4)
         p = self.p
-        fx, fy, mb = u.tolist()
+        self.carry(u)
+        fx, fy, mb = u[:3].tolist()
         x1, x2 = self.x_pads.tolist()
         _, _, n1, n2 = self._pads(x)
         force = fy - self.mass * p.g + n1 + n2
@@ -207,7 +245,7 @@ class ChassisModel(Model):
         a[2:] = self.inverse_mass @ forces
         b = np.zeros(4)
         b[2:] = self.inverse_mass @ np.array([-self.mass * p.g, p.g * self.first_moment])
-        big_b = np.zeros((4, 3))
+        big_b = np.zeros((4, 3))   # the boom's loads; its carried inertia is in the mass matrix
         big_b[2:] = self.inverse_mass @ np.array([[0.0, 1.0, 0.0], [p.h_foot, 0.0, -1.0]])
         return a, b, big_b
 
@@ -243,9 +281,10 @@ class ChassisModel(Model):
     def exact_step(self, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray,
                    r2: np.ndarray, max_step: float) -> np.ndarray | None:
         """Closed-form step while both pads stay loaded (see the module docstring), else None."""
+        self.carry(u0)
         k = max(1, math.ceil(h / max_step - 1e-9))   # contact checked at sub-points <= max_step apart
         end, checks, margin = self._step_maps(h, k)
-        z = np.concatenate((x, (1.0,), u0, r1, r2))
+        z = np.concatenate((x, (1.0,), u0[:3], r1[:3], r2[:3]))
         v = (checks @ z).tolist()   # plain floats: min/max of a few values cost less than numpy's
         m = 2 * (k + 1)
         n = v[m:]
@@ -261,6 +300,7 @@ class ChassisModel(Model):
     def energy(self, x: np.ndarray, u: np.ndarray) -> float:
         """Kinetic + soil spring energy [J] minus the work of the constant loads (derived; conserved
         when damping = 0 and the inputs are constant, also through lift-off)."""
+        self.carry(u)
         v = x[2:4]
         q, _ = self.settlements(x)
         w, m = self.applied_loads(u)

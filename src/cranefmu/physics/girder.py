@@ -1,7 +1,17 @@
 """Overhead crane girder and drum bearing carrying the trolley (seed 001 eq. 6 and 10, Table 6, Fig. 4).
 
 The bridge girder is reduced to a mass m1 at mid-span on a spring c1 with damper b1 (the trolley at
-mid-span is the most unfavourable position, seed 001).  The rope drum (mass m3) sits on it through
+mid-span is the most unfavourable position, seed 001).
+
+Reduced mass (``mass_model``).  "table": m1 as given (Table 6: 5000 kg, which equals the crane's
+capacity).  "beam": m1 derived from the girder's mass M (``girder_mass``) spread uniformly over a simply
+supported span, with c1 the static mid-span stiffness 48 E I / L^3: Rayleigh's method with the static
+deflection shape under a mid-span load, w(x) = w_mid (3 x/L - 4 (x/L)^3) for x <= L/2, gives the kinetic
+energy 0.5 (17/35) M w_mid'^2, so m1 = 17/35 M = 0.486 M (Rayleigh's classical result, e.g. Clough and
+Penzien, Dynamics of Structures, the generalized-SDOF example of a simply supported beam; the exact
+first mode sin(pi x/L) gives M/2 with the stiffness pi^4 E I / (2 L^3), 1.5 % above 48 E I / L^3).
+The girder's weight stays that of m1 in the reduced model (it sets only the static sag, from which
+q is measured).  The rope drum (mass m3) sits on it through
 the drum-bearing stiffness c3 (Fig. 4, the E_p term 0.5 c3 (q1 - q3)^2); the rope hangs from the
 drum, so the drum is the suspension point.  Lagrange equations of eq. 6 restricted to q1, q3
 (derived), q positive up and measured from the unloaded, weightless girder:
@@ -51,7 +61,12 @@ class GirderParams(Params):
                          choices=("elastic", "rigid"))
     damping_model: str = param("table", "", "girder damping: b1 from Table 6, or from the logarithmic decrement "
                                "of eq. 10 (girder_height / span)", choices=("table", "decrement"))
-    m1: float = param(5000.0, "kg", "reduced mass of the girder at mid-span (Table 6)", min=0, min_open=True)
+    mass_model: str = param("table", "", "reduced mass m1 at mid-span: table (m1 as given) or beam (17/35 of "
+                            "girder_mass, a uniform simply supported beam, Rayleigh)", choices=("table", "beam"))
+    m1: float = param(5000.0, "kg", "reduced mass of the girder at mid-span (Table 6) when mass_model = 'table'",
+                      min=0, min_open=True)
+    girder_mass: float = param(5000.0, "kg", "mass of the girder over the span when mass_model = 'beam' "
+                               "(Table 6's 5000 kg read as the girder's mass)", min=0, min_open=True)
     c1: float = param(4.6e6, "N/m", "stiffness of the girder at mid-span (Table 6)", min=0, min_open=True)
     b1: float = param(2.3e4, "N.s/m", "girder damping when damping_model = 'table' (Table 6)", min=0, tunable=True)
     span: float = param(20.0, "m", "girder span L (seed 001: 20 m)", min=0, min_open=True)
@@ -67,6 +82,9 @@ class GirderParams(Params):
     z_pos: float = param(0.0, "m", "z of the suspension point (fixed)")
 
     def check(self) -> None:
+        if self.mass_model == "beam" and self.m1 != 5000.0:
+            raise ParameterError(f"girder.m1 = {self.m1!r} is not used with girder.mass_model = 'beam' (m1 is 17/35 "
+                                 f"of girder_mass): allowed 5000.0 here, or set mass_model = 'table'")
         if self.damping_model == "decrement" and eq10_decrement(self.girder_height, self.span) <= 0.0:
             raise ParameterError(
                 f"girder.girder_height = {self.girder_height!r} is too low for eq. 10: "
@@ -79,9 +97,18 @@ def eq10_decrement(height: float, span: float) -> float:
     return 3.8 * height / span - 0.13
 
 
+#: Rayleigh's reduced mass of a uniform simply supported beam at mid-span, static deflection shape
+BEAM_MASS_FRACTION = 17.0 / 35.0
+
+
+def reduced_mass(p: GirderParams) -> float:
+    """Reduced girder mass m1 at mid-span [kg]: Table 6's value or 17/35 of the girder's mass (module docstring)."""
+    return p.m1 if p.mass_model == "table" else BEAM_MASS_FRACTION * p.girder_mass
+
+
 def modal_mass(p: GirderParams) -> float:
     """Mass moving in the fundamental girder mode, m1 + m3 [kg] (derived: the drum rides on the girder)."""
-    return p.m1 + p.m3
+    return reduced_mass(p) + p.m3
 
 
 def damping_from_decrement(delta: float, c: float, m: float) -> float:
@@ -106,7 +133,7 @@ def log_decrement(p: GirderParams) -> float:
 
 def static_deflections(fy: float, p: GirderParams) -> tuple[float, float]:
     """Static q1 (girder) and q3 (suspension point) [m] under the rope force fy [N, up] and gravity (derived)."""
-    q1 = (fy - (p.m1 + p.m3) * p.g) / p.c1
+    q1 = (fy - modal_mass(p) * p.g) / p.c1
     q3 = q1 if p.bearing == "rigid" else q1 + (fy - p.m3 * p.g) / p.c3
     return q1, q3
 
@@ -116,8 +143,9 @@ def energy(x: np.ndarray, fy: float, p: GirderParams) -> float:
     q1, v1, q3, v3 = x
     if p.bearing == "rigid":
         return 0.5 * modal_mass(p) * v1 ** 2 + 0.5 * p.c1 * q1 ** 2 + (modal_mass(p) * p.g - fy) * q1
-    return (0.5 * p.m1 * v1 ** 2 + 0.5 * p.m3 * v3 ** 2 + 0.5 * p.c1 * q1 ** 2 + 0.5 * p.c3 * (q3 - q1) ** 2
-            + p.g * (p.m1 * q1 + p.m3 * q3) - fy * q3)
+    m1 = reduced_mass(p)
+    return (0.5 * m1 * v1 ** 2 + 0.5 * p.m3 * v3 ** 2 + 0.5 * p.c1 * q1 ** 2 + 0.5 * p.c3 * (q3 - q1) ** 2
+            + p.g * (m1 * q1 + p.m3 * q3) - fy * q3)
 
 
 _FY = 1
@@ -161,7 +189,7 @@ class GirderModel(Model):
             a1 = (-p.c1 * q1 - b1 * v1 + fy) / modal_mass(p) - p.g
             return np.array([v1, a1, v1, a1])
         f3 = p.c3 * (q3 - q1) + p.b3 * (v3 - v1)
-        a1 = (-p.c1 * q1 - b1 * v1 + f3) / p.m1 - p.g
+        a1 = (-p.c1 * q1 - b1 * v1 + f3) / reduced_mass(p) - p.g
         a3 = (fy - f3) / p.m3 - p.g
         return np.array([v1, a1, v3, a3])
 
@@ -179,7 +207,8 @@ class GirderModel(Model):
             big_b[1, _FY] = big_b[3, _FY] = 1.0 / m
         else:
             a[2, 3] = 1.0
-            a[1] = ((-p.c1 - p.c3) / p.m1, (-b1 - p.b3) / p.m1, p.c3 / p.m1, p.b3 / p.m1)
+            m1 = reduced_mass(p)
+            a[1] = ((-p.c1 - p.c3) / m1, (-b1 - p.b3) / m1, p.c3 / m1, p.b3 / m1)
             a[3] = (p.c3 / p.m3, p.b3 / p.m3, -p.c3 / p.m3, -p.b3 / p.m3)
             big_b[3, _FY] = 1.0 / p.m3
         return a, np.array([0.0, -p.g, 0.0, -p.g]), big_b

@@ -61,6 +61,20 @@ That holds only if the rope sees the point the hook was placed from: feed the ro
 outputs x/y/z_suspension (the inputs x/y/z_top handed on), else an iteration sweep can pair a new
 tip with a hook placed from the old one, and the loop gain is back.
 
+Hook-pin damper (``c_pin``; derived, seed 002 names friction in the hook's pin as what makes a heavier,
+longer hook damp the payload sooner): a rotational damper between the rope link (top -> hook, angular
+velocity w_r = e_r x (v_h - v_top) / l) and the rigid sling (w_s = e x (v_p - v_h) / L), torque
+tau = -c_pin (w_s - w_r) on the sling and -tau on the rope link, applied as the force pairs tau x e / L
+(payload, and its opposite on the hook) and -tau x e_r / l (hook; its opposite on the top is not fed
+back; v_top from the inputs vx/vy/vz_top).  Power: -c_pin |w_s - w_r|^2.
+
+Rotational inertias (``J_payload``, ``J_hook``; seed 002's [I], derived by Newton-Euler): the payload is a
+body turning with the sling (no spin about it), so the pin also passes a transverse force R_t; the hook
+turns with the rope link, an inertia J_hook / l^2 against the hook's acceleration across the link (the
+top's acceleration is not an input and the rope's stretch rate l' is left out: exact for an inextensible
+link from a tip at rest; the payload's term is exact).  :meth:`PendulumModel._rigid_body` solves
+hook, sling tension and R_t together; with both 0 and no damper the equations above are used as they are.
+
 Ground contact (seed 001 eq. 7, with the damper b_p of Fig. 4 / Table 6): the lowest body
 (payload if any, else hook) and a unilateral spring-damper at y = ground_height,
     pen = ground_height - y,  N = max(0, c_g pen - b_g v_y) if pen > 0 else 0.
@@ -121,6 +135,12 @@ class PendulumParams(Params):
                                   "the hook (dimension >= 2)", min=-math.pi, max=math.pi)
     phi_payload0: float = param(0.0, "rad", "initial lateral payload angle out of the x-y plane (dimension 3)",
                                 min=-_HALF_PI, max=_HALF_PI, min_open=True, max_open=True)
+    c_pin: float = param(0.0, "N.m.s/rad", "rotational damper at the hook pin on the relative rotation of rope and "
+                         "rigid sling (0: none, seed 002; the hook_sway scene states its value)", min=0, tunable=True)
+    J_payload: float = param(0.0, "kg.m2", "rigid sling: moment of inertia of the payload about its centre, turning "
+                             "with the sling (seed 002 [I]; 0: point mass)", min=0)
+    J_hook: float = param(0.0, "kg.m2", "rigid sling: moment of inertia of the hook about its centre, turning with "
+                          "the rope link (seed 002 [I]; 0: point mass; taken with the top at rest)", min=0)
     # --- ground contact (seed 001 eq. 7) ---
     ground: str = param("none", "", "ground under the load: none, or a unilateral spring-damper (seed 001 eq. 7)",
                         choices=("none", "spring_damper"))
@@ -162,6 +182,7 @@ class PendulumParams(Params):
 
 _FORCE = ("Fx_rope", "Fy_rope", "Fz_rope")
 _TOP = ("x_top", "y_top", "z_top")
+_VTOP = ("vx_top", "vy_top", "vz_top")
 _MASKS = {1: (0.0, 1.0, 0.0), 2: (1.0, 1.0, 0.0), 3: (1.0, 1.0, 1.0)}
 
 
@@ -175,6 +196,11 @@ def _floats(a) -> list:
     if type(a) is list:
         return a
     return a.tolist() if hasattr(a, "tolist") else [float(v) for v in a]
+
+
+def _cross(a, b) -> tuple[float, float, float]:
+    """a x b of two 3-vectors on plain floats."""
+    return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
 
 
 def _unit(theta: float, phi: float) -> tuple[float, float, float]:
@@ -193,6 +219,8 @@ class PendulumModel(Model):
         Signal("drop", "m", "start = 'below_top': distance suspension point -> hook at rest (Rope hang_length: "
                "rope length + static stretch under rest_tension)", start=10.0,
                coupling=True),   # constant; coupling so that the group rope -> pendulum keeps its rates
+        *(Signal(f"v{c}_top", "m/s", f"{c} velocity of the suspension point (for the hook-pin damper's rope "
+                 "rotation; 0: at rest)", coupling=True) for c in "xyz"),
     )
     # resting on the ground / the sling's share of the rope force; with start = 'below_top' the hook
     # is placed from the suspension point (declared for every start: the FMU's ModelStructure cannot
@@ -210,7 +238,8 @@ class PendulumModel(Model):
         *(Signal(f"v{c}_payload", "m/s", f"{c} velocity of the payload (the hook's without payload)") for c in "xyz"),
         Signal("theta_payload", "rad", "payload angle in the x-y plane from the vertical through the hook"),
         Signal("phi_payload", "rad", "lateral payload angle out of the x-y plane, about the hook"),
-        Signal("sling_force", "N", "sling tension between hook and payload (0 without payload)", depends_on=_FORCE),
+        Signal("sling_force", "N", "sling tension between hook and payload (0 without payload)",
+               depends_on=_FORCE + _TOP + _VTOP),   # the top enters through the hook-pin damper and J_hook
         Signal("lifted", "1", "1 while the load is off the ground (no ground reaction), else 0", discrete=True),
         # why: a rope fed its top from here sees, in every exchange of an iteration, the very point
         # the hook start was placed from ('below_top'); fed from the boom directly, a Jacobi or
@@ -235,8 +264,10 @@ class PendulumModel(Model):
         self._k_hook = half * p.drag_area_hook if p.payload != "none" else 0.0
         self._has_ground = p.ground != "none"
         # rigid sling without ground or drag (hook_sway): the right-hand side written out (_rigid_free)
+        # the hook-pin damper and the rotational inertias: the general solve of _rigid_body
+        self._body = p.payload == "rigid" and (p.c_pin, p.J_payload, p.J_hook) != (0.0, 0.0, 0.0)
         self._free_rigid = p.payload == "rigid" and not self._has_ground and self._k_load == 0.0 \
-            and self._k_hook == 0.0
+            and self._k_hook == 0.0 and not self._body
         self._rest_tension = self._start_tension()
 
     # --- helpers ---------------------------------------------------------------------------
@@ -285,8 +316,12 @@ class PendulumModel(Model):
         fh = self._hook_force(x, u)
         mh = p.mass
         w2 = L * (cp * cp * dth * dth + dph * dph)
-        s = self._mu * (e[0] * (fp[0] - fh[0] / mh) + e[1] * (fp[1] - fh[1] / mh) + e[2] * (fp[2] - fh[2] / mh) + w2)
-        ah = ((fh[0] + s * e[0]) / mh * m[0], (fh[1] + s * e[1]) / mh * m[1], (fh[2] + s * e[2]) / mh * m[2])
+        if self._body:
+            ah, s, fp = self._rigid_body(x, u, e, et, ep, dth, dph, fp, fh, w2)
+        else:
+            s = self._mu * (e[0] * (fp[0] - fh[0] / mh) + e[1] * (fp[1] - fh[1] / mh) + e[2] * (fp[2] - fh[2] / mh)
+                            + w2)
+            ah = ((fh[0] + s * e[0]) / mh * m[0], (fh[1] + s * e[1]) / mh * m[1], (fh[2] + s * e[2]) / mh * m[2])
         r = (fp[0] - ah[0], fp[1] - ah[1], fp[2] - ah[2])
         if p.dimension == 1:
             ddth = ddph = 0.0
@@ -295,6 +330,43 @@ class PendulumModel(Model):
             ddph = (ep[0] * r[0] + ep[1] * r[1] + ep[2] * r[2] - L * sp * cp * dth * dth) / L \
                 if p.dimension == 3 else 0.0
         return ah, ddth, ddph, s, n, e, vp
+
+    def _rigid_body(self, x, u, e, et, ep, dth, dph, fp, fh, w2):
+        """Rigid sling with the hook-pin damper and the bodies' rotational inertias (module docstring): hook
+        acceleration a_h, sling tension S and the payload's applied acceleration with the pin's transverse
+        force R_t included, from
+
+            [m_h I + m_p e e^T + kappa m_p P_e + J_h / l^2 P_r] a_h
+                = F_h + G + m_p (f_p.e + L |w|^2) e + kappa m_p P_e f_p - (1 - kappa) tau x e / L
+            S = m_p (f_p.e - a_h.e + L |w|^2),   R_t = kappa m_p P_e (a_h - f_p) + (1 - kappa) tau x e / L
+
+        kappa = J_p / (J_p + m_p L^2), P_e = I - e e^T, P_r = I - e_r e_r^T (derived: Newton-Euler of the
+        payload body turning with the sling, the hook turning with the rope link top -> hook of length l)."""
+        p, m, L = self.p, self._m, self.p.L_sling
+        d = np.array([x[0] - u[3], x[1] - u[4], x[2] - u[5]])
+        ell = math.sqrt(float(d @ d))
+        er = d / ell
+        ev, fpv, fhv = np.array(e), np.array(fp), np.array(fh)
+        tau = np.zeros(3)
+        g_h = np.zeros(3)
+        if p.c_pin != 0.0:
+            wr = np.cross(er, np.array([x[3] - u[7], x[4] - u[8], x[5] - u[9]]) / ell)
+            ws = np.cross(ev, np.array(et) * dth + np.array(ep) * dph)
+            tau = -p.c_pin * (ws - wr)
+            g_h = np.cross(tau, -er / ell)
+        mp, kappa = p.m_payload, p.J_payload / (p.J_payload + p.m_payload * L * L)
+        pe = np.eye(3) - np.outer(ev, ev)
+        pin = (1.0 - kappa) * np.cross(tau, ev) / L
+        a = (p.mass * np.eye(3) + mp * np.outer(ev, ev) + kappa * mp * pe
+             + p.J_hook / (ell * ell) * (np.eye(3) - np.outer(er, er)))
+        rhs = fhv + g_h + mp * (float(fpv @ ev) + w2) * ev + kappa * mp * (pe @ fpv) - pin
+        free = [i for i in range(3) if m[i] != 0.0]
+        ah = np.zeros(3)
+        ah[free] = np.linalg.solve(a[np.ix_(free, free)], rhs[free])
+        s = mp * (float(fpv @ ev) - float(ah @ ev) + w2)
+        r_t = kappa * mp * (pe @ (ah - fpv)) + pin
+        fp_eff = (fpv + r_t / mp) * np.array(m)
+        return tuple(ah.tolist()), s, tuple(fp_eff.tolist())
 
     def _rigid_free(self, x: list[float], u: list[float]) -> list[float]:
         """:meth:`derivatives_list` of :meth:`_rigid` without ground and drag (f_p = g_vec, F_h = F_rope +

@@ -4,12 +4,15 @@ Kelvin-Voigt rope with length-dependent stiffness and damping (seed 001 eq. 8-9,
 eq. 25-28): the reeving of ``n_lines`` parallel lines acts as one spring-damper
 
     L_u   = length + payout / n_lines                 unstretched length of one line  [m]
-    c     = n_lines * E * A / L_u                      stiffness of the reeving         [N/m]
+    L_e   = L_u + n_lines * (run_length + run_extension)   elastic length (seed 000 eq. 28)  [m]
+    c     = n_lines * E * A / L_e                      stiffness of the reeving         [N/m]
     m_eff = 0.5 * m_load + n_lines * rho * A * L_u / n_lines   (eq. 9, i_w = n_lines)   [kg]
     b     = 2 * zeta * sqrt(c * m_eff)                 damping                          [N s/m]
     T     = max(0, c * delta + b * delta_dot)   if delta > 0 else 0
 
-with delta = |p_hook - p_top| - L_u.  ``m_load`` is an input (the mass hanging on the rope, which
+with delta = |p_hook - p_top| - L_u.  A rope run in series with the reeving outside it (seed 000: from the
+drum along the boom to the head, l5 + s1 + s2) softens the reeving as eq. 26-28 print it,
+c = E A / (run + L_u / n) (:func:`elastic_length`); without one (``run_length`` = 0) L_e = L_u.  ``m_load`` is an input (the mass hanging on the rope, which
 the hook's own FMU owns: Pendulum ``suspended_mass``), not a parameter.  A rope cannot push: no
 compression when slack, and the damping force cannot turn the total negative while taut (it would
 pull the load through a rope that is contracting faster than it can relax).  The drum sees one
@@ -37,10 +40,13 @@ force the rope carries at rest at the start (the hook's FMU gives it: Pendulum `
 Both laws stretch a reeving of unstretched length L_u by L_u eps(load), eps the strain of a 1 m
 reeving (Kelvin-Voigt eps = load / (n E A); Bouc-Wen the virgin curve, same strain at every length,
 :func:`.boucwen.for_length`).  Hence
-  * output ``hang_length`` = L_u (1 + eps(load)): how far below the top the hook hangs at rest (a
+  * output ``hang_length`` = L_u (1 + eps(load)) + (L_e - L_u) eps(load), L_e the elastic length of a
+    reeving with a series run (:func:`elastic_length`, seed 000 eq. 28; L_e = L_u without a run): how far
+    below the top the hook hangs at rest (a
     Pendulum with start = 'below_top' is placed from it);
   * ``start = "taut"``: the hoist has taken the rope up until it carries ``load`` between the end
-    points it has at initialization, then paid out ``start_slack``:  L_u(0) = chord / (1 + eps(load)) + start_slack.
+    points it has at initialization, then paid out ``start_slack``:
+    L_u(0) = (chord - (L_e - L_u) eps(load)) / (1 + eps(load)) + start_slack.
     The unstretched length at zero payout is then a state (constant, derivative 0), not ``length``.
 
 Regimes (for a solver that locates events, :mod:`cranefmu.reference`)
@@ -106,6 +112,9 @@ class RopeParams(Params):
                        "start_slack paid out)", choices=("length", "taut"))
     start_slack: float = param(0.0, "m", "start = 'taut': rope paid out beyond taut at the start, per line", min=0)
     rho: float = param(7850.0, "kg/m3", "density of the rope metal", min=0)
+    run_length: float = param(0.0, "m", "rope run in series with the reeving, carrying one line's force, at zero "
+                              "input run_extension (seed 000 eq. 26: drum to boom head along the boom, l5 = 9 m; "
+                              "0: none)", min=0)
 
     # modified Bouc-Wen (seed 001 eq. 1-3) of one 1 m line, names as in the paper's vector Y (eq. 3)
     k1: float = _bouc_wen_param("k1")
@@ -145,8 +154,8 @@ def _vec_signals(prefix: str, what: str, unit: str, coupling: bool) -> tuple[Sig
 
 _KINEMATIC_INPUTS = ("x_top", "y_top", "z_top", "vx_top", "vy_top", "vz_top",
                      "x_hook", "y_hook", "z_hook", "vx_hook", "vy_hook", "vz_hook", "payout", "payout_rate")
-_M_LOAD, _LOAD = 14, 15   # input indices of the hanging mass and the static load
-_FORCE_DEPS = _KINEMATIC_INPUTS + ("m_load",)   # the damping law of eq. 9 takes the hanging mass
+_M_LOAD, _LOAD, _RUN = 14, 15, 16   # input indices of the hanging mass, the static load, the run's growth
+_FORCE_DEPS = _KINEMATIC_INPUTS + ("m_load", "run_extension")   # eq. 9 takes the hanging mass, eq. 28 the run
 
 
 def kelvin_voigt_tension(delta: float, delta_dot: float, c: float, b: float) -> float:
@@ -156,9 +165,22 @@ def kelvin_voigt_tension(delta: float, delta_dot: float, c: float, b: float) -> 
     return max(0.0, c * delta + b * delta_dot)
 
 
-def stiffness(p: RopeParams, l_u: float) -> float:
-    """Reeving stiffness c = n E A / L_u [N/m] (seed 001 eq. 8, seed 000 eq. 25)."""
-    return p.n_lines * p.E * p.A / l_u
+def stiffness(p: RopeParams, l_e: float) -> float:
+    """Reeving stiffness c = n E A / L_e [N/m] (seed 001 eq. 8, seed 000 eq. 25), L_e from
+    :func:`elastic_length`."""
+    return p.n_lines * p.E * p.A / l_e
+
+
+def elastic_length(p: RopeParams, l_u: float, extension: float) -> float:
+    """Length L_e [m] of one line whose n-line reeving is as stiff as the reeving (lines of unstretched
+    length ``l_u``) in series with the run of ``p.run_length + extension`` [m]: L_e = L_u + n run.
+
+    Seed 000 eq. 26-28 as printed: 1/c = run / (E F) + s / (n_p E F), i.e. c = E F / (run + s / n_p) =
+    n E F / L_e with run = l5 + s1 + s2.  (The run carries one line's force, T / n, and its stretch
+    reaches the hook divided by n, which would give n^2 E F / run for its share; eq. 28 sums the
+    compliances without the reeving ratio, and we keep the seed's law.)"""
+    run = p.run_length + extension
+    return l_u + p.n_lines * run if run != 0.0 else l_u
 
 
 def damping(p: RopeParams, c: float, l_u: float, m_load: float) -> float:
@@ -205,10 +227,12 @@ class RopeModel(Model):
                "FMU owns it: Pendulum suspended_mass)", start=1000.0, coupling=True),
         Signal("load", "N", "force the rope carries at rest at the start (Pendulum rest_tension): sets "
                "hang_length and, with start = 'taut', the length taken up", coupling=True),
+        Signal("run_extension", "m", "growth of the rope run in series with the reeving beyond run_length (seed "
+               "000: the boom's telescoping s1 + s2, Boom extension; held over a step)"),
     )   # coupling (constant, extrapolated to itself): a master extrapolates a connection group only if
         # every input in it takes rates, and these share the group pendulum -> rope
     # Bouc-Wen z0, and the taken-up length of start = 'taut'
-    initial_state_inputs = _KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9] + ("payout", "load")
+    initial_state_inputs = _KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9] + ("payout", "load", "run_extension")
     outputs = (
         Signal("tension", "N", "total rope force on the hook (all lines)", depends_on=_FORCE_DEPS),
         Signal("drum_force", "N", "force of one line at the drum (tension / n_lines)", depends_on=_FORCE_DEPS),
@@ -224,7 +248,8 @@ class RopeModel(Model):
         Signal("z_hysteresis", "N", "Bouc-Wen hysteresis state z of the reeving (seed 001 eq. 1; 0 for "
                "kelvin_voigt)"),
         Signal("hang_length", "m", "distance top -> hook of the reeving at rest carrying the input load: "
-               "unstretched length + static elongation (where a hook hangs at rest)", depends_on=("payout", "load")),
+               "unstretched length + static elongation (where a hook hangs at rest)",
+               depends_on=("payout", "load", "run_extension")),
     )
 
     def __init__(self, params: RopeParams):
@@ -256,12 +281,16 @@ class RopeModel(Model):
             self._strain = (load, static_strain(self.p, load))
         return self._strain[1]
 
-    def bouc_wen_at(self, l_u: float) -> BoucWenParams:
-        """Bouc-Wen set of the whole reeving at unstretched line length ``l_u`` [m] (cached:
-        the length changes only with payout)."""
-        if self._scaled[0] != l_u:
-            self._scaled = (l_u, boucwen.for_length(self._bw, l_u, self.p.n_lines))
+    def bouc_wen_at(self, l_e: float) -> BoucWenParams:
+        """Bouc-Wen set of the whole reeving at elastic line length ``l_e`` [m] (:func:`elastic_length`;
+        cached: the length changes only with payout and the run)."""
+        if self._scaled[0] != l_e:
+            self._scaled = (l_e, boucwen.for_length(self._bw, l_e, self.p.n_lines))
         return self._scaled[1]
+
+    def _elastic(self, l_u: float, u: np.ndarray) -> float:
+        """:func:`elastic_length` at unstretched line length ``l_u`` [m] and the inputs ``u``."""
+        return elastic_length(self.p, l_u, float(u[_RUN]))
 
     def state_names(self) -> tuple[str, ...]:
         return (("z_hysteresis",) if self._bw is not None else ()) + (("length0",) if self._taut else ())
@@ -273,12 +302,15 @@ class RopeModel(Model):
         length0 = None
         if self._taut:
             _, chord, _, _ = geometry(u, p)
-            length0 = chord / (1.0 + self.strain(float(u[_LOAD]))) + p.start_slack - float(u[12]) / p.n_lines
+            eps = self.strain(float(u[_LOAD]))
+            # chord = L_u (1 + eps) + eps (L_e - L_u): the run stretches too (L_e - L_u = n run)
+            chord_falls = chord - eps * self._elastic(0.0, u)
+            length0 = chord_falls / (1.0 + eps) + p.start_slack - float(u[12]) / p.n_lines
             if chord == 0.0 or not length0 > 0.0:   # end points not known yet (inputs at their start values)
                 length0 = p.length
         if self._bw is not None:
             _, length, l_u, _ = geometry(u, p, length0)
-            x.append(boucwen.virgin_z(length - l_u, self.bouc_wen_at(l_u)))
+            x.append(boucwen.virgin_z(length - l_u, self.bouc_wen_at(self._elastic(l_u, u))))
         if self._taut:
             x.append(length0)
         return np.array(x)
@@ -287,7 +319,7 @@ class RopeModel(Model):
         if self._bw is None:
             return np.zeros(len(x))
         _, length, l_u, delta_dot = geometry(u, self.p, self._length0(x))
-        delta, z, bw = length - l_u, float(x[0]), self.bouc_wen_at(l_u)
+        delta, z, bw = length - l_u, float(x[0]), self.bouc_wen_at(self._elastic(l_u, u))
         if self.pinned is None:
             rate = boucwen.rope_z_rate(delta, delta_dot, z, bw)
         elif self.pinned == SLACK:
@@ -314,7 +346,7 @@ class RopeModel(Model):
         if delta < 0.0:
             return SLACK
         if self._bw is not None and delta > 0.0 and delta_dot < 0.0:
-            if float(x[0]) + boucwen.elastic_force(delta, self.bouc_wen_at(l_u)) <= 0.0:
+            if float(x[0]) + boucwen.elastic_force(delta, self.bouc_wen_at(self._elastic(l_u, u))) <= 0.0:
                 return ON_LINE
         return TAUT
 
@@ -329,7 +361,8 @@ class RopeModel(Model):
             return [(delta, -1, SLACK), (delta_dot, 1, TAUT)]
         if self._bw is None:
             return [(delta, -1, SLACK)]
-        return [(delta, -1, SLACK), (float(x[0]) + boucwen.elastic_force(delta, self.bouc_wen_at(l_u)), -1, ON_LINE)]
+        bw = self.bouc_wen_at(self._elastic(l_u, u))
+        return [(delta, -1, SLACK), (float(x[0]) + boucwen.elastic_force(delta, bw), -1, ON_LINE)]
 
     def enter(self, regime: str, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         """State on entering ``regime`` (the reset of the module docstring), and pin it."""
@@ -339,34 +372,37 @@ class RopeModel(Model):
         if regime == SLACK:
             return self._with_z(0.0, x)
         _, length, l_u, _ = geometry(u, self.p, self._length0(x))
-        return self._with_z(-boucwen.elastic_force(length - l_u, self.bouc_wen_at(l_u)), x)
+        return self._with_z(-boucwen.elastic_force(length - l_u, self.bouc_wen_at(self._elastic(l_u, u))), x)
 
     def after_step(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         if self._bw is None:
             return x
         _, length, l_u, _ = geometry(u, self.p, self._length0(x))
-        return self._with_z(boucwen.project_state(length - l_u, float(x[0]), self.bouc_wen_at(l_u)), x)
+        bw = self.bouc_wen_at(self._elastic(l_u, u))
+        return self._with_z(boucwen.project_state(length - l_u, float(x[0]), bw), x)
 
     def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         e, length, l_u, delta_dot = geometry(u, p, self._length0(x))
         z = float(x[0]) if self._bw is not None else 0.0
         m_load = float(u[_M_LOAD])
+        l_e = self._elastic(l_u, u)
         if self.pinned == TAUT:
             if self._bw is None:
-                c = stiffness(p, l_u)
+                c = stiffness(p, l_e)
                 tension = max(0.0, c * (length - l_u) + damping(p, c, l_u, m_load) * delta_dot)
             else:
-                tension = boucwen.force(length - l_u, delta_dot, z, self.bouc_wen_at(l_u))
+                tension = boucwen.force(length - l_u, delta_dot, z, self.bouc_wen_at(l_e))
         elif self.pinned is not None:
             tension = 0.0
         elif self._bw is None:
-            c = stiffness(p, l_u)
+            c = stiffness(p, l_e)
             tension = kelvin_voigt_tension(length - l_u, delta_dot, c, damping(p, c, l_u, m_load))
         else:
-            tension = boucwen.tension(length - l_u, delta_dot, z, self.bouc_wen_at(l_u))
+            tension = boucwen.tension(length - l_u, delta_dot, z, self.bouc_wen_at(l_e))
         fx, fy, fz = -tension * e[0], -tension * e[1], -tension * e[2]
-        hang = l_u * (1.0 + self.strain(float(u[_LOAD])))
+        eps = self.strain(float(u[_LOAD]))
+        hang = l_u * (1.0 + eps) + (l_e - l_u) * eps   # the run stretches too (0 without one)
         return [tension, tension / p.n_lines, fx, fy, fz, -fx, -fy, -fz, length, length - l_u,
                 1.0 if tension == 0.0 else 0.0, z, hang]
 
@@ -384,4 +420,4 @@ def static_elongation(p: RopeParams, load: float, payout: float = 0.0) -> float:
     """Elongation [m] of the reeving at rest carrying ``load`` [N] (all lines) after ``payout`` [m]
     (start = 'length'): L_u times :func:`static_strain`.  The hook of a scene at rest hangs
     ``length + payout / n_lines + this`` below the top (the FMU's output ``hang_length``)."""
-    return (p.length + payout / p.n_lines) * static_strain(p, load)
+    return elastic_length(p, p.length + payout / p.n_lines, 0.0) * static_strain(p, load)

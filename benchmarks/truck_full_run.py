@@ -1,0 +1,44 @@
+"""Stability of truck_telescope's stored coupling settings over the whole 40 s run, against the monolith.
+
+Runs the default set with the scene's stored settings at several macro steps (everything else as stored)
+and the monolithic reference, and writes benchmarks/results/truck_full_run.md: end time reached (a run
+that grows an oscillation unloads the front outrigger and stops there), front outrigger minimum, rear
+maximum and largest sway.
+
+    nice -n 10 .venv/bin/python benchmarks/truck_full_run.py [step ...]      (default 0.08 0.04 0.02)
+"""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from result_table import save, stamp
+
+from cranefmu.master.run import run
+from cranefmu.reference import solve
+from cranefmu.scenes import metrics
+
+STOP = 40.0
+KEYS = ("N_front_min", "N_rear_max", "max_sway_deg", "tipping_time")
+
+
+def row(engine: str, end: float, m: dict) -> str:
+    return f"| {engine} | {end:.2f} | " + " | ".join(f"{m[k]:.6g}" for k in KEYS) + " |"
+
+
+def main(steps: list[float]) -> None:
+    lines = [f"# truck_telescope: stored settings over {STOP:g} s", "",
+             f"{stamp('truck_full_run.py')}).", "",
+             "| engine | end [s] | " + " | ".join(KEYS) + " |", "|" + " --- |" * (len(KEYS) + 2)]
+    ref = solve("truck_telescope", STOP, np.linspace(0.0, STOP, 4001), rtol=1e-6)
+    lines.append(row("monolithic (Radau, rtol 1e-6)", STOP, metrics("truck_telescope", ref)))
+    for h in steps:
+        res = run("truck_telescope", stop_time=STOP, step_size=h, progress=False).result
+        lines.append(row(f"stored settings, H = {h:g} s", float(res["time"][-1]), metrics("truck_telescope", res)))
+        print(lines[-1], flush=True)
+    save("truck_full_run", lines)
+
+
+if __name__ == "__main__":
+    main([float(a) for a in sys.argv[1:]] or [0.08, 0.04, 0.02])
