@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from .errors import CraneFmuError
+from .report.command import add_parser as add_report_parser, add_run_option as add_report_option
 from .sweep.command import add_parser as add_sweep_parser
 
 
@@ -79,6 +80,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
         data = res.result if keep else read_csv(res.output, [c for _, cols in plotted for c in cols])
         for path in write_plots(data, res.scene, prefix, plotted, units=scene.units):
             print(f"figure: {path}")
+    if args.report:
+        from .report.command import report_after_run
+
+        print(f"report: {report_after_run(args.report, res, scene)}")
     return 0
 
 
@@ -256,6 +261,7 @@ def build_parser() -> argparse.ArgumentParser:
                    f"record more rows than this (default {MAX_ROWS:g})")
     r.add_argument("--in-process", action="store_true", help="run the FMUs in this process (default: a worker "
                    "process, so a crash inside an FMU is reported instead of ending the command)")
+    add_report_option(r)
     r.set_defaults(func=_cmd_run)
 
     i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
@@ -301,6 +307,7 @@ def build_parser() -> argparse.ArgumentParser:
     f3.add_argument("only", nargs="*", help="FMU names (default: all)")
     f3.set_defaults(func=_cmd_build_fmi3)
     add_sweep_parser(sub)
+    add_report_parser(sub)
     return p
 
 

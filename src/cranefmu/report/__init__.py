@@ -1,0 +1,113 @@
+"""A finished run as one self-contained HTML file: the crane drawn to scale and animated, the key outputs
+as plots linked to the time slider, the bond energy residuals, settings, statistics, warnings and summary.
+
+``write_report(path, result, scene=...)`` from Python; ``cranefmu run SCENE --report FILE`` and
+``cranefmu report RESULT.csv --output FILE`` from the command line (docs/report.md).
+"""
+from __future__ import annotations
+
+from dataclasses import fields
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import CraneFmuError
+from .drawing import columns_needed
+from .page import page, plot_specs, table
+
+__all__ = ["write_report", "report_columns"]
+
+
+def _groups(scene: str, names: list[str]) -> list[tuple[str, list[str]]]:
+    from ..scenes import plot_groups
+
+    groups = plot_groups(scene, names)
+    bonds = [c for c in names if c.startswith("bond.") and c.endswith(".E")]
+    return groups + ([("Bond energy residuals (ECCO, accumulated)", bonds)] if bonds else [])
+
+
+def report_columns(scene: str, names: list[str]) -> list[str]:
+    """The columns of a result that a report reads (a long run's CSV need not be read whole)."""
+    from ..scenes import SCENES, _metric_columns
+
+    info = SCENES.get(scene)
+    wanted = {c for _, cols in _groups(scene, names) for c in cols} | set(columns_needed(names))
+    wanted |= set(_metric_columns(scene)) | set(info.key_outputs if info else ()) | {"pendulum.rest_tension"}
+    return [c for c in names if c in wanted]
+
+
+def _reference_lines(result: np.ndarray) -> dict[str, list[tuple[str, float]]]:
+    """Scene-independent reference values by column: the rope's static tension, the outriggers' lift-off."""
+    names = set(result.dtype.names)
+    lines: dict[str, list[tuple[str, float]]] = {}
+    if "pendulum.rest_tension" in names and "rope.tension" in names and len(result):
+        lines["rope.tension"] = [("static (rest tension)", float(result["pendulum.rest_tension"][0]))]
+    for c in ("chassis.N_front", "chassis.N_rear"):
+        if c in names:
+            lines[c] = [("lift-off (tipping) N = 0", 0.0)]
+    return lines
+
+
+def _settings_rows(settings) -> list[tuple[str, str, str]]:
+    rows = []
+    for f in fields(settings):
+        value = getattr(settings, f.name)
+        source = ("the scene's stored setting" if f.name in settings.from_scene
+                  else "default" if value == f.default else "given")
+        rows.append((f.name, repr(value), source))
+    return rows
+
+
+def _stats_rows(stats, settings) -> list[tuple[str, str]]:
+    rows = [("macro steps", str(stats.steps)), ("wall time", f"{stats.wall_time:.3f} s (master "
+                                                             f"{stats.master_time:.3f} s)")]
+    if settings is not None and settings.adaptive:
+        rows.append(("steps", f"{stats.min_step:.3g} to {stats.max_step:.3g} s, {stats.rejections} rejected"))
+    if stats.iterations:
+        rows.append(("coupling iterations", f"{stats.iterations} (at most {stats.max_iterations} in a step)"))
+    rows += [(f"FMU {k}", f"{stats.fmu_calls.get(k, 0)} steps, {stats.fmu_time[k]:.3f} s") for k in stats.fmu_time]
+    rows += [(f"power bond {k}", f"energy residual {e:.6g} J of {stats.bond_carried.get(k, 0.0):.6g} J carried")
+             for k, e in stats.bond_energy.items()]
+    rows.append(("stopped early", stats.stopped or "no: ran to the end"))
+    return rows
+
+
+def write_report(path, result: np.ndarray, *, scene: str = "", units: dict[str, str] | None = None,
+                 settings=None, stats=None, warnings: list[str] | tuple = (), source: str = "") -> Path:
+    """Write the HTML report of ``result`` (a structured array of rows with a ``time`` field, as
+    :func:`cranefmu.master.run.run` returns or :func:`cranefmu.master.results.read_csv` reads) to ``path``.
+
+    ``scene`` picks the plots and the summary, ``units`` (column -> unit, as
+    :func:`cranefmu.master.run.preview` gives) labels the axes; ``settings``/``stats``/``warnings`` are the
+    run's (``RunResult.settings``, ``.stats``, ``.warnings``) when known.  Returns the path written.
+    """
+    from ..scenes import summary
+
+    names = list(getattr(getattr(result, "dtype", None), "names", None) or ())
+    if "time" not in names:
+        raise CraneFmuError(f"a report needs a result with a time column; the columns are {names[:10]}")
+    if not len(result):
+        raise CraneFmuError("a report needs at least one row; the result is empty")
+    columns = [c for c in names if c != "time"]
+    units = dict(units or {})
+    missing = sorted({c for c in columns if c not in units})
+    plots = plot_specs(result, _groups(scene, columns), units, _reference_lines(result))
+    sections = []
+    try:
+        lines = summary(scene, result)
+    except (KeyError, ValueError, IndexError):   # a result lacking a metric's column: ranges only
+        lines = []
+    sections.append(("Summary", table(lines)))
+    if stats is not None:
+        sections.append(("Run statistics and coupling health", table(_stats_rows(stats, settings))))
+    if settings is not None:
+        sections.append(("Settings", table(_settings_rows(settings), ("setting", "value", "from"))))
+    sections.append(("Warnings", table([(w,) for w in warnings]) if warnings
+                     else "<p class='note'>none</p>" if stats is not None
+                     else "<p class='note'>not known (the report was made from a result file)</p>"))
+    notes = [f"units not known for {len(missing)} column(s) ({', '.join(missing[:5])}...): no scene matched"
+             ] if missing and not units else []
+    title = f"cranefmu run of {scene or 'an unknown scene'}" + (f" ({source})" if source else "")
+    target = Path(path)
+    target.write_text(page(result, title=title, plots=plots, sections=sections, notes=notes), encoding="utf-8")
+    return target
