@@ -101,34 +101,68 @@ def test_run_and_csv_reports_are_self_contained_and_draw_the_same_crane(pendulum
     rows = read_csv(csv_path)
     assert len(a["frames"]["t"]) == len(rows)
     assert a["frames"]["points"]["hook"][0][700] == float(f"{rows['pendulum.x'][700]:.6g}")
-    assert "Settings" in run_text and "the scene&#x27;s stored setting" in run_text or "default" in run_text
-    assert "power bond hook" in run_text and "(elastic_pendulum.csv)" not in run_text
+    assert "<td>step_size</td><td>0.001</td><td>given</td>" in run_text   # each setting with where it came from
+    assert "<td>start_time</td><td>0.0</td><td>default</td>" in run_text
+    assert "power bond hook" in run_text and "not known (the report was made from a result file)" in csv_text
 
 
 CHROMIUM = "/usr/bin/chromium"
+# scene -> (stop time [s], what its drawing must hold: (element class, count))
+DRAWN = {"elastic_pendulum": (None, [("rope", 1), ("anchor", 1)]),
+         "hook_sway": (0.5, [("rope", 2), ("boom", 2)]),   # side and top view
+         "overhead_lift": (0.5, [("rope", 1), ("girder", 2), ("trolley", 1), ("ground", 1)]),
+         "truck_telescope": (0.5, [("rope", 1), ("boom", 1), ("body", 1), ("arrow", 2), ("pad", 2)])}
 
 
-@pytest.mark.skipif(not __import__("os").path.exists(CHROMIUM),
-                    reason="no /usr/bin/chromium (Debian package chromium; .ci/run installs it)")
-def test_headless_chromium_draws_the_hook_at_the_csv_position(pendulum_run, tmp_path):
+def _open(html, t: float, profile) -> str:
     import subprocess
 
+    p = subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                        "--disable-component-update", "--disable-sync", "--no-first-run", f"--user-data-dir={profile}",
+                        "--enable-logging=stderr", "--v=0", "--dump-dom", f"{html.as_uri()}#t={t}"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert "CONSOLE" not in p.stderr and "Uncaught" not in p.stderr, p.stderr[-2000:]   # the page logs nothing
+    assert 'data-ready="1"' in p.stdout
+    return p.stdout
+
+
+def _check_hook(dom: str, rows, t: float) -> None:
+    """The hook drawn for the slider's frame is where the CSV row at that time puts it."""
+    side = re.search(r'<svg[^>]*id="view-side"[^>]*>', dom).group(0)
+    attr = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', side))
+    i = int(np.argmin(np.abs(rows["time"] - t)))
+    assert float(attr["t"]) == pytest.approx(rows["time"][i], abs=1e-12)
+    assert float(attr["hook-x"]) == pytest.approx(rows["pendulum.x"][i], rel=1e-5, abs=1e-6)
+    assert float(attr["hook-y"]) == pytest.approx(rows["pendulum.y"][i], rel=1e-5, abs=1e-6)
+    assert 'id="drawn-hook"' in dom
+
+
+needs_chromium = pytest.mark.skipif(not __import__("os").path.exists(CHROMIUM),
+                                    reason="no /usr/bin/chromium (Debian package chromium; .ci/run installs it)")
+
+
+@needs_chromium
+def test_headless_chromium_draws_the_hook_at_the_csv_position(pendulum_run, tmp_path):
     csv_path, html, _ = pendulum_run
     rows = read_csv(csv_path)
     for t in (0.0, 1.0, 1.537):
-        p = subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                            "--disable-component-update", "--disable-sync", "--no-first-run",
-                            f"--user-data-dir={tmp_path / 'profile'}", "--enable-logging=stderr", "--v=0",
-                            "--dump-dom", f"{html.as_uri()}#t={t}"], capture_output=True, text=True, timeout=120)
-        assert p.returncode == 0, p.stderr[-2000:]
-        assert "CONSOLE" not in p.stderr and "Uncaught" not in p.stderr, p.stderr[-2000:]   # the page logs nothing
-        dom = p.stdout
-        assert 'data-ready="1"' in dom
-        side = re.search(r'<svg[^>]*id="view-side"[^>]*>', dom).group(0)
-        attr = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', side))
-        i = int(np.argmin(np.abs(rows["time"] - t)))
-        assert float(attr["t"]) == pytest.approx(rows["time"][i], abs=1e-12)
-        assert float(attr["hook-x"]) == pytest.approx(rows["pendulum.x"][i], rel=1e-5, abs=1e-6)
-        assert float(attr["hook-y"]) == pytest.approx(rows["pendulum.y"][i], rel=1e-5, abs=1e-6)
-        assert dom.count('class="rope"') == 1 and 'id="drawn-hook"' in dom
+        dom = _open(html, t, tmp_path / "profile")
+        _check_hook(dom, rows, t)
         assert dom.count("<polyline") >= 3   # tension, sway, bond energy plots drawn
+
+
+@needs_chromium
+@pytest.mark.parametrize("scene", [s for s in DRAWN if s != "elastic_pendulum"])
+def test_headless_chromium_draws_each_scene(built, scene, tmp_path):
+    stop, parts = DRAWN[scene]
+    csv_path, html = tmp_path / "r.csv", tmp_path / "r.html"
+    p = cranefmu("run", scene, "--stop-time", str(stop), "--output", str(csv_path), "--report", str(html))
+    assert p.returncode == 0, p.stderr
+    rows = read_csv(csv_path)
+    t = float(rows["time"][len(rows) // 2])
+    dom = _open(html, t, tmp_path / "profile")
+    _check_hook(dom, rows, t)
+    for cls, count in parts:
+        assert len(re.findall(rf'class="{cls}"', dom)) == count, cls
+    assert dom.count("<polyline") >= 2

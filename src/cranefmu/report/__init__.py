@@ -41,7 +41,10 @@ def _reference_lines(result: np.ndarray) -> dict[str, list[tuple[str, float]]]:
     names = set(result.dtype.names)
     lines: dict[str, list[tuple[str, float]]] = {}
     if "pendulum.rest_tension" in names and "rope.tension" in names and len(result):
-        lines["rope.tension"] = [("static (rest tension)", float(result["pendulum.rest_tension"][0]))]
+        # the static load: what the rope and the ground carry together at the start (a grounded load's weight)
+        ground = float(result["pendulum.N_ground"][0]) if "pendulum.N_ground" in names else 0.0
+        lines["rope.tension"] = [("static (rest tension + ground reaction at the start)",
+                                  float(result["pendulum.rest_tension"][0]) + ground)]
     for c in ("chassis.N_front", "chassis.N_rear"):
         if c in names:
             lines[c] = [("lift-off (tipping) N = 0", 0.0)]
@@ -52,8 +55,9 @@ def _settings_rows(settings) -> list[tuple[str, str, str]]:
     rows = []
     for f in fields(settings):
         value = getattr(settings, f.name)
-        source = ("the scene's stored setting" if f.name in settings.from_scene
-                  else "default" if value == f.default else "given")
+        given = settings.given is None or f.name in settings.given   # None: every field was given
+        source = ("the scene's stored setting" if f.name in settings.from_scene else "given" if given
+                  else "the scene's DefaultExperiment, else default" if f.name == "stop_time" else "default")
         rows.append((f.name, repr(value), source))
     return rows
 
@@ -72,16 +76,28 @@ def _stats_rows(stats, settings) -> list[tuple[str, str]]:
     return rows
 
 
-def write_report(path, result: np.ndarray, *, scene: str = "", units: dict[str, str] | None = None,
+def write_report(path, result, *, scene: str = "", units: dict[str, str] | None = None,
                  settings=None, stats=None, warnings: list[str] | tuple = (), source: str = "") -> Path:
-    """Write the HTML report of ``result`` (a structured array of rows with a ``time`` field, as
-    :func:`cranefmu.master.run.run` returns or :func:`cranefmu.master.results.read_csv` reads) to ``path``.
+    """Write the HTML report of ``result`` to ``path`` and return the path.
 
-    ``scene`` picks the plots and the summary, ``units`` (column -> unit, as
-    :func:`cranefmu.master.run.preview` gives) labels the axes; ``settings``/``stats``/``warnings`` are the
-    run's (``RunResult.settings``, ``.stats``, ``.warnings``) when known.  Returns the path written.
+    ``result`` is a :class:`~cranefmu.master.run.RunResult` (``cranefmu.run(...)``; its scene, settings,
+    statistics, warnings and units are taken from it) or a structured array of rows with a ``time`` field
+    (``cranefmu.simulate`` or :func:`cranefmu.master.results.read_csv`).  ``scene`` picks the plots and the
+    summary, ``units`` (column -> unit, as :func:`cranefmu.master.run.preview` gives) labels the axes.
     """
     from ..scenes import summary
+
+    if hasattr(result, "stats") and hasattr(result, "result"):
+        scene, settings, stats = scene or result.scene, settings or result.settings, stats or result.stats
+        warnings = warnings or result.warnings
+        result = result.result
+    if units is None and scene:
+        from ..master.run import preview
+
+        try:
+            units = preview(scene).units
+        except CraneFmuError:   # a scene file no longer where it was: axes without units, said so
+            units = {}
 
     names = list(getattr(getattr(result, "dtype", None), "names", None) or ())
     if "time" not in names:

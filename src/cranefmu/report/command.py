@@ -70,5 +70,5 @@ def report_after_run(path, res, scene) -> Path:
     data = res.result
     if not len(data) and res.output:
         data = read_csv(res.output, report_columns(res.scene, scene.columns))
-    return write_report(path, data, scene=res.scene, units=scene.units, settings=res.settings, stats=res.stats,
-                        warnings=res.warnings)
+    return write_report(path, res if data is res.result else data, scene=res.scene, units=scene.units,
+                        settings=res.settings, stats=res.stats, warnings=res.warnings)
