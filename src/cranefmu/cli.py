@@ -65,6 +65,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     plotted, prefix = _plot_plan(args, scene)
     if prefix is not None:
         check_directory(prefix.parent, "--plot", str(prefix) + "_*.png")
+    if args.report:
+        check_directory(Path(args.report).resolve().parent, "--report", args.report)
     keep = rows <= KEEP_ROWS or not args.output
     if not args.in_process:   # the worker extracts its own copy; this one would outlive a killed parent
         from .master.extracted import clear

@@ -106,6 +106,19 @@ def test_run_and_csv_reports_are_self_contained_and_draw_the_same_crane(pendulum
     assert "power bond hook" in run_text and "not known (the report was made from a result file)" in csv_text
 
 
+def test_bad_report_input_exits_2_naming_it(built, tmp_path):
+    no_time = tmp_path / "no_time.csv"
+    no_time.write_text("a,b\n1,2\n")
+    for args, needle in [(["report", str(tmp_path / "absent.csv")], "absent.csv cannot be read"),
+                         (["report", str(no_time)], "no time column"),
+                         (["report", str(no_time), "--output", str(tmp_path / "nodir" / "r.html")], "nodir"),
+                         (["run", "elastic_pendulum", "--stop-time", "0.1", "--report",
+                           str(tmp_path / "nodir" / "r.html")], "--report")]:
+        p = cranefmu(*args)
+        assert p.returncode == 2, (args, p.stderr)
+        assert needle in p.stderr and "Traceback" not in p.stderr, p.stderr
+
+
 CHROMIUM = "/usr/bin/chromium"
 # scene -> (stop time [s], what its drawing must hold: (element class, count))
 DRAWN = {"elastic_pendulum": (None, [("rope", 1), ("anchor", 1)]),

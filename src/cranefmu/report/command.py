@@ -23,11 +23,14 @@ def _scene_of(header: list[str]) -> str:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
+    from ..master.output_file import check_directory
     from ..master.results import read_csv
     from ..master.run import preview
     from . import report_columns, write_report
 
     source = Path(args.result)
+    output = Path(args.output) if args.output else source.with_suffix(".html")
+    check_directory(output.resolve().parent, "--output", str(output))
     try:
         with open(source, newline="") as f:
             header = next(csv.reader(f), [])
@@ -38,7 +41,6 @@ def _cmd_report(args: argparse.Namespace) -> int:
                             "--output is)")
     scene = args.scene or _scene_of(header)
     units = preview(scene).units if scene else {}
-    output = Path(args.output) if args.output else source.with_suffix(".html")
     data = read_csv(source, report_columns(scene, header[1:]))
     print(f"report: {write_report(output, data, scene=scene, units=units, source=source.name)}")
     return 0
