@@ -9,11 +9,9 @@ from __future__ import annotations
 from dataclasses import fields
 from pathlib import Path
 
-import numpy as np
-
 from ..errors import CraneFmuError
-from .drawing import columns_needed
-from .page import page, plot_specs, table
+
+# numpy and the page are imported where used: `cranefmu --version` and every other command import this package
 
 __all__ = ["write_report", "report_columns"]
 
@@ -29,6 +27,7 @@ def _groups(scene: str, names: list[str]) -> list[tuple[str, list[str]]]:
 def report_columns(scene: str, names: list[str]) -> list[str]:
     """The columns of a result that a report reads (a long run's CSV need not be read whole)."""
     from ..scenes import SCENES, _metric_columns
+    from .drawing import columns_needed
 
     info = SCENES.get(scene)
     wanted = {c for _, cols in _groups(scene, names) for c in cols} | set(columns_needed(names))
@@ -36,7 +35,7 @@ def report_columns(scene: str, names: list[str]) -> list[str]:
     return [c for c in names if c in wanted]
 
 
-def _reference_lines(result: np.ndarray) -> dict[str, list[tuple[str, float]]]:
+def _reference_lines(result) -> dict[str, list[tuple[str, float]]]:
     """Scene-independent reference values by column: the rope's static tension, the outriggers' lift-off."""
     names = set(result.dtype.names)
     lines: dict[str, list[tuple[str, float]]] = {}
@@ -86,6 +85,7 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
     summary, ``units`` (column -> unit, as :func:`cranefmu.master.run.preview` gives) labels the axes.
     """
     from ..scenes import summary
+    from .page import page, plot_specs, table
 
     if hasattr(result, "stats") and hasattr(result, "result"):
         scene, settings, stats = scene or result.scene, settings or result.settings, stats or result.stats
