@@ -149,6 +149,9 @@ def _check_hook(dom: str, rows, t: float) -> None:
     assert float(attr["hook-x"]) == pytest.approx(rows["pendulum.x"][i], rel=1e-5, abs=1e-6)
     assert float(attr["hook-y"]) == pytest.approx(rows["pendulum.y"][i], rel=1e-5, abs=1e-6)
     assert 'id="drawn-hook"' in dom
+    plots = re.findall(r'<svg[^>]*id="plot-\d+".*?</svg>', dom, re.S)
+    assert plots and all("time [s]</text>" in p and re.search(r">\[[^\]]+\]</text>", p) for p in plots)
+    assert "[rad]" not in dom   # angles in degrees
 
 
 needs_chromium = pytest.mark.skipif(not __import__("os").path.exists(CHROMIUM),
