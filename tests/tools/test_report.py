@@ -73,6 +73,19 @@ def test_report_of_a_million_rows_is_a_few_mb_and_keeps_the_peak(tmp_path):
     assert 2000 <= len(data["frames"]["t"]) <= 20_000
 
 
+def test_hoisting_a_grounded_load_draws_the_en13001_phi2_band():
+    from cranefmu.report import _reference_lines
+
+    r = np.zeros(3, dtype=[(c, float) for c in ("time", "rope.tension", "pendulum.rest_tension", "pendulum.N_ground",
+                                                "drive.payout_rate")])
+    r["pendulum.rest_tension"], r["pendulum.N_ground"], r["drive.payout_rate"] = 100.0, [900.0, 0, 0], [0, -0.5, -1]
+    lines = dict(_reference_lines(r)["rope.tension"][i][::-1] for i in range(3))
+    assert sorted(lines) == pytest.approx([1000.0, (1.05 + 0.17) * 1000.0, (1.20 + 0.68) * 1000.0])
+    from cranefmu.report import report_columns   # a report from a CSV reads the columns the band needs
+
+    assert set(report_columns("overhead_lift", [c for c in r.dtype.names if c != "time"])) == set(r.dtype.names[1:])
+
+
 def _no_external_reference(text: str) -> None:
     assert set(re.findall(r"https?://[^\s\"'<>)]*", text)) <= {SVG_NAMESPACE}
     assert not re.search(r"\b(src|href)\s*=|url\(|@import", text, re.I)

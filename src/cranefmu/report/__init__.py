@@ -31,19 +31,29 @@ def report_columns(scene: str, names: list[str]) -> list[str]:
 
     info = SCENES.get(scene)
     wanted = {c for _, cols in _groups(scene, names) for c in cols} | set(columns_needed(names))
-    wanted |= set(_metric_columns(scene)) | set(info.key_outputs if info else ()) | {"pendulum.rest_tension"}
+    wanted |= set(_metric_columns(scene)) | set(info.key_outputs if info else ())
+    wanted |= {"pendulum.rest_tension", "pendulum.N_ground", "drive.payout_rate"}   # for the reference lines
     return [c for c in names if c in wanted]
 
 
 def _reference_lines(result) -> dict[str, list[tuple[str, float]]]:
-    """Scene-independent reference values by column: the rope's static tension, the outriggers' lift-off."""
+    """Reference values by column: the rope's static tension (and the EN 13001-2 phi2 band when a grounded
+    load is hoisted), the outriggers' lift-off."""
+    import numpy as np
+
     names = set(result.dtype.names)
     lines: dict[str, list[tuple[str, float]]] = {}
     if "pendulum.rest_tension" in names and "rope.tension" in names and len(result):
         # the static load: what the rope and the ground carry together at the start (a grounded load's weight)
         ground = float(result["pendulum.N_ground"][0]) if "pendulum.N_ground" in names else 0.0
-        lines["rope.tension"] = [("static (rest tension + ground reaction at the start)",
-                                  float(result["pendulum.rest_tension"][0]) + ground)]
+        weight = float(result["pendulum.rest_tension"][0]) + ground
+        lines["rope.tension"] = [("static (rest tension + ground reaction at the start)", weight)]
+        if ground > 0 and "drive.payout_rate" in names:
+            # a grounded load hoisted: EN 13001-2 phi2 = phi2,min + beta2 v_h (hoist drive class HD1: v_h the
+            # largest hoisting speed), the band from hoisting class HC1 to HC4 (shared/notes/crane-standards.md)
+            v_h = float(np.max(np.abs(result["drive.payout_rate"])))
+            lines["rope.tension"] += [(f"EN 13001-2 phi2 {hc} (v_h {v_h:.3g} m/s)", (low + beta * v_h) * weight)
+                                      for hc, beta, low in (("HC1", 0.17, 1.05), ("HC4", 0.68, 1.20))]
     for c in ("chassis.N_front", "chassis.N_rear"):
         if c in names:
             lines[c] = [("lift-off (tipping) N = 0", 0.0)]
