@@ -132,6 +132,20 @@ def test_bad_report_input_exits_2_naming_it(built, tmp_path):
         assert needle in p.stderr and "Traceback" not in p.stderr, p.stderr
 
 
+def test_a_run_streamed_to_its_csv_is_reported_from_the_csv(pendulum_run, tmp_path):
+    """More than 1e6 rows are not kept in memory: the report reads them back from the run's CSV."""
+    from types import SimpleNamespace
+
+    from cranefmu.master.run import preview
+    from cranefmu.report.command import report_after_run
+
+    csv_path, html, _ = pendulum_run
+    streamed = SimpleNamespace(result=np.zeros(0, dtype=[("time", float)]), output=csv_path, scene="elastic_pendulum",
+                               settings=None, stats=None, warnings=["a warning"])
+    text = report_after_run(tmp_path / "s.html", streamed, preview("elastic_pendulum")).read_text()
+    assert _data(text)["frames"] == _data(html.read_text())["frames"] and "a warning" in text
+
+
 CHROMIUM = "/usr/bin/chromium"
 # scene -> (stop time [s], what its drawing must hold: (element class, count))
 DRAWN = {"elastic_pendulum": (None, [("rope", 1), ("anchor", 1)]),
