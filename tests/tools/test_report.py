@@ -86,6 +86,16 @@ def test_hoisting_a_grounded_load_draws_the_en13001_phi2_band():
     assert set(report_columns("overhead_lift", [c for c in r.dtype.names if c != "time"])) == set(r.dtype.names[1:])
 
 
+def test_axes_say_the_unit_in_degrees_or_that_it_is_not_known():
+    from cranefmu.report.page import plot_specs
+
+    r = np.zeros(3, dtype=[("time", float), ("a.F", float), ("b.theta", float), ("c.n", float)])
+    r["b.theta"] = [0.0, math.pi / 2, 0.0]
+    specs = plot_specs(r, [("g", ["a.F", "b.theta", "c.n"])], {"b.theta": "rad", "c.n": ""})
+    assert [p["ylabel"] for p in specs] == ["[unit unknown]", "[deg]", "[1]"]
+    assert max(specs[1]["series"][0]["v"]) == 90.0
+
+
 def _no_external_reference(text: str) -> None:
     assert set(re.findall(r"https?://[^\s\"'<>)]*", text)) <= {SVG_NAMESPACE}
     assert not re.search(r"\b(src|href)\s*=|url\(|@import", text, re.I)

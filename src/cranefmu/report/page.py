@@ -19,8 +19,10 @@ def _numbers(values) -> list:
     return [float(f"{v:.6g}") if math.isfinite(v) else None for v in np.asarray(values, dtype=float).tolist()]
 
 
-def _axis(unit: str) -> tuple[str, float]:
-    """Display unit and factor: angles in degrees."""
+def _axis(unit: str | None) -> tuple[str, float]:
+    """Display unit and factor: angles in degrees; None: the unit is not known."""
+    if unit is None:
+        return "unit unknown", 1.0
     if unit == "rad":
         return "deg", 180.0 / math.pi
     if unit == "rad/s":
@@ -34,9 +36,9 @@ def plot_specs(result: np.ndarray, groups: list[tuple[str, list[str]]], units: d
     t = np.asarray(result["time"], dtype=float)
     out = []
     for title, cols in groups:
-        by_unit: dict[str, list[str]] = {}
+        by_unit: dict[str | None, list[str]] = {}
         for c in cols:
-            by_unit.setdefault(units.get(c, ""), []).append(c)
+            by_unit.setdefault(units.get(c), []).append(c)
         for unit, names in by_unit.items():
             shown, factor = _axis(unit)
             series = []
