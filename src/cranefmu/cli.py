@@ -62,6 +62,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     plotted, prefix = _plot_plan(args, scene)
     if prefix is not None:
         check_directory(prefix.parent, "--plot", str(prefix) + "_*.png")
+    if args.report:
+        check_directory(Path(args.report).resolve().parent, "--report", args.report)
     keep = rows <= KEEP_ROWS or not args.output
     streamed = bool(args.output) and is_stream(args.output)
     if streamed and prefix is not None and not keep:
@@ -83,6 +85,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
         data = res.result if keep else read_csv(res.output, [c for _, cols in plotted for c in cols])
         for path in write_plots(data, res.scene, prefix, plotted, units=scene.units):
             print(f"figure: {path}", file=say)
+    if args.report:
+        from .report.command import report_after_run
+
+        print(f"report: {report_after_run(args.report, res, scene)}", file=say)
     return 0
 
 
@@ -229,6 +235,7 @@ def _cmd_build_fmi3(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     from . import __version__
+    from .report.command import add_parser as add_report_parser, add_run_option as add_report_option
 
     p = argparse.ArgumentParser(prog="cranefmu", description="Crane dynamics as FMI co-simulation components.")
     p.add_argument("--version", action="version", version=f"cranefmu {__version__}")
@@ -264,6 +271,7 @@ def build_parser() -> argparse.ArgumentParser:
                    f"record more rows than this (default {MAX_ROWS:g})")
     r.add_argument("--in-process", action="store_true", help="run the FMUs in this process (default: a worker "
                    "process, so a crash inside an FMU is reported instead of ending the command)")
+    add_report_option(r)
     r.set_defaults(func=_cmd_run)
 
     i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
@@ -319,6 +327,7 @@ def build_parser() -> argparse.ArgumentParser:
     from .export import add_parser as add_export_parser
 
     add_export_parser(sub)
+    add_report_parser(sub)
     return p
 
 

@@ -1,0 +1,139 @@
+"""A finished run as one self-contained HTML file: the crane drawn to scale and animated, the key outputs
+as plots linked to the time slider, the bond energy residuals, settings, statistics, warnings and summary.
+
+``write_report(path, result, scene=...)`` from Python; ``cranefmu run SCENE --report FILE`` and
+``cranefmu report RESULT.csv --output FILE`` from the command line (docs/report.md).
+"""
+from __future__ import annotations
+
+from dataclasses import fields
+from pathlib import Path
+
+from ..errors import CraneFmuError
+
+# numpy and the page are imported where used: `cranefmu --version` and every other command import this package
+
+__all__ = ["write_report", "report_columns"]
+
+
+def _groups(scene: str, names: list[str]) -> list[tuple[str, list[str]]]:
+    from ..scenes import plot_groups
+
+    groups = plot_groups(scene, names)
+    bonds = [c for c in names if c.startswith("bond.") and c.endswith(".E")]
+    return groups + ([("Bond energy residuals (ECCO, accumulated)", bonds)] if bonds else [])
+
+
+def report_columns(scene: str, names: list[str]) -> list[str]:
+    """The columns of a result that a report reads (a long run's CSV need not be read whole)."""
+    from ..scenes import SCENES, _metric_columns
+    from .drawing import columns_needed
+
+    info = SCENES.get(scene)
+    wanted = {c for _, cols in _groups(scene, names) for c in cols} | set(columns_needed(names))
+    wanted |= set(_metric_columns(scene)) | set(info.key_outputs if info else ())
+    wanted |= {"pendulum.rest_tension", "pendulum.N_ground", "drive.payout_rate"}   # for the reference lines
+    return [c for c in names if c in wanted]
+
+
+def _reference_lines(result) -> dict[str, list[tuple[str, float]]]:
+    """Reference values by column: the rope's static tension (and the EN 13001-2 phi2 band when a grounded
+    load is hoisted), the outriggers' lift-off."""
+    import numpy as np
+
+    names = set(result.dtype.names)
+    lines: dict[str, list[tuple[str, float]]] = {}
+    if "pendulum.rest_tension" in names and "rope.tension" in names and len(result):
+        # the static load: what the rope and the ground carry together at the start (a grounded load's weight)
+        ground = float(result["pendulum.N_ground"][0]) if "pendulum.N_ground" in names else 0.0
+        weight = float(result["pendulum.rest_tension"][0]) + ground
+        lines["rope.tension"] = [("static (rest tension + ground reaction at the start)", weight)]
+        if ground > 0 and "drive.payout_rate" in names:
+            # a grounded load hoisted: EN 13001-2 phi2 = phi2,min + beta2 v_h (hoist drive class HD1: v_h the
+            # largest hoisting speed), the band from hoisting class HC1 to HC4 (shared/notes/crane-standards.md)
+            v_h = float(np.max(np.abs(result["drive.payout_rate"])))
+            lines["rope.tension"] += [(f"EN 13001-2 phi2 {hc} (v_h {v_h:.3g} m/s)", (low + beta * v_h) * weight)
+                                      for hc, beta, low in (("HC1", 0.17, 1.05), ("HC4", 0.68, 1.20))]
+    for c in ("chassis.N_front", "chassis.N_rear"):
+        if c in names:
+            lines[c] = [("lift-off (tipping) N = 0", 0.0)]
+    return lines
+
+
+def _settings_rows(settings) -> list[tuple[str, str, str]]:
+    rows = []
+    for f in fields(settings):
+        value = getattr(settings, f.name)
+        given = settings.given is None or f.name in settings.given   # None: every field was given
+        source = ("the scene's stored setting" if f.name in settings.from_scene else "given" if given
+                  else "the scene's DefaultExperiment, else default" if f.name == "stop_time" else "default")
+        rows.append((f.name, repr(value), source))
+    return rows
+
+
+def _stats_rows(stats, settings) -> list[tuple[str, str]]:
+    rows = [("macro steps", str(stats.steps)), ("wall time", f"{stats.wall_time:.3f} s (master "
+                                                             f"{stats.master_time:.3f} s)")]
+    if settings is not None and settings.adaptive:
+        rows.append(("steps", f"{stats.min_step:.3g} to {stats.max_step:.3g} s, {stats.rejections} rejected"))
+    if stats.iterations:
+        rows.append(("coupling iterations", f"{stats.iterations} (at most {stats.max_iterations} in a step)"))
+    rows += [(f"FMU {k}", f"{stats.fmu_calls.get(k, 0)} steps, {stats.fmu_time[k]:.3f} s") for k in stats.fmu_time]
+    rows += [(f"power bond {k}", f"energy residual {e:.6g} J of {stats.bond_carried.get(k, 0.0):.6g} J carried")
+             for k, e in stats.bond_energy.items()]
+    rows.append(("stopped early", stats.stopped or "no: ran to the end"))
+    return rows
+
+
+def write_report(path, result, *, scene: str = "", units: dict[str, str] | None = None,
+                 settings=None, stats=None, warnings: list[str] | tuple = (), source: str = "") -> Path:
+    """Write the HTML report of ``result`` to ``path`` and return the path.
+
+    ``result`` is a :class:`~cranefmu.master.run.RunResult` (``cranefmu.run(...)``; its scene, settings,
+    statistics, warnings and units are taken from it) or a structured array of rows with a ``time`` field
+    (``cranefmu.simulate`` or :func:`cranefmu.master.results.read_csv`).  ``scene`` picks the plots and the
+    summary, ``units`` (column -> unit, as :func:`cranefmu.master.run.preview` gives) labels the axes.
+    """
+    from ..scenes import summary
+    from .page import page, plot_specs, table
+
+    if hasattr(result, "stats") and hasattr(result, "result"):
+        scene, settings, stats = scene or result.scene, settings or result.settings, stats or result.stats
+        warnings = warnings or result.warnings
+        result = result.result
+    if units is None and scene:
+        from ..master.run import preview
+
+        try:
+            units = preview(scene).units
+        except CraneFmuError:   # a scene file no longer where it was: axes without units, said so
+            units = {}
+
+    names = list(getattr(getattr(result, "dtype", None), "names", None) or ())
+    if "time" not in names:
+        raise CraneFmuError(f"a report needs a result with a time column; the columns are {names[:10]}")
+    if not len(result):
+        raise CraneFmuError("a report needs at least one row; the result is empty")
+    columns = [c for c in names if c != "time"]
+    units = dict(units or {})
+    missing = sorted({c for c in columns if c not in units})
+    plots = plot_specs(result, _groups(scene, columns), units, _reference_lines(result))
+    sections = []
+    try:
+        lines = summary(scene, result)
+    except (KeyError, ValueError, IndexError):   # a result lacking a metric's column: ranges only
+        lines = []
+    sections.append(("Summary", table(lines)))
+    if stats is not None:
+        sections.append(("Run statistics and coupling health", table(_stats_rows(stats, settings))))
+    if settings is not None:
+        sections.append(("Settings", table(_settings_rows(settings), ("setting", "value", "from"))))
+    sections.append(("Warnings", table([(w,) for w in warnings]) if warnings
+                     else "<p class='note'>none</p>" if stats is not None
+                     else "<p class='note'>not known (the report was made from a result file)</p>"))
+    notes = [f"units not known for {len(missing)} column(s) ({', '.join(missing[:5])}...): no scene matched"
+             ] if missing and not units else []
+    title = f"cranefmu run of {scene or 'an unknown scene'}" + (f" ({source})" if source else "")
+    target = Path(path)
+    target.write_text(page(result, title=title, plots=plots, sections=sections, notes=notes), encoding="utf-8")
+    return target

@@ -1,0 +1,76 @@
+"""``cranefmu report RESULT.csv`` and ``cranefmu run ... --report FILE``: the command-line side of the report."""
+from __future__ import annotations
+
+import argparse
+import csv
+from pathlib import Path
+
+from ..errors import CraneFmuError
+
+
+def _scene_of(header: list[str]) -> str:
+    """The built-in scene whose run writes exactly these columns ('' if none does)."""
+    from ..master.run import preview
+    from ..scenes import SCENES
+
+    for name in SCENES:
+        try:
+            if ["time", *preview(name).columns] == header:
+                return name
+        except CraneFmuError:   # a scene not built here: it cannot be the one
+            continue
+    return ""
+
+
+def _cmd_report(args: argparse.Namespace) -> int:
+    from ..master.output_file import check_directory
+    from ..master.results import read_csv
+    from ..master.run import preview
+    from . import report_columns, write_report
+
+    source = Path(args.result)
+    output = Path(args.output) if args.output else source.with_suffix(".html")
+    check_directory(output.resolve().parent, "--output", str(output))
+    try:
+        with open(source, newline="") as f:
+            header = next(csv.reader(f), [])
+    except OSError as err:
+        raise CraneFmuError(f"RESULT {source} cannot be read: {err.strerror}") from None
+    if "time" not in header:
+        raise CraneFmuError(f"RESULT {source} is not allowed: no time column in its header (a CSV of cranefmu run "
+                            "--output is)")
+    scene = args.scene or _scene_of(header)
+    units = preview(scene).units if scene else {}
+    data = read_csv(source, report_columns(scene, header[1:]))
+    print(f"report: {write_report(output, data, scene=scene, units=units, source=source.name)}")
+    return 0
+
+
+def add_parser(sub) -> None:
+    """Register ``cranefmu report``."""
+    p = sub.add_parser("report", help="write the self-contained HTML report of a finished run's CSV "
+                       "(docs/report.md)")
+    p.add_argument("result", help="a CSV written by cranefmu run --output")
+    p.add_argument("--scene", default=None, help="the scene that wrote it (default: the built-in scene with "
+                   "exactly its columns, else none: generic plots, no units)")
+    p.add_argument("--output", default=None, help="the HTML file (default: RESULT with .html)")
+    p.set_defaults(func=_cmd_report)
+
+
+def add_run_option(parser) -> None:
+    """``cranefmu run --report FILE``."""
+    parser.add_argument("--report", default=None, metavar="FILE", help="write the run's self-contained HTML "
+                        "report (crane animated, plots, settings, coupling health; docs/report.md)")
+
+
+def report_after_run(path, res, scene) -> Path:
+    """The report of a finished ``cranefmu run`` (``res`` a RunResult, ``scene`` its ScenePreview); a run
+    streamed to its CSV without keeping its rows is read back from the CSV (only the columns needed)."""
+    from ..master.results import read_csv
+    from . import report_columns, write_report
+
+    data = res.result
+    if not len(data) and res.output:
+        data = read_csv(res.output, report_columns(res.scene, scene.columns))
+    return write_report(path, res if data is res.result else data, scene=res.scene, units=scene.units,
+                        settings=res.settings, stats=res.stats, warnings=res.warnings)

@@ -1,0 +1,100 @@
+"""One self-contained HTML page of a finished run: data as inline JSON, the script and style of script.py."""
+from __future__ import annotations
+
+import html
+import json
+import math
+
+import numpy as np
+
+from .decimate import extremes, frame_limit, frames
+from .drawing import FORCE_ARROW, draw
+from .script import SCRIPT, STYLE
+
+PLAY_SECONDS = 10.0   # play shows a run in about this many seconds (at least real time for a short run)
+
+
+def _numbers(values) -> list:
+    """Floats kept to 6 significant digits (a plot needs no more), NaN and inf as null."""
+    return [float(f"{v:.6g}") if math.isfinite(v) else None for v in np.asarray(values, dtype=float).tolist()]
+
+
+def _axis(unit: str | None) -> tuple[str, float]:
+    """Display unit and factor: angles in degrees; None: the unit is not known."""
+    if unit is None:
+        return "unit unknown", 1.0
+    if unit == "rad":
+        return "deg", 180.0 / math.pi
+    if unit == "rad/s":
+        return "deg/s", 180.0 / math.pi
+    return unit or "1", 1.0
+
+
+def plot_specs(result: np.ndarray, groups: list[tuple[str, list[str]]], units: dict[str, str],
+               lines: dict[str, list[tuple[str, float]]] | None = None) -> list[dict]:
+    """One plot per (group, unit): the series decimated keeping each bucket's extremes, in display units."""
+    t = np.asarray(result["time"], dtype=float)
+    out = []
+    for title, cols in groups:
+        by_unit: dict[str | None, list[str]] = {}
+        for c in cols:
+            by_unit.setdefault(units.get(c), []).append(c)
+        for unit, names in by_unit.items():
+            shown, factor = _axis(unit)
+            series = []
+            for c in names:
+                v = np.asarray(result[c], dtype=float) * factor
+                keep = extremes(v)
+                series.append({"name": c, "t": _numbers(t[keep]), "v": _numbers(v[keep])})
+            refs = [{"label": label, "v": value * factor} for c in names for label, value in (lines or {}).get(c, [])]
+            out.append({"title": title if len(by_unit) == 1 else f"{title} ({shown})", "unit": shown,
+                        "ylabel": f"[{shown}]", "series": series, "lines": refs})
+    return out
+
+
+def table(rows: list[tuple[str, ...]], head: tuple[str, ...] = ()) -> str:
+    if not rows:
+        return "<p class='note'>none</p>"
+    th = "<tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>" if head else ""
+    return "<table>" + th + "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>"
+                                    for r in rows) + "</table>"
+
+
+def page(result: np.ndarray, *, title: str, plots: list[dict], sections: list[tuple[str, str]],
+         notes: list[str]) -> str:
+    """The HTML text: ``result`` (at least the drawn columns and time) animated, ``plots`` (plot_specs),
+    ``sections`` (heading, HTML) below them."""
+    t = np.asarray(result["time"], dtype=float)
+    d = draw(result)
+    idx = frames(len(t), frame_limit(3 * len(d.points) + len(d.forces)))
+    duration = float(t[-1] - t[0]) if len(t) else 0.0
+    data = {
+        "frames": {"t": _numbers(t[idx]),
+                   "points": {k: [_numbers(a[idx]) for a in xyz] for k, xyz in d.points.items()},
+                   "forces": {k: _numbers(v[idx]) for k, v in d.forces.items()}},
+        "elements": d.elements, "threeD": d.three_d, "arrow": FORCE_ARROW, "plots": plots,
+        "t0": float(t[0]) if len(t) else 0.0, "t1": float(t[-1]) if len(t) else 1.0,
+        "speed": max(1.0, duration / PLAY_SECONDS),
+    }
+    blob = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+    every = "every output time" if len(idx) == len(t) else f"{len(idx)} of the {len(t)} output times, evenly spaced"
+    body = "".join(f"<h2>{html.escape(h)}</h2>{content}" for h, content in sections)
+    note_html = "".join(f"<p class='note'>{html.escape(n)}</p>" for n in [*d.notes, *notes])
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>
+<style>{STYLE}</style></head><body>
+<h1>{html.escape(title)}</h1>
+<h2>The crane</h2>
+<div class="views" id="views"></div>
+<div class="controls"><button id="play">play</button><input type="range" id="slider" min="0" value="0" step="1">
+<span id="time"></span></div>
+<p class="note">Frames: {every}.  Plots: each series keeps the smallest and largest value of each of its
+time buckets.  Drag across a plot to zoom in, double-click to zoom out, click to move the slider there.</p>
+{note_html}
+<h2>Outputs</h2>
+<div id="plots"></div>
+{body}
+<script type="application/json" id="report-data">{blob}</script>
+<script>{SCRIPT}</script>
+</body></html>
+"""

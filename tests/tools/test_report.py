@@ -1,0 +1,221 @@
+"""The HTML run report: decimation keeps the extremes, the file needs no network, a 1e6-row run gives a few MB,
+the command line writes it, and headless Chromium draws the hook where the CSV says it is."""
+import json
+import math
+import re
+
+import numpy as np
+import pytest
+
+from cli_process import cranefmu
+from cranefmu.master.results import read_csv
+from cranefmu.report import write_report
+from cranefmu.report.decimate import extremes, frames
+
+SVG_NAMESPACE = "http://www.w3.org/2000/svg"   # an XML name createElementNS needs; never fetched
+
+
+def _data(text: str) -> dict:
+    blob = re.search(r'<script type="application/json" id="report-data">(.*?)</script>', text, re.S).group(1)
+    return json.loads(blob.replace("<\\/", "</"))
+
+
+def test_extremes_keep_every_bucket_min_and_max():
+    rng = np.random.default_rng(1)
+    v = rng.normal(size=100_003)
+    v[[17, 50_000, 99_999]] = [40.0, -55.0, 33.0]   # one-row spikes
+    v[70_000] = np.nan
+    keep = extremes(v, buckets=100)
+    assert len(keep) <= 2 * 100 + 2 and keep[0] == 0 and keep[-1] == len(v) - 1
+    assert {17, 50_000, 99_999} <= set(keep.tolist())
+    size = -(-len(v) // 100)
+    for b in range(100):   # each bucket's smallest and largest value is among the kept rows
+        part = v[b * size:(b + 1) * size]
+        kept = v[keep[(keep >= b * size) & (keep < (b + 1) * size)]]
+        assert np.nanmax(kept) == np.nanmax(part) and np.nanmin(kept) == np.nanmin(part)
+    assert np.array_equal(extremes(v[:150], buckets=100), np.arange(150))   # short: every row
+
+
+def test_frames_are_every_row_up_to_the_limit_then_evenly_spaced():
+    assert np.array_equal(frames(10, limit=20), np.arange(10))
+    f = frames(1_000_000, limit=2000)
+    assert len(f) == 2000 and f[0] == 0 and f[-1] == 999_999
+    assert np.ptp(np.diff(f)) <= 1
+
+
+def _synthetic(n: int) -> np.ndarray:
+    """An elastic_pendulum-shaped result: a 10 m pendulum swinging at its own period, with a tension spike."""
+    t = np.linspace(0.0, 1000.0, n)
+    theta = 0.1 * np.cos(math.sqrt(9.81 / 10) * t)
+    cols = {"time": t, "rope.tension": 9810 * (1 + 0.01 * np.cos(2 * t)), "pendulum.x": 10 * np.sin(theta),
+            "pendulum.y": -10 * np.cos(theta), "pendulum.theta": theta, "bond.hook.E": 1e-3 * t}
+    cols["rope.tension"][n // 3] = 20000.0
+    for a in "xyz":
+        cols[f"pendulum.{a}_suspension"] = np.zeros(n)
+        cols[f"pendulum.{a}_payload"] = cols.get(f"pendulum.{a}", np.zeros(n))
+    cols["pendulum.rest_tension"] = np.full(n, 9810.0)
+    out = np.zeros(n, dtype=[(c, float) for c in cols])
+    for c, v in cols.items():
+        out[c] = v
+    return out
+
+
+def test_report_of_a_million_rows_is_a_few_mb_and_keeps_the_peak(tmp_path):
+    units = {"rope.tension": "N", "pendulum.theta": "rad", "bond.hook.E": "J"}
+    path = write_report(tmp_path / "big.html", _synthetic(1_000_000), scene="elastic_pendulum", units=units)
+    size = path.stat().st_size
+    assert size < 3e6, size
+    data = _data(path.read_text())
+    tension = next(p for p in data["plots"] if p["series"][0]["name"] == "rope.tension")["series"][0]
+    assert max(tension["v"]) == 20000.0
+    theta = next(p for p in data["plots"] if p["series"][0]["name"] == "pendulum.theta")
+    assert theta["unit"] == "deg" and max(theta["series"][0]["v"]) == pytest.approx(0.1 * 180 / math.pi, rel=1e-5)
+    assert 2000 <= len(data["frames"]["t"]) <= 20_000
+
+
+def test_hoisting_a_grounded_load_draws_the_en13001_phi2_band():
+    from cranefmu.report import _reference_lines
+
+    r = np.zeros(3, dtype=[(c, float) for c in ("time", "rope.tension", "pendulum.rest_tension", "pendulum.N_ground",
+                                                "drive.payout_rate")])
+    r["pendulum.rest_tension"], r["pendulum.N_ground"], r["drive.payout_rate"] = 100.0, [900.0, 0, 0], [0, -0.5, -1]
+    lines = dict(_reference_lines(r)["rope.tension"][i][::-1] for i in range(3))
+    assert sorted(lines) == pytest.approx([1000.0, (1.05 + 0.17) * 1000.0, (1.20 + 0.68) * 1000.0])
+    from cranefmu.report import report_columns   # a report from a CSV reads the columns the band needs
+
+    assert set(report_columns("overhead_lift", [c for c in r.dtype.names if c != "time"])) == set(r.dtype.names[1:])
+
+
+def test_axes_say_the_unit_in_degrees_or_that_it_is_not_known():
+    from cranefmu.report.page import plot_specs
+
+    r = np.zeros(3, dtype=[("time", float), ("a.F", float), ("b.theta", float), ("c.n", float)])
+    r["b.theta"] = [0.0, math.pi / 2, 0.0]
+    specs = plot_specs(r, [("g", ["a.F", "b.theta", "c.n"])], {"b.theta": "rad", "c.n": ""})
+    assert [p["ylabel"] for p in specs] == ["[unit unknown]", "[deg]", "[1]"]
+    assert max(specs[1]["series"][0]["v"]) == 90.0
+
+
+def _no_external_reference(text: str) -> None:
+    assert set(re.findall(r"https?://[^\s\"'<>)]*", text)) <= {SVG_NAMESPACE}
+    assert not re.search(r"\b(src|href)\s*=|url\(|@import", text, re.I)
+
+
+@pytest.fixture(scope="module")
+def pendulum_run(built, tmp_path_factory):
+    """elastic_pendulum for 2 s through the CLI, with --report; and the CSV's report by ``cranefmu report``."""
+    where = tmp_path_factory.mktemp("report")
+    csv_path, html = where / "ep.csv", where / "ep.html"
+    p = cranefmu("run", "elastic_pendulum", "--stop-time", "2", "--step", "1e-3", "--output", str(csv_path),
+                 "--report", str(html))
+    assert p.returncode == 0, p.stderr
+    q = cranefmu("report", str(csv_path), "--output", str(where / "from_csv.html"))
+    assert q.returncode == 0, q.stderr
+    return csv_path, html, where / "from_csv.html"
+
+
+def test_run_and_csv_reports_are_self_contained_and_draw_the_same_crane(pendulum_run):
+    csv_path, html, from_csv = pendulum_run
+    run_text, csv_text = html.read_text(), from_csv.read_text()
+    for text in (run_text, csv_text):
+        _no_external_reference(text)
+    a, b = _data(run_text), _data(csv_text)
+    assert a["frames"] == b["frames"] and a["elements"] == b["elements"]
+    rows = read_csv(csv_path)
+    assert len(a["frames"]["t"]) == len(rows)
+    assert a["frames"]["points"]["hook"][0][700] == float(f"{rows['pendulum.x'][700]:.6g}")
+    assert "<td>step_size</td><td>0.001</td><td>given</td>" in run_text   # each setting with where it came from
+    assert "<td>start_time</td><td>0.0</td><td>default</td>" in run_text
+    assert "power bond hook" in run_text and "not known (the report was made from a result file)" in csv_text
+
+
+def test_bad_report_input_exits_2_naming_it(built, tmp_path):
+    no_time = tmp_path / "no_time.csv"
+    no_time.write_text("a,b\n1,2\n")
+    for args, needle in [(["report", str(tmp_path / "absent.csv")], "absent.csv cannot be read"),
+                         (["report", str(no_time)], "no time column"),
+                         (["report", str(no_time), "--output", str(tmp_path / "nodir" / "r.html")], "nodir"),
+                         (["run", "elastic_pendulum", "--stop-time", "0.1", "--report",
+                           str(tmp_path / "nodir" / "r.html")], "--report")]:
+        p = cranefmu(*args)
+        assert p.returncode == 2, (args, p.stderr)
+        assert needle in p.stderr and "Traceback" not in p.stderr, p.stderr
+
+
+def test_a_run_streamed_to_its_csv_is_reported_from_the_csv(pendulum_run, tmp_path):
+    """More than 1e6 rows are not kept in memory: the report reads them back from the run's CSV."""
+    from types import SimpleNamespace
+
+    from cranefmu.master.run import preview
+    from cranefmu.report.command import report_after_run
+
+    csv_path, html, _ = pendulum_run
+    streamed = SimpleNamespace(result=np.zeros(0, dtype=[("time", float)]), output=csv_path, scene="elastic_pendulum",
+                               settings=None, stats=None, warnings=["a warning"])
+    text = report_after_run(tmp_path / "s.html", streamed, preview("elastic_pendulum")).read_text()
+    assert _data(text)["frames"] == _data(html.read_text())["frames"] and "a warning" in text
+
+
+CHROMIUM = "/usr/bin/chromium"
+# scene -> (stop time [s], what its drawing must hold: (element class, count))
+DRAWN = {"elastic_pendulum": (None, [("rope", 1), ("anchor", 1)]),
+         "hook_sway": (0.5, [("rope", 2), ("boom", 2)]),   # side and top view
+         "overhead_lift": (0.5, [("rope", 1), ("girder", 2), ("trolley", 1), ("ground", 1)]),
+         "truck_telescope": (0.5, [("rope", 1), ("boom", 1), ("body", 1), ("arrow", 2), ("pad", 2)])}
+
+
+def _open(html, t: float, profile) -> str:
+    import subprocess
+
+    p = subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                        "--disable-component-update", "--disable-sync", "--no-first-run", f"--user-data-dir={profile}",
+                        "--enable-logging=stderr", "--v=0", "--dump-dom", f"{html.as_uri()}#t={t}"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert "CONSOLE" not in p.stderr and "Uncaught" not in p.stderr, p.stderr[-2000:]   # the page logs nothing
+    assert 'data-ready="1"' in p.stdout
+    return p.stdout
+
+
+def _check_hook(dom: str, rows, t: float) -> None:
+    """The hook drawn for the slider's frame is where the CSV row at that time puts it."""
+    side = re.search(r'<svg[^>]*id="view-side"[^>]*>', dom).group(0)
+    attr = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', side))
+    i = int(np.argmin(np.abs(rows["time"] - t)))
+    assert float(attr["t"]) == pytest.approx(rows["time"][i], abs=1e-12)
+    assert float(attr["hook-x"]) == pytest.approx(rows["pendulum.x"][i], rel=1e-5, abs=1e-6)
+    assert float(attr["hook-y"]) == pytest.approx(rows["pendulum.y"][i], rel=1e-5, abs=1e-6)
+    assert 'id="drawn-hook"' in dom
+    plots = re.findall(r'<svg[^>]*id="plot-\d+".*?</svg>', dom, re.S)
+    assert plots and all("time [s]</text>" in p and re.search(r">\[[^\]]+\]</text>", p) for p in plots)
+    assert "[rad]" not in dom   # angles in degrees
+
+
+needs_chromium = pytest.mark.skipif(not __import__("os").path.exists(CHROMIUM),
+                                    reason="no /usr/bin/chromium (Debian package chromium; .ci/run installs it)")
+
+
+@needs_chromium
+def test_headless_chromium_draws_the_hook_at_the_csv_position(pendulum_run, tmp_path):
+    csv_path, html, _ = pendulum_run
+    rows = read_csv(csv_path)
+    for t in (0.0, 1.0, 1.537):
+        dom = _open(html, t, tmp_path / "profile")
+        _check_hook(dom, rows, t)
+        assert dom.count("<polyline") >= 3   # tension, sway, bond energy plots drawn
+
+
+@needs_chromium
+@pytest.mark.parametrize("scene", [s for s in DRAWN if s != "elastic_pendulum"])
+def test_headless_chromium_draws_each_scene(built, scene, tmp_path):
+    stop, parts = DRAWN[scene]
+    csv_path, html = tmp_path / "r.csv", tmp_path / "r.html"
+    p = cranefmu("run", scene, "--stop-time", str(stop), "--output", str(csv_path), "--report", str(html))
+    assert p.returncode == 0, p.stderr
+    rows = read_csv(csv_path)
+    t = float(rows["time"][len(rows) // 2])
+    dom = _open(html, t, tmp_path / "profile")
+    _check_hook(dom, rows, t)
+    for cls, count in parts:
+        assert len(re.findall(rf'class="{cls}"', dom)) == count, cls
+    assert dom.count("<polyline") >= 2
