@@ -60,15 +60,15 @@ def _reference_lines(result) -> dict[str, list[tuple[str, float]]]:
     return lines
 
 
-def _settings_rows(settings) -> list[tuple[str, str, str]]:
-    rows = []
-    for f in fields(settings):
-        value = getattr(settings, f.name)
-        given = settings.given is None or f.name in settings.given   # None: every field was given
-        source = ("the scene's stored setting" if f.name in settings.from_scene else "given" if given
-                  else "the scene's DefaultExperiment, else default" if f.name == "stop_time" else "default")
-        rows.append((f.name, repr(value), source))
-    return rows
+_SOURCE_TEXT = {"given": "given", "scene": "the scene's stored setting",
+                "algorithm default": "the algorithm's default", "default": "default"}
+
+
+def _settings_rows(settings, sources: dict[str, str] | None) -> list[tuple[str, str, str]]:
+    """Each setting, its value and where it came from (:attr:`cranefmu.master.runspec.RunSpec.sources`)."""
+    return [(f.name, repr(getattr(settings, f.name)),
+             _SOURCE_TEXT.get(sources.get(f.name, ""), "not known") if sources else "not known")
+            for f in fields(settings)]
 
 
 def _stats_rows(stats, settings) -> list[tuple[str, str]]:
@@ -86,7 +86,8 @@ def _stats_rows(stats, settings) -> list[tuple[str, str]]:
 
 
 def write_report(path, result, *, scene: str = "", units: dict[str, str] | None = None,
-                 settings=None, stats=None, warnings: list[str] | tuple = (), source: str = "") -> Path:
+                 settings=None, stats=None, warnings: list[str] | tuple = (), source: str = "",
+                 sources: dict[str, str] | None = None) -> Path:
     """Write the HTML report of ``result`` to ``path`` and return the path.
 
     ``result`` is a :class:`~cranefmu.master.run.RunResult` (``cranefmu.run(...)``; its scene, settings,
@@ -99,6 +100,7 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
 
     if hasattr(result, "stats") and hasattr(result, "result"):
         scene, settings, stats = scene or result.scene, settings or result.settings, stats or result.stats
+        sources = sources or (result.spec.sources if getattr(result, "spec", None) is not None else None)
         warnings = warnings or result.warnings
         result = result.result
     if units is None and scene:
@@ -127,7 +129,7 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
     if stats is not None:
         sections.append(("Run statistics and coupling health", table(_stats_rows(stats, settings))))
     if settings is not None:
-        sections.append(("Settings", table(_settings_rows(settings), ("setting", "value", "from"))))
+        sections.append(("Settings", table(_settings_rows(settings, sources), ("setting", "value", "from"))))
     sections.append(("Warnings", table([(w,) for w in warnings]) if warnings
                      else "<p class='note'>none</p>" if stats is not None
                      else "<p class='note'>not known (the report was made from a result file)</p>"))

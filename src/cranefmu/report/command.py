@@ -73,4 +73,5 @@ def report_after_run(path, res, scene) -> Path:
     if not len(data) and res.output:
         data = read_csv(res.output, report_columns(res.scene, scene.columns))
     return write_report(path, res if data is res.result else data, scene=res.scene, units=scene.units,
-                        settings=res.settings, stats=res.stats, warnings=res.warnings)
+                        settings=res.settings, stats=res.stats, warnings=res.warnings,
+                        sources=res.spec.sources if getattr(res, "spec", None) is not None else None)
