@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from .errors import CraneFmuError
+from .studies.command import add_parser as add_study_parser
 from .sweep.command import add_parser as add_sweep_parser
 
 
@@ -301,6 +302,7 @@ def build_parser() -> argparse.ArgumentParser:
     f3.add_argument("only", nargs="*", help="FMU names (default: all)")
     f3.set_defaults(func=_cmd_build_fmi3)
     add_sweep_parser(sub)
+    add_study_parser(sub)
     return p
 
 
