@@ -82,7 +82,7 @@ def sizes(ctx: Context) -> tuple[list, list, int, float, float | None]:
     """(static points, dynamic points, secant rounds, tolerance, settle time) of this size."""
     static = ctx.pick([(45.0, L_MIN), (45.0, L_MAX)], [(a, L) for a in (30.0, 45.0, 60.0, 75.0) for L in LENGTHS],
                       [(a, L) for a in (30.0, 45.0, 60.0, 75.0) for L in LENGTHS])
-    dyn = ctx.pick([(60.0, 12.0, 0.55)], [(a, L, v) for a in (30.0, 60.0) for L in (14.0, L_MAX) for v in SPEEDS],
+    dyn = ctx.pick([(60.0, 14.0, 0.55)], [(a, L, v) for a in (30.0, 60.0) for L in (14.0, L_MAX) for v in SPEEDS],
                    [(a, L, v) for a in (30.0, 45.0, 60.0, 75.0) for L in (14.0, 18.0, L_MAX) for v in SPEEDS])
     return static, dyn, ctx.pick(2, 6, 6), ctx.pick(0.05, 0.01, 0.01), ctx.pick(2.0, None, None)
 

@@ -12,14 +12,13 @@ from __future__ import annotations
 
 import importlib.util
 import math
-import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from .common import Context, pyplot, write_csv, write_page
-from .timing import MONO_RTOL, command_wall, in_child, keys, libcosim_available
+from .timing import MONO_RTOL, command_wall, cranefmu_command, in_child, keys, libcosim_available
 
 REF_RTOL = 1e-10
 
@@ -59,7 +58,7 @@ def cold(method: str, scene: str, stop: float, step: float, tmp: Path) -> tuple[
     same child as the warm measurement (interpreter start to exit, two runs: its first run's time is
     taken, i.e. process - second)."""
     if method == "ours":
-        return command_wall([sys.executable, "-m", "cranefmu", "run", scene, "--stop-time", repr(stop), "--step",
+        return command_wall([*cranefmu_command(), "run", scene, "--stop-time", repr(stop), "--step",
                              repr(step), "--output", str(tmp / f"{scene}_cold.csv")])
     got = in_child(method, scene, stop, step, tmp / f"{scene}_{method}_cold.npz")
     return (got["process"] - got.get("second", 0.0), got.get("error", ""))
@@ -105,7 +104,7 @@ def page(rows: list[dict], ecos: bool) -> list[str]:
              f"accuracy = worst max |y - y_ref| / range(y_ref) over the key outputs, y_ref = monolith at rtol "
              f"{REF_RTOL:g}.  ours: our master, Jacobi (the scene's stored settings), in-process; monolith: "
              f"`cranefmu.reference.solve` (Radau, rtol {MONO_RTOL:g}); libcosim: libcosimpy, fixed step, the .ssp "
-             "as loaded.  cold = the whole command in a fresh process (ours: `cranefmu run SCENE --stop-time T "
+             "started from our settled inputs (it exchanges nothing in initialization mode).  cold = the whole command in a fresh process (ours: `cranefmu run SCENE --stop-time T "
              "--step H --output x.csv`; the others: interpreter start, imports and the first run); warm = the "
              "second run in one process.  " + ("" if ecos else "ecos: not importable here (no `ecospy`), not "
                                                "run.  ") + "Table: speed.csv.", "",

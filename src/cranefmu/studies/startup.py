@@ -4,12 +4,11 @@ run = cold, the second = warm; :mod:`.timing`), the whole ``cranefmu run`` comma
 from __future__ import annotations
 
 import statistics
-import sys
 import tempfile
 from pathlib import Path
 
 from .common import Context, pyplot, write_csv, write_page
-from .timing import command_wall, in_child
+from .timing import command_wall, cranefmu_command, in_child
 
 STEP = 1e-3
 
@@ -26,10 +25,10 @@ def run(ctx: Context) -> None:
     rows = []
     with tempfile.TemporaryDirectory(prefix="cranefmu_startup_") as tmpdir:
         tmp = Path(tmpdir)
-        version = [command_wall([sys.executable, "-m", "cranefmu", "--version"]) for _ in range(repeat)]
+        version = [command_wall([*cranefmu_command(), "--version"]) for _ in range(repeat)]
         for scene in scenes:
             got = [in_child("ours", scene, STEP, STEP, tmp / f"{scene}.npz") for _ in range(repeat)]
-            cli = [command_wall([sys.executable, "-m", "cranefmu", "run", scene, "--stop-time", repr(STEP), "--step",
+            cli = [command_wall([*cranefmu_command(), "run", scene, "--stop-time", repr(STEP), "--step",
                                  repr(STEP), "--output", str(tmp / f"{scene}_{i}.csv")]) for i in range(repeat)]
             errors = [g["error"] for g in got if "error" in g] + [e for _, e in cli if e]
             row = {"scene": scene, "status": "failed" if errors else "ok", "error": errors[0] if errors else ""}

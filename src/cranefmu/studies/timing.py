@@ -5,8 +5,8 @@ twice in the process and prints one JSON line: ``import`` [s], ``first`` [s] (th
 the process), ``second`` [s] (warm: the same run again), and saves the second run's key outputs at
 its output times to OUT (``.npz``).  Methods: ``ours`` (our master, in-process), ``monolith`` (the
 scene's equations in one ODE, Radau, rtol 1e-6, output at ``time`` of the matching ``ours`` run, or
-every STEP), ``libcosim`` (libcosimpy, fixed step from the .ssp, through the checkout's
-tests/interop_hosts.py).  Timings are wall clock (``time.perf_counter``); the machine may be shared.
+every STEP), ``libcosim`` (libcosimpy, fixed step from the .ssp, started from our settled inputs,
+through the checkout's tests/interop_hosts.py).  Timings are wall clock (``time.perf_counter``); the machine may be shared.
 """
 from __future__ import annotations
 
@@ -54,21 +54,36 @@ def _monolith(scene: str, stop: float, step: float):
 
 
 def _libcosim(scene: str, stop: float, step: float):
-    sys.path.insert(0, str(checkout_tests()))
     from interop_hosts import libcosim_timed
 
     from ..master.run import resolve_scene
 
-    out = libcosim_timed(list(keys(scene)), stop, str(resolve_scene(scene)), step)
+    out = libcosim_timed(list(keys(scene)), stop, str(resolve_scene(scene)), step, initial_values=_START.get(scene))
     if "error" in out:
         raise RuntimeError(out["error"])
     return out
+
+
+_START: dict[str, dict] = {}
+
+
+def settled_start(scene: str) -> dict:
+    """Our initialization's settled value of every connected input, handed to libcosim as initial values
+    (it exchanges nothing in initialization mode: tests/tools/test_interop_libcosim.py)."""
+    from .. import build as b
+    from ..master.run import run
+    from ..master.scene import read_scene_folder
+    from interop_hosts import settled_inputs
+
+    first = run(scene, stop_time=1e-3, step_size=1e-3, isolate=False, progress=False).result[0]
+    return settled_inputs(read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR).connections, first)
 
 
 METHODS = {"ours": _ours, "monolith": _monolith, "libcosim": _libcosim}
 
 
 def child(method: str, scene: str, stop: float, step: float, out: str) -> dict:
+    """Import (timed), then two timed runs; the second's key outputs to ``out``."""
     import numpy as np
 
     t0 = clock.perf_counter()
@@ -77,7 +92,13 @@ def child(method: str, scene: str, stop: float, step: float, out: str) -> dict:
         import cranefmu.master.run  # noqa: F401 - timed as the import
     elif method == "monolith":
         import cranefmu.reference  # noqa: F401
+    else:
+        sys.path.insert(0, str(checkout_tests()))
+        import libcosimpy.CosimExecution  # noqa: F401
     t1 = clock.perf_counter()
+    if method == "libcosim":   # not timed: our own run, to hand libcosim the same settled start
+        _START[scene] = settled_start(scene)
+        t1 = clock.perf_counter()
     fn(scene, stop, step)
     t2 = clock.perf_counter()
     res = fn(scene, stop, step)
@@ -99,6 +120,14 @@ def in_child(method: str, scene: str, stop: float, step: float, out: Path, timeo
         tail = (p.stderr.strip().splitlines() or ["no output"])[-1]
         return {"error": f"{method} exited {p.returncode}: {tail}", "process": wall}
     return {**json.loads(lines[-1]), "process": wall}
+
+
+def cranefmu_command() -> list[str]:
+    """The ``cranefmu`` console script beside this interpreter (as a user runs it), else the same via -c."""
+    script = Path(sys.executable).parent / "cranefmu"
+    if script.is_file():
+        return [str(script)]
+    return [sys.executable, "-c", "import sys; from cranefmu.cli import main; sys.exit(main())"]
 
 
 def command_wall(args: list[str], timeout: float = 1800.0) -> tuple[float, str]:
