@@ -133,3 +133,17 @@ def pyplot():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def finish(fig, ax, path, xlabel: str, ylabel: str, title: str, legend: float = 7, grid: str = "both") -> None:
+    """Label ``ax``, grid and legend, and save ``fig`` to ``path`` (PNG, 120 dpi), then free it."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, which=grid, alpha=0.3)
+    ax.legend(fontsize=legend)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)

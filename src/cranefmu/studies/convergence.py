@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from .common import Context, pyplot, write_csv, write_page
+from .common import Context, finish, pyplot, write_csv, write_page
 
 TARGET = 1e-2   # worst error / range accepted for the recommendation
 
@@ -76,11 +76,5 @@ def plot(studies: list, path) -> None:
             ax.loglog([r.step_size for r in bad], [1.0] * len(bad), "X", color=f"C{i}", ms=10,
                       label=f"{s.scene}: failed run (drawn at 1)")
     ax.axhline(TARGET, color="k", ls="--", lw=0.8, label=f"target {TARGET:g}")
-    ax.set_xlabel("macro step H [s]")
-    ax.set_ylabel("worst error of the key outputs / their range")
-    ax.set_title("coupling-step convergence (Jacobi, extrapolation 1)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    finish(fig, ax, path, "macro step H [s]", "worst error of the key outputs / their range",
+           "coupling-step convergence (Jacobi, extrapolation 1)")

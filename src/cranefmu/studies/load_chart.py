@@ -20,8 +20,8 @@ import math
 
 import numpy as np
 
-from ..sweep.load_chart import L_MAX, L_MIN, STEP, dynamic_chart, static_chart
-from .common import Context, pyplot, write_csv, write_page
+from ..sweep.load_chart import L_MAX, L_MIN, STEP, closed_form_max_load, dynamic_chart, static_chart
+from .common import Context, finish, pyplot, write_csv, write_page
 
 STABILITY_FACTOR = 0.85    # rated / tipping on outriggers (ASME B30.5, crane-standards.md)
 HOOK_BLOCK = 150.0         # [kg] hook block deducted from the chart value (assumed: seed 000 gives none)
@@ -59,6 +59,17 @@ def tipping_length(angle_deg: float, load: float = TIP_LOAD, top: float = 40.0) 
     for _ in range(60):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if static_outrigger_loads(mid, angle_deg, load)[0] > 0.0 else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def closed_form_length(angle_deg: float, load: float = TIP_LOAD) -> float:
+    """Boom length [m] at which ``load`` tips the crane by the closed-form moment balance (nan: none below 40 m)."""
+    lo, hi = L_MIN, 40.0
+    if closed_form_max_load(angle_deg, hi) > load or closed_form_max_load(angle_deg, lo) < load:
+        return math.nan
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if closed_form_max_load(angle_deg, mid) > load else (lo, mid)
     return 0.5 * (lo + hi)
 
 
@@ -137,15 +148,24 @@ def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float |
     lines += ["", "'-': radius beyond the boom, steeper than 80 deg, or no load tips the crane there.", "",
               f"Static tipping lengths at {TIP_LOAD / 1e3:g} t (boom length at which N1 = 0; beyond {L_MAX} m the "
               "model's boom extended by the same law): " + ", ".join(
-                  f"{a:g} deg {tipping_length(a):.2f} m" for a in (30.0, 45.0, 60.0)) + ".", "",
+                  f"{a:g} deg {tipping_length(a):.2f} m" for a in (30.0, 45.0, 60.0)) + "; by the closed-form moment "
+              "balance of `cranefmu.sweep.load_chart` (segments 3 and 4 each extended by (L - 10.5 m) / 2): " + ", ".join(
+                  f"{a:g} deg {closed_form_length(a):.2f} m" for a in (30.0, 45.0, 60.0)) + ".  Where the two "
+              "differ, the statics leave segments 3 and 4 retracted (the scene check below tells which agrees "
+              "with the co-simulated scene).", "",
               "## Check: the co-simulated scene at rest against the static tipping load", "",
               "truck_telescope at rest, N1 at the start at 0.3 and 0.6 of the closed-form load, linear zero "
               f"(H = {STEP:g} s).", "",
-              "| angle [deg] | boom [m] | radius [m] | static tipping [kg] | scene [kg] | scene / static |",
-              "| --- | --- | --- | --- | --- | --- |"]
+              "| angle [deg] | boom [m] | radius [m] | static tipping [kg] | closed form [kg] | scene [kg] | "
+              "scene / static | scene / closed form |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for r in static:
+        if not math.isfinite(r["scene"]):
+            lines.append(f"| {r['angle']:g} | {r['length']:g} | {r['radius']:.2f} | {r['tipping']:.0f} | "
+                         f"{r['closed_form']:.0f} | **failed**: {r['error'][:80]} | | |")
+            continue
         lines.append(f"| {r['angle']:g} | {r['length']:g} | {r['radius']:.2f} | {r['tipping']:.0f} | "
-                     f"{r['scene']:.0f} | {r['scene'] / r['tipping']:.4f} |")
+                     f"{r['closed_form']:.0f} | {r['scene']:.0f} | {r['scene'] / r['tipping']:.4f} | "
+                     f"{r['scene'] / r['closed_form']:.4f} |")
     lines += ["", "## While telescoping (co-simulation)", "",
               f"From {L_MIN} m to the boom length at each speed (trapezoid, 3 s ramps, load height held by the "
               f"winch), then {settle or 6:g} s of free sway; tipping load = the largest load whose run keeps N1 > 0 "
@@ -192,14 +212,6 @@ def plot(table: list[dict], static: list[dict], dyn: list[dict], path) -> None:
     if bad:
         ax.plot([r["radius"] for r in bad], [r["static_tipping"] * STABILITY_FACTOR / 1e3 for r in bad], "rX", ms=10,
                 label="failed telescoping point")
-    ax.set_xlabel("working radius from the slewing centre [m]")
-    ax.set_ylabel("load [t]")
     ax.set_ylim(0.0, None)
-    top = max((rated(p) for r in table for k, p in r.items() if k.startswith("tipping_") and p), default=1e4)
-    ax.set_ylim(0.0, min(ax.get_ylim()[1], 1.3 * top / STABILITY_FACTOR / 1e3))
-    ax.set_title("truck crane 55713-1K (seed 000): load chart on outriggers, over the rear")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=6.5, ncol=2)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    finish(fig, ax, path, "working radius from the slewing centre [m]", "load [t]",
+           "truck crane 55713-1K (seed 000): load chart on outriggers, over the rear", legend=6.5, grid="major")

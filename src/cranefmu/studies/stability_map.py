@@ -24,7 +24,7 @@ import numpy as np
 from ..master.settings import ALGORITHMS
 from ..physics.rope import RopeParams, damping, stiffness
 from ..stability import stability_limit
-from .common import Context, pyplot, write_csv, write_page
+from .common import Context, finish, pyplot, write_csv, write_page
 
 G = 9.81
 MASS = 1000.0    # pendulum.mass of the scene (the rope's m_load input) [kg]
@@ -107,7 +107,7 @@ def bisect_all(ctx: Context, brackets: list[Bracket]) -> None:
         steps = [b.next_step() for b in open_]
         points = [run_point(b.E, h, b.algorithm, b.order) for b, h in zip(open_, steps)]
         res = sweep("elastic_pendulum", points, [metric], ctx.runs("stability_map_runs.csv"), parameters=fixed,
-                    client=ctx.client, progress=False)
+                    client=ctx.client, progress=False, warn_outside=False)
         by_inputs = {(r["rope.E"], r["step_size"], r["algorithm"], r["extrapolation"]): r for r in res.rows}
         for b, h in zip(open_, steps):
             row = by_inputs[(b.E, h, b.algorithm, float(b.order))]
@@ -200,11 +200,5 @@ def plot(rows: list[dict], path) -> None:
     for order in (0, 1, 2):
         hs = [stability_limit(axial(E)[1], order) / axial(E)[0] for E in es]
         ax.loglog(es, hs, "-", color=colors[order], lw=1, label=f"analytic (linear model), order {order}")
-    ax.set_xlabel("rope E [Pa] (stiffness c = E A / L)")
-    ax.set_ylabel("largest stable macro step H [s]")
-    ax.set_title("rope-pendulum coupling: stability limit (co-simulation, bisection)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    finish(fig, ax, path, "rope E [Pa] (stiffness c = E A / L)", "largest stable macro step H [s]",
+           "rope-pendulum coupling: stability limit (co-simulation, bisection)")

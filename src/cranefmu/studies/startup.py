@@ -7,7 +7,7 @@ import statistics
 import tempfile
 from pathlib import Path
 
-from .common import Context, pyplot, write_csv, write_page
+from .common import Context, finish, pyplot, write_csv, write_page
 from .timing import command_wall, cranefmu_command, in_child
 
 STEP = 1e-3
@@ -71,10 +71,5 @@ def plot(rows: list[dict], path) -> None:
         ax.bar([i + (j - 1.5) * width for i in range(len(ok))], [1e3 * r[k] for r in ok], width, label=label)
     ax.set_xticks(range(len(ok)), [r["scene"] for r in ok])
     bad = [r["scene"] for r in rows if r["status"] != "ok"]
-    ax.set_title("start-up of a one-step run" + (f" (failed: {', '.join(bad)})" if bad else ""))
-    ax.set_ylabel("wall [ms], median")
-    ax.grid(True, axis="y", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    finish(fig, ax, path, "", "wall [ms], median",
+           "start-up of a one-step run" + (f" (failed: {', '.join(bad)})" if bad else ""), legend=8, grid="major")

@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from ..errors import CraneFmuError
-from .common import Context, pyplot, write_csv, write_page
+from .common import Context, finish, pyplot, write_csv, write_page
 from .dynamic_factor import STEPS
 
 MEASURED = {"default": (1.31, 1.29, 1.32), "loose": (1.55, 1.45, 1.55)}   # seed 001 Table 7 (tight, loose)
@@ -97,10 +97,5 @@ def plot(rows: list[dict], path) -> None:
     if any(r["cosim"] is None or r["monolith"] is None for r in rows):
         ax.plot([], [], "rX", label="failed run")
     ax.set_xticks(x, [f"{r['model'].replace('_', '-')}\n{r['start']}" for r in rows])
-    ax.set_ylabel("dynamic factor (max rope tension / weight)")
-    ax.set_title("overhead crane: dynamic factor, model against measurement")
-    ax.grid(True, axis="y", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    finish(fig, ax, path, "", "dynamic factor (max rope tension / weight)",
+           "overhead crane: dynamic factor, model against measurement", legend=8, grid="major")

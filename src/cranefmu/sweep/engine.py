@@ -103,7 +103,7 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
           output: str | Path = "sweep.csv", *, parameters: dict | None = None, parameter_set: str | None = None,
           design: str = "factorial", samples: int | None = None, seed: int = 0, results: str | Path | None = None,
           workers: int | None = None, scheduler: str | None = None, client=None, progress: bool | None = None,
-          prune: bool = False, **settings) -> SweepResult:
+          prune: bool = False, warn_outside: bool = True, **settings) -> SweepResult:
     """Run ``scene`` for every point of a design and write one row per run to the CSV ``output``.
 
     vary: ``["comp.var=1,2,3", "step_size=log:1e-4:1e-2:5", ...]``, ``{"comp.var": [values]}`` or a list
@@ -115,7 +115,8 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     is resumed: its runs are skipped.  workers: processes of the local cluster (default: the cores);
     scheduler: address of an existing cluster; client: an existing ``distributed.Client``.
     Rows of ``output`` outside this design (an earlier ``vary``) are kept with a warning, or dropped
-    with ``prune``.  Ctrl-C cancels the runs still going and keeps every finished row.
+    with ``prune`` (``warn_outside=False``: kept silently, for a search whose rounds share one table).
+    Ctrl-C cancels the runs still going and keeps every finished row.
     """
     _refuse_bootstrapping()
     fixed = {**settings, **(parameters or {})}
@@ -133,7 +134,7 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     outside = table.keys - keys
     if outside and prune:
         table.drop(outside)
-    elif outside:
+    elif outside and warn_outside:
         print(f"cranefmu: warning: {table.path} holds {len(outside)} row(s) outside this design (an earlier "
               "--vary); they are kept; --prune (prune=True) drops them", file=sys.stderr)
     todo = [r for r in runs if r.key not in table.done]
