@@ -57,9 +57,12 @@ def test_stability_map_has_every_algorithm_and_the_analytic_limit_in_its_bracket
     rows = _rows(out / "stability_map.csv")
     assert {r["algorithm"] for r in rows} == {"jacobi", "gauss-seidel", "iterative", "jacobi-plain"}
     assert len(rows) == 2 * (3 * 3 + 1)
-    explicit = [r for r in rows if r["algorithm"] in ("jacobi", "jacobi-plain") and r["order"] == "0"]
+    explicit = [r for r in rows if r["algorithm"] == "jacobi" and r["order"] == "0"]
     for r in explicit:   # zero-order hold: omega H < min(4 z, 1/z) lies in the measured bracket
         assert float(r["H_stable"]) <= float(r["H_analytic"]) <= float(r["H_unstable"])
+    plain = {r["E"]: float(r["H_unstable"]) for r in rows if r["algorithm"] == "jacobi-plain"}
+    for r in explicit:   # libcosim's plain Jacobi feeds the force one step late: unstable below jacobi's limit
+        assert plain[r["E"]] <= float(r["H_stable"])
 
 
 def test_load_chart_scene_at_rest_agrees_with_the_statics_and_rated_is_85_percent_less_rigging(smoke):
