@@ -107,8 +107,6 @@ def test_speed_compares_on_one_grid_cold_and_warm(smoke):
 
 def test_a_study_with_a_failed_point_lists_it_and_exits_1(tmp_path, monkeypatch, capsys):
     class Failing:
-        __name__ = "cranefmu.studies.failing"
-
         @staticmethod
         def run(ctx: Context) -> None:
             ctx.fail("point 3: SimulationError: non-finite rope.tension at t = 1 s")

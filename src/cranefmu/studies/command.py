@@ -23,7 +23,7 @@ def run_studies(names: list[str], output: str, size: str, workers: int | None = 
             shared._client, shared._cluster = ctx._client, ctx._cluster
             failures[name] = ctx.failures
             say(f"study {name} ({size}): {len(ctx.failures)} failed point(s), {clock.perf_counter() - t0:.0f} s; "
-                f"wrote {ctx.output / (module(name).__name__.rsplit('.', 1)[1] + '.md')}")
+                f"wrote {ctx.output / (STUDIES[name] + '.md')}")
     finally:
         shared.close()
     return failures

@@ -193,7 +193,7 @@ def plot(table: list[dict], static: list[dict], dyn: list[dict], path) -> None:
     for i, L in enumerate(LENGTHS):
         angles = np.linspace(0.0, MAX_ANGLE, 81)
         pts = [(L * math.cos(math.radians(a)), tipping_load(L, a)) for a in angles]
-        pts = [(x, t) for x, t in pts if math.isfinite(t) and rated(t) > 0]
+        pts = [(x, t) for x, t in pts if math.isfinite(t) and rated(t) > 0 and x >= RADII[0]]   # the chart's range
         if not pts:
             continue
         x = [p[0] for p in pts]
