@@ -14,8 +14,10 @@ def cases(ctx: Context) -> list[tuple[str, list[float], float]]:
     """(scene, macro steps [s], stop time [s]) of this size."""
     return ctx.pick(
         [("elastic_pendulum", [4e-3, 2e-3], 1.0)],
+        # overhead_lift only at full size: its monolithic reference (motor, rtol 1e-10) took over 30 min on a
+        # loaded 2-core machine
         [("elastic_pendulum", [4e-3, 2e-3, 1e-3], 5.0), ("hook_sway", [4e-3, 2e-3, 1e-3], 5.0),
-         ("overhead_lift", [2e-3, 1e-3, 5e-4], 2.0), ("truck_telescope", [1e-2, 5e-3, 2.5e-3], 10.0)],
+         ("truck_telescope", [1e-2, 5e-3, 2.5e-3], 10.0)],
         [("elastic_pendulum", [4e-3, 2e-3, 1e-3, 5e-4], 10.0), ("hook_sway", [4e-3, 2e-3, 1e-3, 5e-4], 10.0),
          ("overhead_lift", [2e-3, 1e-3, 5e-4, 2.5e-4], 2.5), ("truck_telescope", [1e-2, 5e-3, 2.5e-3, 1.25e-3], 30.0)])
 
