@@ -49,7 +49,7 @@ def page(studies: list) -> list[str]:
              "same equations (`cranefmu.reference`, the scene's physics in one ODE) at the run's own output times.  "
              f"Error = max |y - y_ref| / range of y_ref over the key outputs (the worst one named).  Observed order "
              "p = ln(e_i / e_i+1) / ln(H_i / H_i+1).  Wall time: the run's own master loop on a sweep worker "
-             f"(warm: the worker had loaded the FMU code before).  Recommended: the cheapest run within {TARGET:g}.  "
+             f"(a worker's first run also loads the FMU code: not a warm timing).  Recommended: the cheapest run within {TARGET:g}.  "
              "Table: convergence.csv.", "",
              "| scene | H [s] | worst error / range | worst output | observed order (worst output) | wall [s] | "
              "real time x | recommended |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
