@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import csv
 import math
+import signal
 import subprocess
 import sys
 
@@ -114,6 +115,10 @@ def test_a_study_with_a_failed_point_lists_it_and_exits_1(tmp_path, monkeypatch,
 
     monkeypatch.setattr(study_command, "module", lambda name: Failing)
     args = argparse.Namespace(name="speed", smoke=True, full=False, output=str(tmp_path), workers=None, scheduler=None)
-    assert study_command._cmd_study(args) == 1
+    handler = signal.getsignal(signal.SIGINT)   # the command installs its own Ctrl-C handler
+    try:
+        assert study_command._cmd_study(args) == 1
+    finally:
+        signal.signal(signal.SIGINT, handler)
     assert "study speed: 1 failed point(s); first: point 3" in capsys.readouterr().err
     assert "**1 failed point(s)**" in (tmp_path / "failing.md").read_text()
