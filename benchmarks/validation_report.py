@@ -82,17 +82,27 @@ def cosim_kept(scene: str, stop: float, step: float, parameter_set: str, extrapo
     return r.result, r.stats.stopped.split(" (")[0]
 
 
-def figure(name: str, title: str, curves: list[tuple[np.ndarray, np.ndarray, str]], ylabel: str,
-           xlabel: str = "time [s]") -> str:
-    fig, ax = plt.subplots(figsize=(7, 3.6))
-    for x, y, label in curves:
-        ax.plot(x, y, label=label, lw=1)
-    ax.set_title(title)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.grid(alpha=0.3)
-    if len(curves) > 1:
-        ax.legend(fontsize=8)
+MONOLITH = f"monolithic solve (Radau, rtol {RTOL:g})"
+
+
+def figure(name: str, title: str, curves: list, ylabel: str, xlabel: str = "time [s]", source: str = MONOLITH,
+           panels: bool = False) -> str:
+    """A PNG of ``curves`` ((x, y, label) or (x, y, label, style dict)), titled with what produced them
+    (``source``); ``panels``: one panel per curve (sharing the axes) instead of one crowded plot."""
+    n = len(curves) if panels else 1
+    fig, axes = plt.subplots(n, 1, figsize=(7, 3.6 if n == 1 else 1.6 * n + 0.8), sharex=True, sharey=True,
+                             squeeze=False)
+    for i, (x, y, label, *style) in enumerate(curves):
+        ax = axes[i if panels else 0][0]
+        ax.plot(x, y, label=label, **{"lw": 1, **(style[0] if style else {})})
+        ax.grid(alpha=0.3)
+        if panels:
+            ax.set_title(label, fontsize=8, loc="left")
+        ax.set_ylabel(ylabel)
+    axes[0][0].set_title(f"{title}\n({source})", fontsize=9)
+    axes[-1][0].set_xlabel(xlabel)
+    if len(curves) > 1 and not panels:
+        axes[0][0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(FIG / f"{name}.png", dpi=110)
     plt.close(fig)
@@ -150,7 +160,9 @@ def overhead_lift(quick: bool) -> list[str]:
     md += ["", "| EN 13001-2 class | beta2 | phi2,min | phi2 |", "| --- | --- | --- | --- |"]
     for k, (beta, pmin) in EN_CLASSES.items():
         md.append(f"| {k} | {beta} | {pmin} | {pmin + beta * HOOK_SPEED:.3f} |")
-    md += ["", figure("overhead_lift_tension", "overhead_lift: rope tension", curves, "tension [kN]"), ""]
+    engines = sorted({m["engine"] for m in results.values() if "engine" in m})
+    md += ["", figure("overhead_lift_tension", "overhead_lift: rope tension", curves, "tension [kN]",
+                      source="; ".join(engines) or MONOLITH), ""]
     return md, results
 
 
@@ -229,8 +241,11 @@ def truck(quick: bool) -> list[str]:
                                          truck_telescope_parameters(angle_deg=ang))
         mc, mm = truck_telescope_metrics(co), truck_telescope_metrics(mono)
         angle_rows.append((ang, mc, mm))
-        curves.append((co["time"], co["chassis.N_front"] / 1e3, f"{ang:g} deg, co-simulation"))
-        curves.append((mono["time"], mono["chassis.N_front"] / 1e3, f"{ang:g} deg, monolithic"))
+        color = f"C{len(curves) // 2}"
+        curves.append((co["time"], co["chassis.N_front"] / 1e3, f"{ang:g} deg, co-simulation ({pset})",
+                       {"color": color, "lw": 2.2, "alpha": 0.6}))
+        curves.append((mono["time"], until_tipping(mono["chassis.N_front"]) / 1e3, f"{ang:g} deg, monolithic",
+                       {"color": color, "ls": "--", "lw": 1}))
         for engine, m_ in ((f"co-simulation ({pset})", mc), ("monolithic", mm)):
             md.append(f"| {ang:g} | {engine} | {m_['max_sway_deg']:.3f} | {m_['sway_after_deg']:.3f} | "
                       f"{m_['N_front_min'] / 1e3:.1f} | {m_['N_rear_max'] / 1e3:.1f} | {tipping_text(m_)} | "
@@ -250,7 +265,9 @@ def truck(quick: bool) -> list[str]:
         md.append(f"| {ang:g} | " + " | ".join(f"{d:+.4f}" if math.isfinite(d) else "-" for d in diffs) + " |")
     if notes:
         md += [""] + notes
-    md += ["", figure("truck_front_angle", "truck_telescope: front outrigger against boom angle", curves, "N1 [kN]"), ""]
+    md += ["", figure("truck_front_angle", "truck_telescope: front outrigger against boom angle (drawn up to tipping)",
+                      curves, "N1 [kN]", source=f"co-simulation Jacobi x1, H = {TRUCK_STEP:g} s, solid; {MONOLITH}, dashed"),
+           ""]
     rr = run("truck_telescope", 20.0 + extra, 2001, "default", truck_telescope_parameters(load=3500.0))
     mm = truck_telescope_metrics(rr)
     md += [f"With the 3.5 t load of the text at 60 deg: tipping {tipping_text(mm)}.", ""]
@@ -289,6 +306,16 @@ def luffing(quick: bool) -> list[str]:
             f"{r['boom.cylinder_force'].min() / 1e3:.1f} .. {r['boom.cylinder_force'].max() / 1e3:.1f} kN.", ""]
 
 
+def until_tipping(n1: np.ndarray) -> np.ndarray:
+    """N1 up to the front outrigger's lift-off, nan after it: the chassis has no overturning kinematics,
+    so a reaction computed after tipping means nothing."""
+    out = np.array(n1, dtype=float)
+    off = np.flatnonzero(out <= 0.0)
+    if len(off):
+        out[off[0] + 1:] = np.nan
+    return out
+
+
 def tipping_text(m: dict) -> str:
     if not m["tipping"]:
         return "no"
@@ -317,7 +344,7 @@ def hook(quick: bool) -> list[str]:
         pin = hook_sway_metrics(run("hook_sway", stop, 2001, "pin_damper", hook_sway_parameters(m_hook=mh, hook_length=lh)))
         md.append(f"| {mh:g} | {lh:g} | {mm['sway_first_deg']:.3f} | {mm['sway_last_deg']:.3f} | {mm['sway_ratio']:.3f} | "
                   f"{mm['min_peak_ratio']:.3f} | {mm['half_time']:.2f} | {pin['sway_ratio']:.3f} |")
-    md += ["", figure("hook_sway", "hook_sway: payload sway", curves_m, "sway [deg]"), ""]
+    md += ["", figure("hook_sway", "hook_sway: payload sway, one panel per case", curves_m, "sway [deg]", panels=True), ""]
     cm = run("hook_sway", 15.0, 3001, "crane_motion")
     md += ["Crane motions (parameter set crane_motion: travel 1 m at 0.3 m/s, then steering 45 deg at 0.2 rad/s, "
            "hook-pin damper on; payload at rest at the start): largest payload sway "

@@ -328,6 +328,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_export_parser(sub)
     add_report_parser(sub)
+    from .studies.command import add_parser as add_study_parser
+
+    add_study_parser(sub)
     return p
 
 

@@ -102,7 +102,7 @@ def test_designs():
         parse_factor("extrapolation=0,1.5")
 
 
-def test_a_run_that_kills_its_worker_is_retried_once_then_recorded(client, tmp_path):
+def test_a_run_that_kills_its_worker_is_retried_once_then_recorded_lost(client, tmp_path):
     from cranefmu.sweep.metrics import Custom
 
     def die_at_2e11(result, inputs):   # a crash inside the worker process (as a segfault in an FMU)
@@ -115,7 +115,7 @@ def test_a_run_that_kills_its_worker_is_retried_once_then_recorded(client, tmp_p
                          client=client, stop_time=0.1)
     by_e = {r["rope.E"]: r for r in res.rows}
     assert (res.ran, res.failed, res.retried) == (3, 1, [by_e[2e11]["key"]])
-    assert by_e[2e11]["status"] == "failed" and by_e[2e11]["attempts"] == 2
+    assert by_e[2e11]["status"] == "lost" and by_e[2e11]["attempts"] == 2   # rerun by a resumed sweep
     assert "worker lost the run" in by_e[2e11]["error"] and "KilledWorker" in by_e[2e11]["error"]
     assert all(by_e[e]["status"] == "ok" and math.isfinite(by_e[e]["final_tension"]) for e in (1e11, 3e11))
 

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from ..errors import CraneFmuError
 
@@ -18,17 +19,25 @@ def _settings(items: list[str]) -> dict[str, str]:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from .engine import sweep
+    from .engine import interrupt_once, sweep
 
+    interrupt_once()
     fixed = _settings(args.set)
     fixed.update({name: getattr(args, name) for name in ("stop_time", "step_size") if hasattr(args, name)})
     metrics = [m for text in args.metric for m in text.split(";") if m.strip()] or None
     res = sweep(args.scene, args.vary, metrics, args.output, parameters=fixed, parameter_set=args.parameter_set,
                 design=args.design, samples=args.samples, seed=args.seed, results=args.results,
-                workers=args.workers, scheduler=args.scheduler, progress=False if args.no_progress else None)
-    failed = sum(r["status"] != "ok" for r in res.rows)
+                workers=args.workers, scheduler=args.scheduler, progress=False if args.no_progress else None,
+                prune=args.prune)
+    failed = [r for r in res.rows if r["status"] != "ok"]
+    lost = sum(r["status"] == "lost" for r in failed)
     print(f"sweep of {args.scene}: {res.ran} run(s) now ({res.failed} failed), {res.skipped} already done; "
-          f"{len(res.rows)} rows in {res.path} ({failed} failed), {res.wall_time:.1f} s on {res.workers} worker(s)")
+          f"{len(res.rows)} rows in {res.path} ({len(failed)} failed, {lost} of them lost), {res.wall_time:.1f} s "
+          f"on {res.workers} worker(s)")
+    if failed:
+        print(f"cranefmu: {len(failed)} run(s) failed" + (f" ({lost} lost with a worker: the same command reruns "
+              "them)" if lost else "") + f"; the first: {failed[0]['error']}", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -63,6 +72,8 @@ def add_parser(sub) -> None:
                    "(default: the cores)")
     s.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use the Dask cluster at this address "
                    "(e.g. tcp://10.0.0.5:8786) instead of a local one")
+    s.add_argument("--prune", action="store_true", help="drop the rows of --output outside this design (an earlier "
+                   "--vary); without it they are kept with a warning")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=_cmd_sweep)
 

@@ -3,19 +3,29 @@ core, one thread each) or an existing cluster by address; rows written as runs f
 
 Each run is one task (:func:`.worker.execute`): the worker process runs the simulation in-process, so a
 worker loads the scene's Python FMU code once and reuses it for every later run.  A run whose task
-raises something unexpected or whose worker dies is submitted once more; the second failure is
-recorded with its message.  The sweep itself never stops on a failed run.
+raises something unexpected is submitted once more; the second failure is recorded with its message.
+A run lost with its worker (or with the scheduler) is submitted once more while the cluster lives,
+else recorded as ``lost``: a resumed sweep runs it again.  The sweep itself never stops on a failed
+run; losing the scheduler ends it with :class:`ClusterLost`, saying how to resume.
+
+On a cluster given by address the scene's ``.ssp`` reaches every worker through a worker plugin, so a
+worker that joins later (restarted after a crash) gets it too.  A local cluster keeps its Dask scratch
+space and its workers' temporary files in one private folder, removed when the sweep ends, however
+it ends (Ctrl-C included).
 """
 from __future__ import annotations
 
 import logging
 import os
+import shutil
+import signal
 import sys
+import tempfile
 import time as clock
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import ParameterSetError, SettingsError
+from ..errors import CraneFmuError, ParameterSetError, SettingsError
 from . import table as tables
 from .metrics import Custom, Metric, check, parse_metric
 from .spec import Run, design as make_design
@@ -31,11 +41,17 @@ class SweepResult:
     path: Path
     rows: list[dict]
     ran: int = 0                 # runs finished in this session
-    failed: int = 0              # of those, failed
+    failed: int = 0              # of those, failed (or lost)
+    lost: int = 0                # of those, lost with their worker or the scheduler (rerun on resume)
+    outside: int = 0             # rows of the table outside this design (an earlier design; kept unless pruned)
     skipped: int = 0             # already in the table (resumed)
     wall_time: float = 0.0       # [s] of this session, cluster start-up included
     workers: int = 0
     retried: list[str] = field(default_factory=list)   # keys of runs tried twice
+
+
+class ClusterLost(CraneFmuError):
+    """The client lost the Dask scheduler mid-sweep; finished rows are kept and the same call resumes."""
 
 
 @dataclass(frozen=True)
@@ -87,7 +103,7 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
           output: str | Path = "sweep.csv", *, parameters: dict | None = None, parameter_set: str | None = None,
           design: str = "factorial", samples: int | None = None, seed: int = 0, results: str | Path | None = None,
           workers: int | None = None, scheduler: str | None = None, client=None, progress: bool | None = None,
-          **settings) -> SweepResult:
+          prune: bool = False, warn_outside: bool = True, **settings) -> SweepResult:
     """Run ``scene`` for every point of a design and write one row per run to the CSV ``output``.
 
     vary: ``["comp.var=1,2,3", "step_size=log:1e-4:1e-2:5", ...]``, ``{"comp.var": [values]}`` or a list
@@ -98,8 +114,11 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     run's full result (``<key>.npy``, a structured array).  An existing ``output`` of the same sweep
     is resumed: its runs are skipped.  workers: processes of the local cluster (default: the cores);
     scheduler: address of an existing cluster; client: an existing ``distributed.Client``.
+    Rows of ``output`` outside this design (an earlier ``vary``) are kept with a warning, or dropped
+    with ``prune`` (``warn_outside=False``: kept silently, for a search whose rounds share one table).
     Ctrl-C cancels the runs still going and keeps every finished row.
     """
+    _refuse_bootstrapping()
     fixed = {**settings, **(parameters or {})}
     if parameter_set is not None:
         fixed["parameter_set"] = parameter_set
@@ -111,8 +130,15 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     check_inputs(facts, runs)
     inputs = plan.names + sorted(plan.fixed)
     table = tables.Table(output, tables.header(inputs, metric_names))
+    keys = {r.key for r in runs}
+    outside = table.keys - keys
+    if outside and prune:
+        table.drop(outside)
+    elif outside and warn_outside:
+        print(f"cranefmu: warning: {table.path} holds {len(outside)} row(s) outside this design (an earlier "
+              "--vary); they are kept; --prune (prune=True) drops them", file=sys.stderr)
     todo = [r for r in runs if r.key not in table.done]
-    out = SweepResult(table.path, [], skipped=len(runs) - len(todo))
+    out = SweepResult(table.path, [], skipped=len(runs) - len(todo), outside=0 if prune else len(outside))
     results_dir = None
     if results is not None:
         Path(results).mkdir(parents=True, exist_ok=True)
@@ -137,12 +163,19 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
     if own:
         client, cluster = connect(workers, scheduler)
     futures: dict = {}
-    bar = None
+    bar = interrupted = None
+    # a lost scheduler is reported once, below, with how to resume: not by the client's reconnect tracebacks
+    quiet = logging.getLogger("distributed.client")
+    level = quiet.level
+    quiet.setLevel(logging.CRITICAL)
     try:
         local = cluster is not None or _is_local(client)
         ssp = SspFile.of(facts.ssp, facts.name, with_data=not local)
-        if not local:   # the bytes go to every worker once, not with every task
-            ssp = client.scatter(ssp, broadcast=True, hash=True)
+        if not local:   # every worker, also one that joins later, gets the bytes once through a plugin
+            from .plugin import PluginSsp, SspPlugin
+
+            client.register_plugin(SspPlugin(ssp), name=f"cranefmu-ssp-{ssp.sha256[:16]}")
+            ssp = PluginSsp(ssp.name, ssp.sha256, ssp.path)
         out.workers = len(client.scheduler_info().get("workers", {}))
 
         def submit(run: Run, attempt: int):
@@ -156,10 +189,11 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
             run, attempt = futures.pop(fut)
             try:
                 row = fut.result()
-            except Exception as err:  # noqa: BLE001 - the worker died or the task was lost
-                row = {"key": run.key, **run.inputs, "status": "failed", "retry": True,
+            except Exception as err:  # noqa: BLE001 - the worker died, the task or the scheduler was lost
+                row = {"key": run.key, **run.inputs, "status": "lost", "retry": True,
                        "error": " ".join(f"worker lost the run: {type(err).__name__}: {err}".split())}
-            if row.pop("retry", False) and attempt < MAX_ATTEMPTS:
+            alive = client.status == "running"
+            if row.pop("retry", False) and attempt < MAX_ATTEMPTS and alive:
                 out.retried.append(run.key)
                 pending.add(submit(run, attempt + 1))
                 continue
@@ -167,21 +201,30 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
             table.write(row)
             out.ran += 1
             out.failed += row["status"] != "ok"
+            out.lost += row["status"] == "lost"
             if bar is not None:
                 bar.set_postfix_str(f"done {out.ran - out.failed}, failed {out.failed}", refresh=False)
                 bar.update(1)
+        if client.status != "running":
+            raise ClusterLost(f"lost the Dask scheduler{' at ' + scheduler if scheduler else ''} after {out.ran} "
+                              f"run(s); {out.lost} run(s) recorded as lost and every finished row kept in "
+                              f"{table.path}: start the cluster again and run the same command to resume")
     except KeyboardInterrupt:
-        client.cancel(list(futures))
-        print(f"\ninterrupted: {out.ran} run(s) of this session kept in {table.path} "
-              f"({len(table.done)} in all); the same command resumes the rest", file=sys.stderr)
-        raise
+        interrupted = _ignore_sigint()   # a second Ctrl-C must not break the clean-up (restored below)
+        try:
+            client.cancel(list(futures))
+        except Exception:  # noqa: BLE001 - a closing client may refuse; the cluster is closed below
+            pass
+        raise KeyboardInterrupt(f"sweep interrupted: {out.ran} run(s) of this session kept in {table.path} "
+                                f"({len(table.done)} in all); the same command resumes the rest") from None
     finally:
         if bar is not None:
             bar.close()
         if own:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+            close(client, cluster)
+        quiet.setLevel(level)
+        if interrupted is not None:
+            signal.signal(signal.SIGINT, interrupted)
 
 
 def connect(workers: int | None = None, scheduler: str | None = None):
@@ -198,12 +241,91 @@ def connect(workers: int | None = None, scheduler: str | None = None):
     n = workers if workers is not None else (os.cpu_count() or 1)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise SettingsError(f"workers = {n!r} is not allowed: an integer >= 1")
-    # a dying worker fails its task at once (the engine retries it once itself), instead of the
-    # scheduler trying it on three more workers
-    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                               silence_logs=logging.ERROR)
+    _refuse_bootstrapping()
+    # Dask's scratch space and the workers' temporary files (extracted scenes) in one private folder,
+    # removed by close(); a dying worker fails its task at once (the engine retries it once itself),
+    # instead of the scheduler trying it on three more workers
+    scratch = tempfile.mkdtemp(prefix="cranefmu_sweep_")
+    os.environ[_CHILD] = scratch   # inherited by the worker processes from their first instruction on
+    # the workers start with Ctrl-C ignored (an ignored signal stays ignored in the child): a terminal's
+    # Ctrl-C reaches the whole process group, and the client alone stops the sweep and closes them
+    previous = _ignore_sigint()
+    try:
+        with dask.config.set({"distributed.scheduler.allowed-failures": 0, "temporary-directory": scratch}):
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                   silence_logs=logging.CRITICAL, local_directory=scratch, env={"TMPDIR": scratch})
+    except BaseException:
+        unguarded = (Path(scratch) / _UNGUARDED).exists()
+        shutil.rmtree(scratch, ignore_errors=True)
+        if unguarded:
+            print(f"cranefmu: error: {UNGUARDED_TEXT}", file=sys.stderr)
+            raise SystemExit(1) from None
+        raise
+    finally:
+        os.environ.pop(_CHILD, None)
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
+    cluster._cranefmu_scratch = scratch
     return Client(cluster), cluster
+
+
+_CHILD = "CRANEFMU_SWEEP_SCRATCH"   # the local cluster's scratch folder, seen by its worker processes
+_UNGUARDED = "unguarded-main"
+UNGUARDED_TEXT = ("the sweep's worker processes import your script again and it starts a sweep at import: put "
+                  "the call under `if __name__ == \"__main__\":` (as with multiprocessing)")
+
+
+def _refuse_bootstrapping() -> None:
+    """In a worker process importing a script without ``if __name__ == "__main__":`` (spawn runs the
+    script again): leave a mark for the client, which says so in one line, and end this process."""
+    import multiprocessing
+
+    scratch = os.environ.get(_CHILD)
+    if scratch and getattr(multiprocessing.current_process(), "_inheriting", False):
+        try:
+            (Path(scratch) / _UNGUARDED).touch()
+        finally:
+            os._exit(1)
+
+
+def interrupt_once() -> None:
+    """For a command line: the first Ctrl-C raises KeyboardInterrupt, every later one is ignored, so the
+    clean-up and the one-line message run to the end (a second Ctrl-C must not kill the process)."""
+    def once(signum, frame):
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, once)
+
+
+def _ignore_sigint():
+    """Ignore SIGINT; the handler it had (None when not in the main thread, where nothing can be set)."""
+    try:
+        return signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:
+        return None
+
+
+def close(client, cluster) -> None:
+    """Close the client and a local cluster quietly (Ctrl-C ignored meanwhile) and remove its scratch."""
+    previous = _ignore_sigint()
+    logging.getLogger("distributed").setLevel(logging.CRITICAL)
+    try:
+        try:
+            client.close(timeout=10)
+        except Exception:  # noqa: BLE001 - a client without its scheduler
+            pass
+        if cluster is not None:
+            try:
+                cluster.close(timeout=10)
+            except Exception:  # noqa: BLE001 - workers already gone
+                pass
+            scratch = getattr(cluster, "_cranefmu_scratch", None)
+            if scratch:
+                shutil.rmtree(scratch, ignore_errors=True)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
 
 
 def _is_local(client) -> bool:

@@ -70,13 +70,14 @@ def static_parameters(angle_deg: float, length: float, load: float) -> dict:
     return values
 
 
-def dynamic_parameters(angle_deg: float, length: float, speed: float, load: float) -> dict:
-    """truck_telescope telescoping from L_MIN to ``length`` at ``speed`` [m/s], then SETTLE s of sway."""
+def dynamic_parameters(angle_deg: float, length: float, speed: float, load: float, settle: float | None = None) -> dict:
+    """truck_telescope telescoping from L_MIN to ``length`` at ``speed`` [m/s], then ``settle`` [s]
+    (default SETTLE) of sway."""
     from ..scenes import truck_telescope_parameters
 
     values = truck_telescope_parameters(speed=speed, angle_deg=angle_deg, load=load, boom_start=L_MIN,
                                         boom_end=length)
-    values["stop_time"] = values["drive.duration"] + SETTLE
+    values["stop_time"] = values["drive.duration"] + (SETTLE if settle is None else settle)
     return values
 
 
@@ -87,16 +88,22 @@ def static_chart(points: list[tuple[float, float]], output, client=None, fractio
 
     runs = [{**static_parameters(a, L, f * closed_form_max_load(a, L)), "stop_time": 2 * STEP}
             for a, L in points for f in fractions]
-    res = sweep("truck_telescope", runs, ["initial:chassis.N_front"], output, client=client, step_size=STEP)
-    n1 = {(r["boom.luff_angle"], r["boom.boom_length_start"], r["pendulum.mass"]): r["initial:chassis.N_front"]
-          for r in res.rows}
+    res = sweep("truck_telescope", runs, ["initial:chassis.N_front"], output, client=client, step_size=STEP,
+                progress=False, warn_outside=False)   # a chart of other points may share the table
+    got = {(r["boom.luff_angle"], r["boom.boom_length_start"], r["pendulum.mass"]): r for r in res.rows}
     rows = []
     for a, L in points:
         (m_a, m_b) = (f * closed_form_max_load(a, L) for f in fractions)
         key = (math.radians(a), L)
-        n_a, n_b = n1[(*key, m_a)], n1[(*key, m_b)]
-        rows.append({"angle": a, "length": L, "radius": L * math.cos(math.radians(a)),
-                     "closed_form": closed_form_max_load(a, L), "scene": m_b + n_b * (m_b - m_a) / (n_a - n_b)})
+        ra, rb = got[(*key, m_a)], got[(*key, m_b)]
+        row = {"angle": a, "length": L, "radius": L * math.cos(math.radians(a)),
+               "closed_form": closed_form_max_load(a, L), "scene": math.nan, "error": ""}
+        if ra["status"] == "ok" and rb["status"] == "ok":   # a failed run leaves the point open (nan)
+            n_a, n_b = ra["initial:chassis.N_front"], rb["initial:chassis.N_front"]
+            row["scene"] = m_b + n_b * (m_b - m_a) / (n_a - n_b)
+        else:
+            row["error"] = next(f"{r['status']}: {r['error']}" for r in (ra, rb) if r["status"] != "ok")
+        rows.append(row)
     return rows
 
 
@@ -139,9 +146,9 @@ class Rating:
 
 
 def dynamic_chart(points: list[tuple[float, float, float]], output, client=None, rel: float = 0.01,
-                  rounds: int = 6, say=print) -> list[Rating]:
-    """Rated load while telescoping for each (angle [deg], length [m], speed [m/s]): secant rounds, each
-    one sweep of every open point; the per-run table ``output`` makes it resumable."""
+                  rounds: int = 6, say=print, settle: float | None = None) -> list[Rating]:
+    """Largest load that does not tip while telescoping, for each (angle [deg], length [m], speed [m/s]):
+    secant rounds, each one sweep of every open point; the per-run table ``output`` makes it resumable."""
     from . import sweep
 
     ratings = [Rating(a, L, v, []) for a, L, v in points]
@@ -151,8 +158,9 @@ def dynamic_chart(points: list[tuple[float, float, float]], output, client=None,
         batch = [(r, m) for r in ratings if id(r) in todo for m in todo[id(r)]]
         if not batch:
             break
-        runs = [dynamic_parameters(r.angle, r.length, r.speed, m) for r, m in batch]
-        res = sweep("truck_telescope", runs, ["scene"], output, client=client, step_size=STEP, extrapolation=1)
+        runs = [dynamic_parameters(r.angle, r.length, r.speed, m, settle) for r, m in batch]
+        res = sweep("truck_telescope", runs, ["scene"], output, client=client, step_size=STEP, extrapolation=1,
+                    progress=False, warn_outside=False)   # the rounds share one table
         got = {(x["boom.luff_angle"], x["boom.boom_length_end"], x["boom.telescope_speed"], x["pendulum.mass"]): x
                for x in res.rows}
         for r, m in batch:

@@ -17,7 +17,7 @@ from ..errors import SettingsError
 
 TAIL = ("status", "error", "stopped", "steps", "rejections", "wall_time", "task_time", "attempts", "worker")
 _TEXT = ("key", "status", "error", "stopped", "worker")   # never read as numbers (a key may look like 12e4)
-# status: ok | failed; error: the message of a failed run; stopped: why a stop condition ended the run
+# status: ok | failed | lost (with its worker or the scheduler: run again on resume); error: the message of a failed run; stopped: why a stop condition ended the run
 # (a result, e.g. tipping); steps, rejections: accepted and rejected macro steps; wall_time [s]: the run's own (master loop); task_time [s]: on the worker,
 # scene loading, FMU set-up and metrics included; attempts: 2 when the run was retried
 
@@ -44,12 +44,14 @@ def cell(value) -> str:
 
 class Table:
     """The CSV at ``path`` with ``columns``: opened for appending (an existing file must have the same
-    columns: it is the same sweep, resumed) and written one flushed row at a time."""
+    columns: it is the same sweep, resumed) and written one flushed row at a time.  ``done``: keys
+    whose last row is finished (ok or failed); a ``lost`` run is not done: a resumed sweep reruns it."""
 
     def __init__(self, path: str | Path, columns: list[str]):
         self.path = Path(path)
         self.columns = columns
         self.done: set[str] = set()
+        self.keys: set[str] = set()   # every key in the file
         if self.path.exists() and self.path.stat().st_size > 0:
             with open(self.path, newline="") as f:
                 reader = csv.reader(f)
@@ -57,7 +59,10 @@ class Table:
                 if old != columns:
                     raise SettingsError(f"output {self.path} holds a different sweep (columns {', '.join(old)}); "
                                         f"this one has {', '.join(columns)}: give another output")
-                self.done = {r[0] for r in reader if len(r) == len(columns)}
+                status = columns.index("status")
+                last = {r[0]: r[status] for r in reader if len(r) == len(columns)}
+            self.keys = set(last)
+            self.done = {k for k, v in last.items() if v != "lost"}
             self._file = open(self.path, "a", newline="")
         else:
             self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -71,16 +76,38 @@ class Table:
         # flushed to the OS: the row survives Ctrl-C or a crash of the client process (no fsync: at
         # thousands of rows per minute on a large cluster its milliseconds would throttle the client)
         self._file.flush()
-        self.done.add(row["key"])
+        self.keys.add(row["key"])
+        if row.get("status") == "lost":
+            self.done.discard(row["key"])
+        else:
+            self.done.add(row["key"])
+
+    def drop(self, keys: set[str]) -> None:
+        """Remove every row of ``keys`` (rewritten beside the file, then renamed over it)."""
+        self._file.close()
+        with open(self.path, newline="") as f:
+            rows = [r for r in csv.reader(f)]
+        partial = self.path.with_name(self.path.name + ".prune")
+        with open(partial, "w", newline="") as f:
+            csv.writer(f).writerows([rows[0]] + [r for r in rows[1:] if r and r[0] not in keys])
+        partial.replace(self.path)
+        self.keys -= keys
+        self.done -= keys
+        self._file = open(self.path, "a", newline="")
+        self._writer = csv.writer(self._file)
 
     def close(self) -> None:
         self._file.close()
 
 
 def read(path: str | Path) -> list[dict]:
-    """The rows of a sweep table, numbers as floats (empty cells as None, other text as text)."""
+    """The rows of a sweep table, numbers as floats (empty cells as None, other text as text); of a key
+    written twice (a lost run, rerun), its last row, in the place of its first."""
     with open(path, newline="") as f:
-        return [{k: v if k in _TEXT else _value(v) for k, v in r.items()} for r in csv.DictReader(f)]
+        rows = {}
+        for r in csv.DictReader(f):
+            rows[r["key"]] = {k: v if k in _TEXT else _value(v) for k, v in r.items()}
+    return list(rows.values())
 
 
 def _value(text: str):

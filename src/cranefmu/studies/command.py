@@ -1,0 +1,65 @@
+"""``cranefmu study NAME``: run a published study into ``--output DIR`` (tables, figures, page)."""
+from __future__ import annotations
+
+import argparse
+import sys
+import time as clock
+
+from . import STUDIES, module
+from .common import Context
+
+
+def run_studies(names: list[str], output: str, size: str, workers: int | None = None,
+                scheduler: str | None = None, say=print) -> dict[str, list[str]]:
+    """Run the studies ``names`` (sharing one cluster) into ``output``; {name: its failed points}."""
+    failures: dict[str, list[str]] = {}
+    shared = Context(output, size, workers, scheduler, say)
+    try:
+        for name in names:
+            ctx = Context(output, size, workers, scheduler, say)
+            ctx._client, ctx._cluster = shared._client, shared._cluster
+            t0 = clock.perf_counter()
+            module(name).run(ctx)
+            shared._client, shared._cluster = ctx._client, ctx._cluster
+            failures[name] = ctx.failures
+            say(f"study {name} ({size}): {len(ctx.failures)} failed point(s), {clock.perf_counter() - t0:.0f} s; "
+                f"wrote {ctx.output / (STUDIES[name] + '.md')}")
+    finally:
+        shared.close()
+    return failures
+
+
+def _cmd_study(args: argparse.Namespace) -> int:
+    names = list(STUDIES) if args.name == "all" else [args.name]
+    from ..sweep.engine import interrupt_once
+
+    size = "smoke" if args.smoke else "full" if args.full else "default"
+    interrupt_once()
+    try:
+        failures = run_studies(names, args.output, size, args.workers, args.scheduler)
+    except KeyboardInterrupt:
+        print(f"cranefmu: study interrupted; finished runs are kept under {args.output}/runs/{size}/, the same "
+              "command resumes", file=sys.stderr)
+        return 130
+    bad = {k: v for k, v in failures.items() if v}
+    if bad:
+        for name, lines in bad.items():
+            print(f"study {name}: {len(lines)} failed point(s); first: {lines[0]}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def add_parser(sub) -> None:
+    """Register ``study`` on the subparsers ``sub`` of the cranefmu command."""
+    s = sub.add_parser("study", help="run a published study (tables, figures and its page into --output); "
+                                     "exits 1 if a point failed")
+    s.add_argument("name", choices=(*STUDIES, "all"), help="the study, or all of them (one shared cluster)")
+    size = s.add_mutually_exclusive_group()
+    size.add_argument("--smoke", action="store_true", help="a small grid through every code path (CI)")
+    size.add_argument("--full", action="store_true", help="the full grid (docs/studies/)")
+    s.add_argument("--output", default="studies", metavar="DIR", help="folder for the tables, figures and pages "
+                   "(default ./studies; the docs' are in docs/studies)")
+    s.add_argument("--workers", type=int, default=None, help="worker processes of the local cluster "
+                   "(default: the cores)")
+    s.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use the Dask cluster at this address")
+    s.set_defaults(func=_cmd_study)
