@@ -226,6 +226,7 @@ def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_ti
     say = progress or (lambda text: None)
     points = [{"step_size": h} if tol is None else {"step_size": h, "adaptive": True, "tolerance": tol}
               for h, tol in settings]
+    shared = run_options.pop("client", None)   # a caller's cluster (a study of many scenes): warmed, not closed
     fixed = dict(run_options, algorithm=algorithm, extrapolation=extrapolation)
     if stop_time is not None:
         fixed["stop_time"] = stop_time
@@ -233,7 +234,7 @@ def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_ti
     runs, results = [], []
     with tempfile.TemporaryDirectory(prefix="cranefmu_converge_") as tmp:
         with warm_client(scene, workers, scheduler, dict(fixed, step_size=min(h for h, _ in settings)),
-                         parameter_set, parameters) as client:
+                         parameter_set, parameters, shared) as client:
             done = sweep(scene, points, [], Path(tmp) / "runs.csv", parameters=parameters,
                          parameter_set=parameter_set, results=Path(tmp) / "runs", client=client, **fixed)
         rows = {(r["step_size"], r.get("tolerance")): r for r in done.rows}
@@ -257,23 +258,28 @@ def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_ti
 
 @contextmanager
 def warm_client(scene: str, workers: int | None, scheduler: str | None, settings: dict,
-                parameter_set: str | None, parameters: dict | None):
-    """A Dask client (:func:`cranefmu.sweep.engine.connect`) whose every worker has run ``scene`` for two
-    steps of ``settings``, so that the timed runs exclude each worker's one-time load (imports, FMU
-    libraries: 0.8 s against 0.2 s for a second 1 s elastic_pendulum run in one process)."""
+                parameter_set: str | None, parameters: dict | None, client=None):
+    """A Dask client (:func:`cranefmu.sweep.engine.connect`, or ``client`` as given, then not closed here)
+    whose every worker has run ``scene`` for two steps of ``settings``, so that the timed runs exclude
+    each worker's one-time load (imports, FMU libraries: 0.8 s against 0.2 s for a second 1 s
+    elastic_pendulum run in one process)."""
     from .sweep.engine import _is_local, connect, scene_facts
     from .sweep.worker import SspFile
 
-    client, cluster = connect(workers, scheduler)
+    own = client is None
+    cluster = None
+    if own:
+        client, cluster = connect(workers, scheduler)
     try:
         facts = scene_facts(scene)
         ssp = SspFile.of(facts.ssp, facts.name, with_data=not (cluster is not None or _is_local(client)))
         client.run(warm_up, ssp, dict(settings, stop_time=2 * settings["step_size"]), parameter_set, parameters)
         yield client
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        if own:
+            client.close()
+            if cluster is not None:
+                cluster.close()
 
 
 def warm_up(ssp, settings: dict, parameter_set: str | None, parameters: dict | None) -> None:

@@ -20,7 +20,10 @@ EN13001 = {"HC1": (0.17, 1.05), "HC2": (0.34, 1.10), "HC3": (0.51, 1.15), "HC4":
 V_NOMINAL = 0.208      # seed 001 Table 6 V_p: hook speed at the nominal supply frequency [m/s]
 OMEGA_S = 314.15       # nominal supply angular frequency [rad/s] (drive.Omega_s)
 MEASURED = {0.0: 1.31, 0.1: 1.55}   # seed 001 Table 7 at 0.208 m/s: tight, loose (0.1 m slack)
-STEPS = {"kelvin_voigt": 5e-4, "bouc_wen": 5e-5}   # Bouc-Wen loose converges only below 1e-4 s (validation)
+# Bouc-Wen loose converges only below 1e-4 s (validation); Kelvin-Voigt: with the girder's beam mass
+# (issue 26, m1 = 17/35 M) the hook bond's explicit coupling tripped the alarm at 5e-4 s at v_h = 0.104
+# m/s with 0.05 m slack (t = 1.04 s) and runs at 2.5e-4 s (dynamic factor 1.286)
+STEPS = {"kelvin_voigt": 2.5e-4, "bouc_wen": 5e-5}
 
 
 def grid(ctx: Context, model: str) -> tuple[tuple, tuple, float]:
