@@ -214,7 +214,7 @@ def observed_orders(runs: list[ConvergenceRun]) -> None:
 
 def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_time: float | None, algorithm: str,
                  extrapolation: int, parameter_set: str | None = None, parameters: dict | None = None,
-                 progress=None, workers: int | None = None, scheduler: str | None = None,
+                 progress=None, workers: int | None = None, scheduler: str | None = None, client=None,
                  **run_options) -> tuple[list[ConvergenceRun], list, float | None]:
     """Run every (H, tolerance) setting as one sweep (:func:`cranefmu.sweep`, on a local Dask cluster of
     ``workers`` processes or the cluster at ``scheduler``); returns the rows in the order given, the
@@ -226,7 +226,6 @@ def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_ti
     say = progress or (lambda text: None)
     points = [{"step_size": h} if tol is None else {"step_size": h, "adaptive": True, "tolerance": tol}
               for h, tol in settings]
-    shared = run_options.pop("client", None)   # a caller's cluster (a study of many scenes): warmed, not closed
     fixed = dict(run_options, algorithm=algorithm, extrapolation=extrapolation)
     if stop_time is not None:
         fixed["stop_time"] = stop_time
@@ -234,7 +233,7 @@ def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_ti
     runs, results = [], []
     with tempfile.TemporaryDirectory(prefix="cranefmu_converge_") as tmp:
         with warm_client(scene, workers, scheduler, dict(fixed, step_size=min(h for h, _ in settings)),
-                         parameter_set, parameters, shared) as client:
+                         parameter_set, parameters, client) as client:   # a caller's: warmed, not closed
             done = sweep(scene, points, [], Path(tmp) / "runs.csv", parameters=parameters,
                          parameter_set=parameter_set, results=Path(tmp) / "runs", client=client, **fixed)
         rows = {(r["step_size"], r.get("tolerance")): r for r in done.rows}
@@ -361,9 +360,10 @@ def study(scene: str, steps: list[float], algorithm: str = "jacobi", extrapolati
     steps = sorted(steps, reverse=True)
     settings = [(h, None) for h in steps] + [(min(steps) if steps else 1e-3, tol)
                                               for tol in sorted(tolerances, reverse=True)]
+    client = run_options.pop("client", None)   # a caller's Dask cluster for the runs (not a run setting)
     run_options = study_form(algorithm, run_options)
     runs, results, stop_time = run_settings(scene, settings, stop_time, algorithm, extrapolation, parameter_set,
-                                            parameters, progress, **run_options)
+                                            parameters, progress, client=client, **run_options)
     if stop_time is None:
         raise CraneFmuError(f"every run of {scene} failed; the first: {runs[0].failure}")
     if reference == "monolithic":
