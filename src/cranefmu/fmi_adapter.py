@@ -37,6 +37,12 @@ EXTRAPOLATION_SUFFIXES = ("_dt", "_dt2")  # d/dt and d2/dt2 of a coupling input
 ENUMERATIONS_TOOL = "org.cranefmu.enumerations"  # VendorAnnotations tool listing each switch's names
 
 
+def solvers(model: type[Model]) -> tuple[str, ...]:
+    """The internal solvers an FMU of ``model`` offers: every integrator, and ``exact`` where the
+    model has a closed-form step (:meth:`Model.exact_step` overridden)."""
+    return METHODS + ((EXACT,) if model.exact_step is not Model.exact_step else ())
+
+
 class CraneSlave(Fmi2Slave):
     """FMI 2.0 co-simulation adapter over a physics model (set ``physics`` in the subclass)."""
 
@@ -67,9 +73,10 @@ class CraneSlave(Fmi2Slave):
         self._param_meta: dict[str, dict] = {}
         self._switches: dict[str, tuple] = {}   # switch parameter -> its names (the FMU holds the code)
         # solver settings first, then the model's parameters
-        methods = METHODS + ((EXACT,) if cls.physics.exact_step is not Model.exact_step else ())
+        methods = solvers(cls.physics)
+        scope = f"; exact: {cls.physics.exact_scope}" if EXACT in methods and cls.physics.exact_scope else ""
         self._add_param("solver", cls.physics.default_solver or cls.default_solver, "",
-                        "internal solver: " + ", ".join(methods), dict(choices=methods), str)
+                        "internal solver: " + ", ".join(methods) + scope, dict(choices=methods), str)
         self._add_param("rtol", 1e-6, "1", "relative tolerance of the adaptive solvers",
                         dict(min=0, min_open=True, max=1), float)
         self._add_param("max_step", cls.default_max_step, "s", "largest internal step (fixed-step: sub-step size)",

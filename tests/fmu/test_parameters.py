@@ -26,6 +26,10 @@ AT_INIT = [
     ("Boom", dict(seg3_offset=5.0), ["boom.seg3_offset = 5.0", "beyond"]),
     ("Chassis", dict(pad_area=0.0), ["chassis.pad_area = 0.0", "allowed (0, inf) m2"]),
     ("Chassis", dict(x_slew=4.0), ["chassis.x_slew = 4.0", "slewing centre"]),
+    # exact (code 7) only where the model has a closed-form step (tests/fmu/test_solvers.py)
+    ("Rope", dict(solver=7), ["rope.solver = 7 is not allowed: 0 = euler", "6 = bdf"]),
+    ("Drive", dict(solver=7), ["drive.solver = 7 is not allowed: 0 = euler", "6 = bdf"]),
+    ("Boom", dict(solver=7), ["boom.solver = 7 is not allowed: 0 = euler", "6 = bdf"]),
 ]
 
 TUNABLE = [("Rope", "zeta", 0.1), ("Pendulum", "drag_coefficient", 1.2), ("Drive", "b_3n", 2e4),

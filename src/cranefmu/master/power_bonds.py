@@ -17,6 +17,13 @@ from .system import CoSystem
 
 RESIDUAL_WARNING = 0.1   # a run warns when a bond's total residual exceeds this fraction of the energy it carried
 NEGLIGIBLE = 1e-3        # ... unless it is below this fraction of the most energy any bond of the scene carried
+#: ... or unless it is below the bond's impulse (sum over steps of the larger side's |force| h [N s or N m s])
+#: times this speed [m/s or rad/s]: the two sides' velocities then differ by round-off on average.  A state at rest
+#: reads as a speed of about eps x position / step (10 m at 1 ms: 2e-12 m/s).  Measured (residual / impulse):
+#: overhead_lift at rest over 0.1 s at 10 ms steps 7e-13 m/s (hook), 1e-13 (trolley), 5e-15 rad/s (drum);
+#: hook_sway over 10 s with its stored settings 4e-5 m/s, with the old default that pumps energy in (jacobi,
+#: extrapolation 0, 1 ms) 1e-3 m/s.
+ROUNDOFF_SPEED = 1e-9
 
 
 @dataclass
@@ -133,6 +140,7 @@ class BondMonitor:
         self.residual = np.zeros(len(bonds))   # of the last step [J]
         self.carried = np.zeros(len(bonds))    # energy through each bond in the last step [J]
         self.carried_total = np.zeros(len(bonds))   # ... summed over the run [J]
+        self.impulse = [0.0] * len(bonds)   # sum over steps of the larger side's |force| h [N s] (warnings' floor)
         self.row = np.zeros(2 * len(bonds))
         self.imbalance = [0.0] * len(bonds)   # signed P_a - P_b times h of the last step [J]
         self.residual_list = [0.0] * len(bonds)   # residual and carried of the last step as lists
@@ -173,7 +181,7 @@ class BondMonitor:
         if self._has_inputs:
             v[self._in_v] = system.input_end[self._in_index]
         x = v.tolist()
-        power, capacity = [], []
+        power, capacity, force = [], [], []
         for off, n, sign in self._sides:
             p = ff = uu = 0.0
             for i in range(off, off + n):
@@ -183,6 +191,7 @@ class BondMonitor:
                 uu += u * u
             power.append(sign * p)
             capacity.append(math.sqrt(ff * uu) if ff * uu >= 0.0 else math.nan)
+            force.append(ff)
         residual, carried = [], []
         for k in range(len(self.bonds)):
             pa, pb = power[2 * k], power[2 * k + 1]
@@ -190,6 +199,7 @@ class BondMonitor:
             carried.append(max(abs(pa), abs(pb)) * h)
             self.imbalance[k] = (pa - pb) * h
             self.capacity[k] = max(capacity[2 * k], capacity[2 * k + 1]) * h
+            self.impulse[k] += math.sqrt(max(force[2 * k], force[2 * k + 1])) * h
         self.residual[:] = residual
         self.carried[:] = carried
         self.residual_list, self.carried_list = residual, carried   # the same, as floats (for the alarm)
@@ -212,13 +222,15 @@ class BondMonitor:
 
     def warnings(self, fraction: float = RESIDUAL_WARNING) -> list[str]:
         """One line per bond whose total residual exceeds ``fraction`` of the energy it carried: the
-        coupling created or destroyed that much energy at the seam (it never steers the run).  A bond
-        near rest whose residual is below NEGLIGIBLE of the most any bond carried is not reported."""
+        coupling created or destroyed that much energy at the seam (it never steers the run).  Not
+        reported: a bond near rest whose residual is below NEGLIGIBLE of the most any bond carried, and
+        a residual below ROUNDOFF_SPEED times the bond's impulse (round-off of a scene at rest)."""
         out = []
         scale = float(self.carried_total.max()) if len(self.names) else 0.0
         for k, name in enumerate(self.names):
             total, carried = float(self.total[k]), float(self.carried_total[k])
-            if total > fraction * carried and total > NEGLIGIBLE * scale:
+            if (total > fraction * carried and total > NEGLIGIBLE * scale
+                    and total > ROUNDOFF_SPEED * self.impulse[k]):
                 out.append(f"power bond {name} (between {self.between(k)}): energy residual {total:.3g} J is "
                            f"{total / carried if carried > 0 else math.inf:.3g} of the {carried:.3g} J it carried "
                            f"(more than {fraction:g}): the coupling adds or removes energy at this seam; "

@@ -109,6 +109,7 @@ _FX, _FY, _M, _MB, _SB, _JB = range(6)
 class ChassisModel(Model):
     Params = ChassisParams
     default_solver = "exact"
+    exact_scope = "closed form while both pads press on the soil, rk4 at max_step around lift-off"
     description = ("Truck body and slewing platform on two elastic outriggers with unilateral soil contact "
                    "(seed 000 eq. 3-10, Tables 1-2)")
     inputs = (

@@ -47,6 +47,8 @@ class Model:
     initial_state_inputs: ClassVar[tuple[str, ...]] = ()
     #: the FMU's default internal solver, if not the adapter's ("exact": :meth:`exact_step`)
     default_solver: ClassVar[str | None] = None
+    #: where :meth:`exact_step` has a closed form (said in the ``solver`` parameter's description)
+    exact_scope: ClassVar[str] = ""
 
     def __init__(self, params: Params):
         if not isinstance(params, self.Params):

@@ -155,6 +155,7 @@ _TOP = ("x_top", "y_top", "z_top", "vx_top", "vy_top", "vz_top")
 class GirderModel(Model):
     Params = GirderParams
     default_solver = "exact"
+    exact_scope = "closed form of the linear equations"
     description = ("Overhead crane girder (mass-spring-damper at mid-span) with the drum bearing in series "
                    "(seed 001 eq. 6, 10, Table 6); vertical motion of the rope suspension point")
     inputs = tuple(Signal(f"F{c}_rope", "N", f"{c} component of the rope force on the trolley (up positive)"

@@ -226,6 +226,7 @@ class PendulumModel(Model):
     # is placed from the suspension point (declared for every start: the FMU's ModelStructure cannot
     # depend on a parameter value)
     default_solver = "exact"   # the lone hook's closed-form step; rk4 at max_step otherwise
+    exact_scope = "closed form for the hook without payload, ground or drag, rk4 at max_step otherwise"
     initial_state_inputs = _FORCE + _TOP + ("drop",)
     outputs = (
         *(Signal(n, "m", f"{n} coordinate of the hook") for n in ("x", "y", "z")),
