@@ -76,8 +76,9 @@ def run(ctx: Context) -> None:
 
 def page(rows: list[dict], fits: dict) -> list[str]:
     lines = ["Scene overhead_lift: 1800 kg load and 30 kg hook on the ground, 4-line reeving, motor SZUDe 56b "
-             "started at 0.2 s with a 0.5 s frequency ramp.  Co-simulation (Jacobi; Kelvin-Voigt at H = 5e-4 s, "
-             "modified Bouc-Wen at H = 5e-5 s: its loose start converges only below 1e-4 s).  v_h = 0.208 m/s x "
+             "started at 0.2 s with a 0.5 s frequency ramp.  Co-simulation (Jacobi; Kelvin-Voigt at H = "
+             f"{STEPS['kelvin_voigt']:g} s, modified Bouc-Wen at H = {STEPS['bouc_wen']:g} s: its loose start "
+             "converges only below 1e-4 s).  v_h = 0.208 m/s x "
              "drive.Omega_s / 314.15 rad/s (seed 001 Table 6); slack at the start = rope.start_slack (0.1 m: the "
              "seed's loose set).  Dynamic factor = largest rope tension / suspended weight.  EN 13001-2: phi2 = "
              "phi2,min + beta2 v_h (HD1, no creep speed: v_h = v_h,max).  Table: dynamic_factor.csv.", "",
