@@ -117,7 +117,7 @@ def test_converge_runs_and_its_finest_reference_are_one_form(built, monkeypatch)
     seen = {}
 
     def sweep_runs(scene, settings, stop_time, algorithm, extrapolation, parameter_set=None, parameters=None,
-                   progress=None, **run_options):
+                   progress=None, client=None, **run_options):   # client: the cluster, not a run setting
         seen["runs"] = dict(run_options, algorithm=algorithm, extrapolation=extrapolation, stop_time=stop_time)
         return [converge.ConvergenceRun(h, tol) for h, tol in settings], [None] * len(settings), 0.2
 
