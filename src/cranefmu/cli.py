@@ -390,6 +390,8 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt as err:
         _say(f"cranefmu: {str(err) or 'interrupted'}")
         return getattr(err, "exit_code", 130)
+    except BrokenPipeError:   # the reader went away (`cranefmu scenes | head -1`): no message, as `ls | head`
+        return 141            # 128 + SIGPIPE: what a shell reports for a writer whose pipe closed
     except OSError as err:   # a file system refusal no check foresaw: one line naming the file
         where = f" ({err.filename})" if err.filename else ""
         _say(f"cranefmu: error: {err.strerror or err}{where}")

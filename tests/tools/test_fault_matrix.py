@@ -365,3 +365,14 @@ def test_an_order_is_refused_where_the_algorithm_does_not_use_it(built):
     assert "order = 'rope,pendulum' is not allowed with algorithm = 'jacobi': only with 'gauss-seidel'" \
         in one_line(p.stderr)
     assert cranefmu(*QUICK, "--order", "rope,pendulum", "--algorithm", "gauss-seidel").returncode == 0
+
+
+def test_a_closed_pipe_ends_a_listing_without_a_message(built):
+    """`cranefmu scenes | head -1`: a reader that went away is no error of ours (was 'cranefmu: error:
+    Broken pipe', exit 2, which failed .ci/installed under pipefail): no message, exit 128 + SIGPIPE."""
+    r, w = os.pipe()
+    p = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "scenes"], stdout=w, stderr=subprocess.PIPE)
+    os.close(w)
+    os.close(r)   # before the interpreter has started: its first write finds the pipe closed
+    err = p.communicate(timeout=120)[1].decode()
+    assert p.returncode == 141 and "error" not in err, (p.returncode, err)
