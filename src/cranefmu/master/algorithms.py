@@ -25,6 +25,7 @@ import numpy as np
 from .acceleration import ACCELERATORS
 from .coupled import Coupling, Part
 from ..errors import SettingsError, SimulationError
+from .newton import Newton
 from .residual import CouplingCriterion
 
 
@@ -194,6 +195,8 @@ class Iterative(Algorithm):
         # diverge (docs/master.md, "When the iterative coupling has converged").
         self.acc = ACCELERATORS[accelerator](**({"reuse": 0} if accelerator == "iqn-ils" and degree == 0 else {}))
         self.check = FixedPoint(tolerance, coupling.nominals(), coupling.names)
+        self.rescue = True   # a step the fixed point fails is solved by Newton's method, and every later one
+        self.newton: Newton | None = None   # set by the first rescue
 
     @classmethod
     def from_settings(cls, coupling: Coupling, s) -> Algorithm:
@@ -205,20 +208,47 @@ class Iterative(Algorithm):
         u = c.predict(t, h, order=min(self.degree, 2))
         scale = floored(c.sizes())
         self.check.criterion.start(c.values())
+        if self.newton is not None:
+            return self._newton_step(t, h, snapshot, u, scale, 0)
         self.acc.start_step()
         errors: list[float] = []
-        for k in range(1, self.max_iterations + 1):
-            if k > 1:
-                c.restore(snapshot)
-                u = scale * self.acc.next(u / scale, gu / scale)
-            c.feed(t, h, u, self.degree)
-            c.step(t, h)
-            gu = c.image()
-            done, worst = self.check.converged(u, gu, scale, errors, (t, h))
-            if done:
-                c.commit(t + h)
-                return h, k
-        raise self.check.failure(k, u, gu, scale, worst, (t, h))
+        try:
+            for k in range(1, self.max_iterations + 1):
+                if k > 1:
+                    c.restore(snapshot)
+                    u = scale * self.acc.next(u / scale, gu / scale)
+                gu = self._evaluate(t, h, u)
+                done, worst = self.check.converged(u, gu, scale, errors, (t, h))
+                if done:
+                    c.commit(t + h)
+                    return h, k
+            raise self.check.failure(k, u, gu, scale, worst, (t, h))
+        except SimulationError:
+            # the accelerated fixed point cannot contract (a stiff seam: its one-step gain far above 1),
+            # or an iterate so far off that an FMU failed: Newton's method from the first iterate
+            if not self.rescue:
+                raise
+        c.restore(snapshot)
+        self.newton = Newton(self.check, self.max_iterations)
+        return self._newton_step(t, h, snapshot, c.predict(t, h, order=min(self.degree, 2)), scale, k)
+
+    def _evaluate(self, t: float, h: float, u: np.ndarray) -> np.ndarray:
+        """G(u): every FMU steps with its inputs following ``u``; what they give at t + h."""
+        c = self.coupling
+        c.feed(t, h, u, self.degree)
+        c.step(t, h)
+        return c.image()
+
+    def _newton_step(self, t: float, h: float, snapshot, u: np.ndarray, scale: np.ndarray,
+                     tried: int) -> tuple[float, int]:
+        """The step solved by :class:`~.newton.Newton` from the first iterate ``u`` (``tried``: fixed-point
+        iterations spent on it before); the Newton matrix is kept for the next steps."""
+        c = self.coupling
+        _, evaluations = self.newton.solve(lambda v: self._evaluate(t, h, v), lambda: c.restore(snapshot),
+                                           u, self._evaluate(t, h, u), scale, (t, h))
+        # the last evaluation was at the solution: the FMUs are at t + h as it gives
+        c.commit(t + h)
+        return h, tried + evaluations
 
 
 def unit_scale(units: list[str], scale: np.ndarray) -> np.ndarray:

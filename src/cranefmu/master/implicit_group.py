@@ -22,6 +22,7 @@ import numpy as np
 from .algorithms import Algorithm, FixedPoint, floored
 from .bond_inference import scene_bonds
 from .coupled import Coupling
+from .newton import Newton
 from ..errors import SettingsError
 
 
@@ -51,10 +52,6 @@ class ImplicitGroup(Algorithm):
     name = "implicit-group"
     needs_snapshot = False   # it snapshots the group's FMUs itself
 
-    PERTURBATION = 1e-6   # relative to each value's size: the finite-difference step of the Jacobian
-    STALE = 2             # Newton steps after which the Jacobian is estimated anew
-    BROYDEN = True        # update the Newton matrix from every iteration's secant
-
     def __init__(self, coupling: Coupling, names: list[str], degree: int, tolerance: float, max_iterations: int):
         members = group_members(coupling.components, coupling.bonds(), names, coupling.scene_name)
         cannot = [coupling.components[i] for i in members if not coupling.can_save(i)]
@@ -73,9 +70,11 @@ class ImplicitGroup(Algorithm):
                                 f"({', '.join(coupling.components[i] for i in members)}) exchange no values")
         self.n = len(self.part)
         self.check = FixedPoint(tolerance, coupling.nominals(self.part), self.part.names)
+        # a value that stays at round-off (a boom's horizontal base force of 1e-7 N beside 1e5 N before it
+        # luffs) limit-cycles at its own scale: its stall is judged against its unit's scale
+        self.check.units = [coupling.units()[i] for i in self.part.at]
         self.member_names = [coupling.components[i] for i in members]
-        self.newton: tuple[np.ndarray, np.ndarray] | None = None   # ((I - J)^-1, the scale it is in)
-        self.jacobian_estimates = 0
+        self.newton = Newton(self.check, max_iterations)
 
     @classmethod
     def from_settings(cls, coupling: Coupling, s) -> Algorithm:
@@ -106,63 +105,17 @@ class ImplicitGroup(Algorithm):
         c.step(t, h, self.members, ends=False)
         return c.image(self.part, fed_through_only=True)
 
-    def _broyden(self, du: np.ndarray, dr: np.ndarray) -> None:
-        """Good Broyden update of the Newton matrix from one secant (du, dr = change of G(u) - u),
-        both scaled: the frozen Jacobian follows a slowly turning map without new estimates."""
-        m, at = self.newton
-        du, dr = du / at, dr / at
-        mdr = m @ dr
-        den = float(du @ mdr)
-        if den != 0.0 and np.isfinite(den):   # M = -(dF/du)^-1:  M+ = M - (du + M dr) du^T M / (du^T M dr)
-            m -= np.outer(du + mdr, du @ m) / den
-
-    def _estimate(self, t: float, h: float, u: np.ndarray, gu: np.ndarray, scale: np.ndarray, snapshot) -> None:
-        """The Newton matrix (I - J)^-1 of the map's Jacobian J = dG/du (scaled by ``scale``), by one
-        perturbed step per internal value, each from the snapshot."""
-        n = self.n
-        jac = np.empty((n, n))
-        for j in range(n):
-            self.coupling.restore(snapshot)
-            du = np.zeros(n)
-            du[j] = self.PERTURBATION * scale[j]
-            jac[:, j] = (self._evaluate(t, h, u + du) - gu) / (self.PERTURBATION * scale)
-        self.jacobian_estimates += 1
-        try:
-            self.newton = (np.linalg.inv(np.eye(n) - jac), scale.copy())
-        except np.linalg.LinAlgError:   # a fixed point that does not move with u: plain iteration
-            self.newton = (np.eye(n), scale.copy())
-
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
         c = self.coupling
         c.step(t, h, self.outside, ends=False)
         group = c.snapshot(self.members)
         try:
             u, scale = self._start(h)
-            span, errors = (t, h), []
             c.note_ends(h)   # the group's inputs from outside as fed; its own ends are u (below)
-            gu = self._evaluate(t, h, u)
-            evaluations = 1
-            for k in range(1, self.max_iterations + 1):
-                if k > 1 or self.newton is not None:
-                    done, worst = self.check.converged(u, gu, scale, errors, span)
-                    if done:
-                        if k > self.STALE:     # the Jacobian no longer fits: a new one next step
-                            self.newton = None
-                        c.note_ends(h, u, self.part)   # the end value of every input polynomial is the iterate
-                        c.commit(t + h)
-                        return h, evaluations
-                if self.newton is None or k > self.STALE + 1:
-                    self._estimate(t, h, u, gu, scale, group)
-                    evaluations += self.n
-                m, at = self.newton
-                c.restore(group)
-                r = gu - u
-                u_next = u + at * (m @ (r / at))
-                gu_next = self._evaluate(t, h, u_next)
-                evaluations += 1
-                if self.BROYDEN:
-                    self._broyden(u_next - u, (gu_next - u_next) - r)
-                u, gu = u_next, gu_next
-            raise self.check.failure(k, u, gu, scale, worst, span)
+            u, evaluations = self.newton.solve(lambda v: self._evaluate(t, h, v), lambda: c.restore(group),
+                                               u, self._evaluate(t, h, u), scale, (t, h))
+            c.note_ends(h, u, self.part)   # the end value of every input polynomial is the iterate
+            c.commit(t + h)
+            return h, evaluations
         finally:
             c.release(group)
