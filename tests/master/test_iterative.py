@@ -54,9 +54,22 @@ def test_undamped_energy_error_is_bounded_and_second_order(oscillator_ssp):
     assert UNDAMPED.energy(zj)[-1] > 10 * UNDAMPED.energy(zj)[0]
 
 
-def test_non_convergence_is_reported_with_connection_time_and_advice(oscillator_ssp):
+def test_a_step_the_fixed_point_fails_is_solved_by_newton(oscillator_ssp):
+    """Plain fixed-point steps (no acceleration) cannot converge in 3 iterations at 0.15 s; Newton's
+    method (master/newton.py) then solves the same fixed point: the run equals the IQN-ILS one to the
+    coupling tolerance (1e-8 of the values' size; measured 3e-9 of the amplitude)."""
+    plain = go(oscillator_ssp, 0.15, DAMPED, algorithm="iterative", accelerator="none", max_iterations=3).result
+    iqn = go(oscillator_ssp, 0.15, DAMPED, algorithm="iterative").result
+    assert np.max(np.abs(plain["mass.x"] - iqn["mass.x"])) < 1e-7 * X0
+
+
+def test_non_convergence_is_reported_with_connection_time_and_advice():
+    """With the rescue off (and where Newton fails too: its own message is the same)."""
+    from cranefmu.master.algorithms import Iterative
+    algo = Iterative(_StallingCoupling(1.5), degree=0, tolerance=1e-8, max_iterations=3, accelerator="none",
+                     rescue=False)
     with pytest.raises(SimulationError) as info:
-        go(oscillator_ssp, 0.15, DAMPED, algorithm="iterative", accelerator="none", max_iterations=3)
+        algo.step(0.0, 0.15, None)
     msg = str(info.value)
     assert "did not converge" in msg and "t = 0 s" in msg and "after 3 iterations" in msg
     assert "->" in msg and "smaller --step" in msg
@@ -109,11 +122,22 @@ def test_a_stalled_iteration_is_refused_not_accepted():
     |2 - 2 u0| / u0 = 2/3 of its size: the step must be refused."""
     from cranefmu.master.algorithms import Iterative
     system = _StallingCoupling(1.5)
-    algo = Iterative(system, degree=0, tolerance=1e-8, max_iterations=20, accelerator="none")
+    algo = Iterative(system, degree=0, tolerance=1e-8, max_iterations=20, accelerator="none", rescue=False)
     with pytest.raises(SimulationError) as info:
         algo.step(0.0, 0.1, None)
     assert system.steps == 20                      # every iteration was tried, none accepted
     assert "after 20 iterations" in str(info.value) and "0.667 relative" in str(info.value)
+
+
+def test_the_stalled_map_is_solved_by_newton_when_the_rescue_is_on():
+    """The same map, the rescue on: 20 plain iterations stall, then Newton's method (its Jacobian -1 from
+    one perturbed step) lands on the fixed point u = 1."""
+    from cranefmu.master.algorithms import Iterative
+    system = _StallingCoupling(1.5)
+    algo = Iterative(system, degree=0, tolerance=1e-8, max_iterations=20, accelerator="none")
+    h, k = algo.step(0.0, 0.1, None)
+    assert h == 0.1 and k > 20 and algo.newton is not None
+    assert system.values()[0] == pytest.approx(1.0, abs=1.5e-8)
 
 
 def test_the_same_map_relaxed_converges_to_its_fixed_point():

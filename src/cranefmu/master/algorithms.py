@@ -14,7 +14,8 @@ algorithms by name and their construction from a run's settings: :mod:`.algorith
   polynomial through the past values and the source's new value (interpolation).
 - Iterative (strong coupling): the step is repeated from the snapshot until the coupling values at
   t + h agree with what the FMUs return, to a tolerance; inputs follow the polynomial through the
-  last ``degree`` values and the iterate at t + h; Aitken or IQN-ILS acceleration.
+  last ``degree`` values and the iterate at t + h; Aitken or IQN-ILS acceleration.  A step that
+  iteration fails is solved by Newton's method (:mod:`.newton`), and every later step with it.
 """
 from __future__ import annotations
 
@@ -184,7 +185,7 @@ class Iterative(Algorithm):
     needs_snapshot = True
 
     def __init__(self, coupling: Coupling, degree: int, tolerance: float, max_iterations: int,
-                 accelerator: str = "iqn-ils"):
+                 accelerator: str = "iqn-ils", rescue: bool = True):
         self.coupling = coupling
         self.degree = degree
         self.tolerance = tolerance
@@ -195,7 +196,7 @@ class Iterative(Algorithm):
         # diverge (docs/master.md, "When the iterative coupling has converged").
         self.acc = ACCELERATORS[accelerator](**({"reuse": 0} if accelerator == "iqn-ils" and degree == 0 else {}))
         self.check = FixedPoint(tolerance, coupling.nominals(), coupling.names)
-        self.rescue = True   # a step the fixed point fails is solved by Newton's method, and every later one
+        self.rescue = rescue   # a step the fixed point fails is solved by Newton's method, and every later one
         self.newton: Newton | None = None   # set by the first rescue
 
     @classmethod

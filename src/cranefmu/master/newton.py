@@ -53,7 +53,11 @@ class Newton:
             if self.BROYDEN:
                 self._broyden(u_next - u, (gu_next - u_next) - r)
             u, gu = u_next, gu_next
-        raise self.check.failure(k, u, gu, scale, worst, span)
+        done, worst = self.check.converged(u, gu, scale, errors, span)   # the last iterate
+        if done:
+            self.matrix = None
+            return u, evaluations
+        raise self.check.failure(self.max_iterations, u, gu, scale, worst, span)
 
     def _broyden(self, du: np.ndarray, dr: np.ndarray) -> None:
         """Good Broyden update of the Newton matrix from one secant (du, dr = change of G(u) - u),
