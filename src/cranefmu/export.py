@@ -60,7 +60,7 @@ def variant_values(scene: Scene, parameter_set: str | None, parameters: dict[str
     scene.values(parameter_set)                       # an unknown set: refused with the scene's sets
     out = dict(scene.bound)
     out.update(scene.sets.get(parameter_set, {}) if parameter_set not in (None, "default") else {})
-    driven = {f"{c.dst}.{c.dst_var}": f"{c.src}.{c.src_var}" for c in scene.connections}
+    driven = scene.input_sources
     components = {c.name: c for c in scene.components}
     for key, value in parameters.items():
         comp, _, var = str(key).partition(".")

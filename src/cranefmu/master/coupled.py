@@ -97,27 +97,22 @@ class Coupling:
         declared_or_inferred = scene_bonds(s.scene, {c.name: c.md for c in s.comps})[0]
         return {name: [side.get("component", "") for side in sides] for name, sides in declared_or_inferred}
 
-    def units(self) -> list[str]:
-        """Per value, the unit its source output declares ('' where none)."""
+    def _sources(self):
+        """Per value, in exchange order: (the source output's model variable, the connection's factor)."""
         s = self._s
-        out = []
         for g in s.links:
             by_vr = {v.valueReference: v for v in s.comps[g.src].md.modelVariables}
-            out += [by_vr[vr].unit or (by_vr[vr].declaredType.unit if by_vr[vr].declaredType else None) or ""
-                    for vr in g.src_vrs]
-        return out
+            yield from ((by_vr[vr], factor) for vr, factor in zip(g.src_vrs, g.factor))
+
+    def units(self) -> list[str]:
+        """Per value, the unit its source output declares ('' where none)."""
+        return [v.unit or (v.declaredType.unit if v.declaredType else None) or "" for v, _ in self._sources()]
 
     def nominals(self, part: Part | None = None) -> np.ndarray:
         """Per value, the nominal its source output declares (times the connection's factor), NaN where
         none is declared."""
-        s = self._s
-        out = []
-        for g in s.links:
-            by_vr = {v.valueReference: v for v in s.comps[g.src].md.modelVariables}
-            for vr, factor in zip(g.src_vrs, g.factor):
-                nominal = by_vr[vr].nominal
-                out.append(abs(float(nominal) * factor) if nominal is not None else np.nan)
-        out = np.array(out)
+        out = np.array([abs(float(v.nominal) * factor) if v.nominal is not None else np.nan
+                        for v, factor in self._sources()])
         return out if part is None else out[part.at]
 
     # --- values -------------------------------------------------------------------------------

@@ -36,7 +36,7 @@ from .results import Recorder
 from .scene_names import resolve_scene
 from .runspec import RunSpec, resolve
 from .settings import ALGORITHMS, Settings, describe
-from .step_control import make_step_control
+from .step_control import ESTIMATES, make_step_control
 from .stop_conditions import StopWatch
 from .system import CoSystem, RunStats
 
@@ -257,9 +257,8 @@ def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> No
             raise SettingsError(f"{what} is not allowed for this scene: component(s) {', '.join(cannot)} cannot save "
                                 "and restore their state (canGetAndSetFMUstate is false); use a fixed step with "
                                 "jacobi or gauss-seidel")
-    if s.adaptive and s.step_control == "ecco" and not bonds.bonds:
-        raise SettingsError("step_control = 'ecco' is not allowed for this scene: it declares no power bonds "
-                            "(see docs/power_bonds.md, 'Declaring a bond')")
+    if s.adaptive:   # before initialization, not when the loop builds the controller
+        ESTIMATES[s.step_control].refuse(bonds)
 
 
 def _solved(system: CoSystem, s: Settings) -> set[int]:

@@ -135,7 +135,7 @@ def _overrides(scene, parameter_set: str | None, parameters: dict) -> dict[tuple
 
 def _refuse_connected_inputs(scene, parameters: dict) -> None:
     """An override of a connected input is overwritten at every step: refuse it by name."""
-    driven = {f"{c.dst}.{c.dst_var}": f"{c.src}.{c.src_var}" for c in scene.connections}
+    driven = scene.input_sources
     for key in parameters:
         if str(key) in driven:
             source = driven[str(key)]

@@ -113,10 +113,15 @@ class Scene:
         return {name: {k: p.value for k, p in ps.items()} for name, ps in self.sets.items()}
 
     @property
+    def input_sources(self) -> dict[str, str]:
+        """"component.variable" of every connected input -> "component.variable" of its source."""
+        return {f"{c.dst}.{c.dst_var}": f"{c.src}.{c.src_var}" for c in self.connections}
+
+    @property
     def driven_inputs(self) -> set[str]:
         """"component.variable" of every connected input: a set's value for one is the settled start
         the build writes for hosts that do not settle a scene (cranefmu.settled_start), not a parameter."""
-        return {f"{c.dst}.{c.dst_var}" for c in self.connections}
+        return set(self.input_sources)
 
     def model_values(self, parameter_set: str | None = None) -> dict[str, Value]:
         """:meth:`values` without the settled start of connected inputs: the parameters a model takes

@@ -170,6 +170,10 @@ class ExtrapolationError:
         return cls(coupling, s.tolerance)
 
     @staticmethod
+    def refuse(bonds) -> None:
+        """Raise a :class:`SettingsError` if the scene cannot give this estimate (it always can)."""
+
+    @staticmethod
     def order(s) -> int:
         """The order in h of the error: that of the extrapolation's local error."""
         return s.extrapolation + 1
@@ -193,10 +197,15 @@ class EccoError:
 
     @classmethod
     def from_settings(cls, coupling, s, bonds) -> EccoError:
+        cls.refuse(bonds)
+        return cls(s.tolerance)
+
+    @staticmethod
+    def refuse(bonds) -> None:
+        """Raise a :class:`SettingsError` if the scene has no power bond to measure."""
         if not bonds.bonds:
             raise SettingsError("step_control = 'ecco' is not allowed for this scene: it declares no power bonds "
                                 "(see docs/power_bonds.md, 'Declaring a bond')")
-        return cls(s.tolerance)
 
     @staticmethod
     def order(s) -> int:
