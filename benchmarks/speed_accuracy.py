@@ -268,13 +268,32 @@ class _TimedCall:
         return getattr(self.f, name)
 
 
+class _LoopTimer:
+    """An observer of the run (``run(..., observers=)``): the stepping loop's wall time, from the row at
+    the start time to the row at ``stop``, and the FMI calls of ``table`` made in between."""
+
+    def __init__(self, table: dict, stop: float):
+        self.table, self.stop = table, stop
+        self.wall, self.fmi = 0.0, {}
+
+    def simulation_initialized(self, t: float, values) -> None:
+        self.before = {k: tuple(v) for k, v in self.table.items()}
+        self.t0 = clock.perf_counter()
+
+    def step_complete(self, t: float, h: float, values) -> None:
+        if t >= self.stop - 1e-9 * max(1.0, abs(self.stop)):
+            self.wall = clock.perf_counter() - self.t0
+            self.fmi = {k: (v[0] - self.before.get(k, (0.0, 0))[0], v[1] - self.before.get(k, (0.0, 0))[1])
+                        for k, v in self.table.items()}
+
+
 def fmi_split(scene: str, stop: float, h: float, algorithm: str, extrapolation: int, **options) -> dict:
     """Without a profiler: the stepping loop's wall time and the time inside the FMI C functions
     (each ctypes function fmpy loads is wrapped with a timer, so the master's direct calls and fmpy's
     wrappers are timed alike), per FMU instance and per function.  Master = loop - FMI."""
     import fmpy.fmi1 as fmi1
 
-    import cranefmu.master.run as runmod
+    from cranefmu.master.run import run
 
     table: dict[tuple[str, str], list] = {}
     load = fmi1._FMU._loadFunctions
@@ -286,25 +305,13 @@ def fmi_split(scene: str, stop: float, h: float, algorithm: str, extrapolation: 
             fmu._functions[name] = _TimedCall(fmu._functions[name], cell)
 
     fmi1._FMU._loadFunctions = timed_load
-    loop_box = {}
-    inner = runmod._loop
-
-    def timed_loop(*args, **kwargs):
-        before = {k: v[0] for k, v in table.items()}
-        calls = {k: v[1] for k, v in table.items()}
-        t0 = clock.perf_counter()
-        try:
-            return inner(*args, **kwargs)
-        finally:
-            loop_box["wall"] = clock.perf_counter() - t0
-            loop_box["fmi"] = {k: (v[0] - before.get(k, 0.0), v[1] - calls.get(k, 0)) for k, v in table.items()}
-
-    runmod._loop = timed_loop
+    loop = _LoopTimer(table, stop)
     try:
-        res = runmod.run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
-                         keep=False, isolate=False, **{"implicit": [], **options})
+        res = run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
+                  keep=False, isolate=False, observers=(loop,), **{"implicit": [], **options})
     finally:
-        runmod._loop, fmi1._FMU._loadFunctions = inner, load
+        fmi1._FMU._loadFunctions = load
+    loop_box = {"wall": loop.wall, "fmi": loop.fmi}
     # the timer's own cost per call, to say how much of "inside FMI" it adds
     cell = [0.0, 0]
     dummy = _TimedCall(lambda *a: 0, cell)

@@ -97,14 +97,16 @@ def preview(scene: str | Path) -> ScenePreview:
 
 
 def run(scene: str | Path | RunSpec, *, parameter_set: str | None = None, parameters: dict | None = None,
-        output: str | Path | None = None, keep: bool = True, isolate: bool = False, **settings) -> RunResult:
+        output: str | Path | None = None, keep: bool = True, isolate: bool = False, observers: tuple = (),
+        **settings) -> RunResult:
     """Run a scene (name, .ssp path, or a :class:`RunSpec` from :func:`resolve`, then with no other
     argument) and return its results and statistics.
 
     parameter_set: a .ssv of the scene; parameters: {"comp.var": value} overrides; output: CSV
     written as the run goes (into ``output + '.part'``, renamed into place at the end; a second run
     on the same file refuses); keep: hold the rows in memory (the result array); isolate: run in
-    a worker process (a crash inside an FMU then raises here instead of ending the caller).
+    a worker process (a crash inside an FMU then raises here instead of ending the caller);
+    observers: more :class:`~.loop.Observer` objects that see every row (see :func:`execute`).
     A signal that stops the run (SIGINT, e.g. Ctrl-C or a notebook's interrupt) is handled
     between steps, never inside an FMU: the run is closed and :class:`RunInterrupted` (a
     KeyboardInterrupt) carries the rows so far.  Settings (keywords, see :class:`Settings`; one not
@@ -121,11 +123,17 @@ def run(scene: str | Path | RunSpec, *, parameter_set: str | None = None, parame
     else:
         spec = resolve(scene, parameter_set=parameter_set, parameters=parameters, output=output, keep=keep,
                        isolate=isolate, **settings)
-    return execute(spec)
+    return execute(spec, observers)
 
 
-def execute(spec: RunSpec) -> RunResult:
-    """Run a resolved request: its output claimed first, then here or in a worker process."""
+def execute(spec: RunSpec, observers: tuple = ()) -> RunResult:
+    """Run a resolved request: its output claimed first, then here or in a worker process.
+
+    ``observers``: :class:`~.loop.Observer` objects (``simulation_initialized`` and ``step_complete``)
+    that see every row after the run's own (recorder, checks, stop conditions), e.g. to time the
+    stepping loop; they run in this process, so not with ``spec.isolate``."""
+    if observers and spec.isolate:
+        raise SettingsError("observers are not allowed with isolate=True: they run in the caller's process")
     claim = OutputFile.claim(spec.output, spec.ssp) if spec.output is not None else None  # before anything runs
     try:
         if spec.isolate:
@@ -133,7 +141,7 @@ def execute(spec: RunSpec) -> RunResult:
 
             result = run_isolated(spec, claim)
         else:
-            result = _run_here(spec, claim)
+            result = _run_here(spec, claim, observers=tuple(observers))
     finally:
         if claim is not None:
             claim.abandon()   # rows not yet in place (an early interrupt, a failed rename): again, or removed
@@ -143,14 +151,15 @@ def execute(spec: RunSpec) -> RunResult:
     return result
 
 
-def _run_here(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt | None = None) -> RunResult:
+def _run_here(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt | None = None,
+              observers: tuple = ()) -> RunResult:
     """The run in this process: a signal of ``interrupt`` (default SIGINT, main thread) stops it between steps."""
     interrupt = interrupt or Interrupt()
     with interrupt:
-        return _run_observed(spec, claim, interrupt)
+        return _run_observed(spec, claim, interrupt, observers)
 
 
-def _run_observed(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt) -> RunResult:
+def _run_observed(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt, observers: tuple = ()) -> RunResult:
     settings = spec.settings
     system = recorder = progress = fmu_dirs = None
     wall0 = clock.perf_counter()
@@ -163,7 +172,8 @@ def _run_observed(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt)
         system.stats.init_iterations = initialize(system, settings.start_time, spec.overrides, settings.init_tolerance)
         progress = Progress(settings.start_time, settings.stop_time, settings.progress)
         if interrupt.signum is None:
-            _loop(system, settings, recorder, bonds, progress, execution.watch, execution.stopper, (interrupt,))
+            _loop(system, settings, recorder, bonds, progress, execution.watch, execution.stopper,
+                  (interrupt, *observers))
         system.stats.wall_time = clock.perf_counter() - wall0
         system.stats.master_time = system.stats.wall_time - sum(system.stats.fmu_time.values())
         system.stats.bond_energy = bonds.totals()
