@@ -37,7 +37,7 @@ def fmpy_loop(config: str) -> float:
     """Child process: the C host's calls, made from Python through fmpy; seconds per step."""
     from fmpy.fmi2 import FMU2Slave
 
-    from cranefmu.master.fmu import _callbacks
+    from cranefmu.master.process import callbacks
 
     fmus, starts, conns, outs, run = [], [], [], [], None
     for line in Path(config).read_text().splitlines():
@@ -53,7 +53,7 @@ def fmpy_loop(config: str) -> float:
         elif w[0] == "run":
             run = tuple(float(x) for x in w[1:])
     for f in fmus:
-        f.instantiate(callbacks=_callbacks())
+        f.instantiate(callbacks=callbacks())
         f.setupExperiment(startTime=run[0])
     for kind, i, vr, value in starts:
         (fmus[i].setInteger([vr], [int(value)]) if kind == "int" else fmus[i].setReal([vr], [value]))

@@ -71,7 +71,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
                             f"be read back and at most {KEEP_ROWS:g} rows are kept in memory; write a file instead")
     say = sys.stderr if streamed and same_file_as(args.output, 1) else sys.stdout   # stdout holds the CSV
     if not args.in_process:   # the worker extracts its own copy; this one would outlive a killed parent
-        from .master.extracted import clear
+        from .master.process import clear
 
         clear()
     res = run(replace(spec, keep=keep))

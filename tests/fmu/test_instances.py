@@ -52,7 +52,7 @@ def fall(unzipdirs: list[str], masses: list[float], force: float, steps: int) ->
     from fmpy import read_model_description
     from fmpy.fmi2 import FMU2Slave
 
-    from cranefmu.master.fmu import _callbacks
+    from cranefmu.master.process import callbacks
 
     md = read_model_description(unzipdirs[0])
     vr = {v.name: v.valueReference for v in md.modelVariables}
@@ -60,7 +60,7 @@ def fall(unzipdirs: list[str], masses: list[float], force: float, steps: int) ->
     for k, (d, m) in enumerate(zip(unzipdirs, masses)):
         f = FMU2Slave(guid=md.guid, unzipDirectory=d, modelIdentifier=md.coSimulation.modelIdentifier,
                       instanceName=f"pendulum{k}")
-        f.instantiate(callbacks=_callbacks())
+        f.instantiate(callbacks=callbacks())
         f.setupExperiment(startTime=0.0)
         f.setInteger([vr["dimension"]], [1])
         f.setReal([vr["mass"], vr["y0"], vr["g"]], [m, Y0, G])
@@ -134,14 +134,14 @@ def rope_and_pendulum(rope_fmu: str, pendulum_fmu: str) -> tuple[float, float, f
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
 
-    from cranefmu.master.fmu import _callbacks
+    from cranefmu.master.process import callbacks
 
     slaves, vrs = [], []
     for path, name in ((rope_fmu, "rope"), (pendulum_fmu, "pendulum")):
         md = read_model_description(path)
         f = FMU2Slave(guid=md.guid, unzipDirectory=extract(path), modelIdentifier=md.coSimulation.modelIdentifier,
                       instanceName=name)
-        f.instantiate(callbacks=_callbacks())
+        f.instantiate(callbacks=callbacks())
         f.setupExperiment(startTime=0.0)
         slaves.append(f)
         vrs.append({v.name: v.valueReference for v in md.modelVariables})

@@ -254,7 +254,7 @@ def lagged_jacobi(fmus: list[tuple[str, str]], starts: dict[str, str], links: li
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
 
-    from cranefmu.master.fmu import _callbacks
+    from cranefmu.master.process import callbacks
 
     slaves, var = {}, {}
     for name, path in fmus:
@@ -262,7 +262,7 @@ def lagged_jacobi(fmus: list[tuple[str, str]], starts: dict[str, str], links: li
         var[name] = {v.name: v for v in md.modelVariables}
         slaves[name] = FMU2Slave(guid=md.guid, unzipDirectory=extract(path), instanceName=name,
                                  modelIdentifier=md.coSimulation.modelIdentifier)
-        slaves[name].instantiate(callbacks=_callbacks())
+        slaves[name].instantiate(callbacks=callbacks())
         slaves[name].setupExperiment(startTime=0.0)
     for key, value in starts.items():
         comp, _, name = key.partition(".")

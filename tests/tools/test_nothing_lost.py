@@ -66,7 +66,7 @@ def _counted_run(tmpdir: str, scene: str, kwargs: dict) -> dict:
     # FMI 2.0: an instance that returned fmi2Fatal may not be called again, not even freed
     calls["fatal"] = sum(1 for fmu in instances if getattr(fmu, "fatal", False))
     out["calls"] = calls
-    from cranefmu.master.extracted import clear
+    from cranefmu.master.process import clear
 
     clear()   # the extracted scenes kept for the process (removed at its exit)
     out["leftovers"] = sorted(p.name for p in Path(tmpdir).iterdir())

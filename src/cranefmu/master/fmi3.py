@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import ctypes
 
+from .process import FMI3_LOGGERS as _LOGGERS
+
 INTEGERS = ("Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64", "UInt64")
-_LOGGERS: list = []   # every instance's log callback, kept for the life of the process (as fmu._callbacks)
 
 
 def normalize(md) -> None:

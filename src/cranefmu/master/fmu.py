@@ -11,18 +11,11 @@ from ..errors import ParameterSetError, SceneError
 from .fatal_status import FatalAware
 from .settings import parse_bool
 from .fmi_integer import fmi_integer
+# the process-global state of the pythonfmu workarounds (the contract: .process)
+from .process import EXTRACTED_MARK as _EXTRACTED, MESSAGES as _MESSAGES, MODEL_DESCRIPTIONS as _MODEL_DESCRIPTIONS
+from .process import callbacks as _callbacks
 
 _EXCEPTION_LINE = re.compile(r"^[A-Za-z_][\w.]*(Error|Exception|Exit|Interrupt)\b.*")
-
-# Messages by instance name.  pythonfmu FMUs in one process may all report through the logger of
-# the last instance created, so a message is filed under the instance name it carries.
-_MESSAGES: dict[str, list[str]] = {}
-
-
-_CALLBACKS = None
-_EXTRACTED = ".cranefmu_extracted"   # written last: the directory holds a whole, checked FMU
-# unzip directory -> (fmpy ModelDescription, switch names), for the process
-_MODEL_DESCRIPTIONS: dict[Path, tuple[object, dict[str, dict[str, int]]]] = {}
 
 
 def _check_binary(name: str, fmu_name: str, unzipdir: Path, identifier: str, fmi3: bool = False) -> None:
@@ -37,45 +30,6 @@ def _check_binary(name: str, fmu_name: str, unzipdir: Path, identifier: str, fmi
         if (unzipdir / "binaries").is_dir() else []
     raise SceneError(f"component {name!r}: {fmu_name} has no binary for this platform ({platform}): it has "
                      f"{', '.join(have) or 'no binaries at all'}; rebuild the FMU here (cranefmu build)")
-
-
-def _callbacks():
-    """The FMI callbacks of every instance: one object for the life of the process.
-
-    pythonfmu's wrapper keeps the logger of an instance in a process-wide place and may call it
-    after that instance is gone, so the callbacks must never be freed.  Messages are filed by
-    the instance name they carry.
-    """
-    global _CALLBACKS
-    if _CALLBACKS is not None:
-        return _CALLBACKS
-    from ctypes import byref
-
-    from fmpy import calloc, free
-    from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
-                           fmi2CallbackLoggerTYPE)
-
-    def logger(env, instance, status, category, message):
-        if status < 2:  # keep warning, discard, error, fatal
-            return
-        text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
-        name = instance.decode(errors="replace") if isinstance(instance, bytes) else str(instance)
-        box = _MESSAGES.setdefault(name, [])
-        box.append(text)
-        del box[:-50]
-
-    cb = fmi2CallbackFunctions()
-    cb.logger = fmi2CallbackLoggerTYPE(logger)
-    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-    try:
-        from fmpy.logging import addLoggerProxy  # formats printf-style messages
-
-        addLoggerProxy(byref(cb))
-    except Exception:
-        pass
-    _CALLBACKS = cb
-    return cb
 
 
 _SLAVE = None
@@ -118,18 +72,6 @@ def fmu_switch_names(fmu: Path) -> dict[str, dict[str, int]]:
 
     with zipfile.ZipFile(fmu) as zf:
         return switch_names(check_xml(zf.read("modelDescription.xml"), f"{Path(fmu).name}/modelDescription.xml"))
-
-
-def adopt_extracted(src: Path, dst: Path) -> None:
-    """``dst`` holds the same checked files as the extracted directory ``src``: reuse its description."""
-    if src in _MODEL_DESCRIPTIONS:
-        _MODEL_DESCRIPTIONS[dst] = _MODEL_DESCRIPTIONS[src]
-
-
-def forget_extracted(root: Path) -> None:
-    """Drop the descriptions of directories under ``root`` (removed after a run)."""
-    for key in [k for k in _MODEL_DESCRIPTIONS if root in k.parents]:
-        del _MODEL_DESCRIPTIONS[key]
 
 
 class FmuComponent:

@@ -24,12 +24,12 @@ from .bond_inference import scene_bonds
 from .coupled import Coupling
 from .divergence import ValueCheck, Watch
 from ..errors import CraneFmuError, SettingsError, SimulationError
-from .extracted import discard, extracted_scene, fresh_fmu_dirs
-from .fmu import forget_extracted
+from .extracted import extracted_scene, fresh_fmu_dirs
 from .initialization import initialize
 from .interrupt import Interrupt, RunInterrupted, signal_name
 from .loop import Sampler, march
 from .output_file import OutputFile
+from .process import discard, forget_extracted
 from .power_bonds import BondMonitor, resolve as resolve_bonds
 from .progress import Progress
 from .results import Recorder

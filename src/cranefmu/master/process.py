@@ -1,0 +1,132 @@
+"""The process contract of the master, and every piece of process-global state its workarounds keep.
+
+A process that runs FMUs keeps to this contract (pythonfmu and fmpy workarounds); the state they need
+lives here, and the modules that use it import it from here:
+
+- **Each run instantiates its FMUs from directories of its own** (:func:`.extracted.fresh_fmu_dirs`).
+  Measured: instantiating a pythonfmu FMU a second time from the same extracted directory in one
+  process made the process abort at exit ('corrupted double-linked list'; valgrind: pythonfmu's
+  ``finalizePythonInterpreter`` reads memory freed by an exit handler), 14 processes in 16; with a
+  fresh directory per run, 0 in 12.  All Python FMUs of a process share one interpreter (their
+  bundled code has build-unique package names, docs/architecture.md).
+- **An .ssp is extracted once per process** (:func:`.extracted.extracted_scene`), keyed by the SHA-256
+  of its bytes (a rebuilt scene gets a new one), under :data:`LOCK`, into one temporary directory
+  (:data:`ROOT`) removed at exit (``atexit``) or by :func:`clear`; its FMUs are extracted there too, to
+  read their model descriptions, but never instantiated from there.  A run's own directories are
+  removed in the background (:func:`discard`).
+- **The model description of an extracted FMU directory is read once** (:data:`MODEL_DESCRIPTIONS`,
+  filled by :class:`.fmu.FmuComponent`; a run's copies adopt it, :func:`adopt_extracted`, and drop it
+  when removed, :func:`forget_extracted`).
+- **The FMI callbacks are one object for the life of the process** (:func:`callbacks`): pythonfmu's
+  wrapper keeps the logger of an instance in a process-wide place and may call it after that instance
+  is gone, so they are never freed.  pythonfmu FMUs may all report through the logger of the last
+  instance created: a message is filed under the instance name it carries (:data:`MESSAGES`).  An FMI
+  3.0 instance's log callback is kept likewise (:data:`FMI3_LOGGERS`).
+- **A worker process ends with ``os._exit``** once every FMU is freed (:mod:`.worker`): the
+  interpreter's teardown is skipped; an isolated run's worker keeps its extraction cache in the run's
+  own temporary directory, which the parent removes whatever happens to the worker.
+
+Process-global state that is no workaround stays with its owner: the scene-name resolver a caller
+registers (:mod:`.scene_names`) and the signal handlers, installed only for a run's duration in the
+main thread (:mod:`.interrupt`).
+"""
+from __future__ import annotations
+
+import atexit
+import queue
+import shutil
+import tempfile
+import threading
+from pathlib import Path
+
+LOCK = threading.Lock()                 # guards SCENES and ROOT
+SCENES: dict[str, tuple[Path, object]] = {}   # .ssp digest -> (its extracted directory, the Scene read)
+DIGESTS: dict[tuple[str, int, int], str] = {}   # (path, size, mtime) -> the .ssp's digest
+_root: list[Path] = []                  # the one directory of every extracted scene (made on first use)
+
+MODEL_DESCRIPTIONS: dict[Path, tuple[object, dict[str, dict[str, int]]]] = {}   # unzip dir -> (md, switches)
+EXTRACTED_MARK = ".cranefmu_extracted"   # written last: the directory holds a whole, checked FMU
+
+MESSAGES: dict[str, list[str]] = {}    # FMU messages (warning and worse) by instance name, the last 50
+_callbacks: list = []
+FMI3_LOGGERS: list = []   # every FMI 3.0 instance's log callback (:mod:`.fmi3`), kept for the same reason
+
+
+def scenes_root() -> Path:
+    """The directory extracted scenes go to (made, and its removal at exit registered, on first use);
+    call under :data:`LOCK`."""
+    if not _root or not _root[0].is_dir():
+        _root[:] = [Path(tempfile.mkdtemp(prefix="cranefmu_scenes_"))]
+        atexit.register(clear)
+    return _root[0]
+
+
+def clear() -> None:
+    """Remove every extracted scene now (they are extracted again when next run)."""
+    with LOCK:
+        SCENES.clear()
+        if _root:
+            shutil.rmtree(_root.pop(), ignore_errors=True)
+
+
+_TRASH: "queue.Queue[Path]" = queue.Queue()
+_remover: list[threading.Thread] = []
+
+
+def discard(path: Path) -> None:
+    """Remove a run's directory in the background (rmdir costs ~2 ms a directory on this machine,
+    a third of a warm start-up); whatever is left goes with the cache at exit."""
+    _TRASH.put(Path(path))
+    if not _remover or not _remover[0].is_alive():
+        _remover[:] = [threading.Thread(target=_remove_forever, name="cranefmu-remove", daemon=True)]
+        _remover[0].start()
+
+
+def _remove_forever() -> None:
+    while True:
+        shutil.rmtree(_TRASH.get(), ignore_errors=True)
+
+
+def adopt_extracted(src: Path, dst: Path) -> None:
+    """``dst`` holds the same checked files as the extracted directory ``src``: reuse its description."""
+    if src in MODEL_DESCRIPTIONS:
+        MODEL_DESCRIPTIONS[dst] = MODEL_DESCRIPTIONS[src]
+
+
+def forget_extracted(root: Path) -> None:
+    """Drop the descriptions of directories under ``root`` (removed after a run)."""
+    for key in [k for k in MODEL_DESCRIPTIONS if root in k.parents]:
+        del MODEL_DESCRIPTIONS[key]
+
+
+def callbacks():
+    """The FMI 2.0 callbacks of every instance (fmpy's ``fmi2CallbackFunctions``), made once."""
+    if _callbacks:
+        return _callbacks[0]
+    from ctypes import byref
+
+    from fmpy import calloc, free
+    from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
+                           fmi2CallbackLoggerTYPE)
+
+    def logger(env, instance, status, category, message):
+        if status < 2:  # keep warning, discard, error, fatal
+            return
+        text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
+        name = instance.decode(errors="replace") if isinstance(instance, bytes) else str(instance)
+        box = MESSAGES.setdefault(name, [])
+        box.append(text)
+        del box[:-50]
+
+    cb = fmi2CallbackFunctions()
+    cb.logger = fmi2CallbackLoggerTYPE(logger)
+    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    try:
+        from fmpy.logging import addLoggerProxy  # formats printf-style messages
+
+        addLoggerProxy(byref(cb))
+    except Exception:
+        pass
+    _callbacks.append(cb)
+    return cb
