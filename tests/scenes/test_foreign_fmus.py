@@ -84,3 +84,17 @@ def test_an_inferred_bond_can_be_coupled_implicitly(built, tmp_path):
     r = res.result
     assert res.rows == 301 and not r["rope.slack"].any()
     assert np.max(np.abs(r["rope.tension"] / (1000.0 * 9.81) - 1.0)) < 0.015
+
+
+def test_bonds_are_settled_when_the_scene_is_read(built, tmp_path):
+    """The scene a run reads (extracted once per process) carries its power bonds decided: declared
+    ones as declared, a scene without any inferred from its FMUs' units there, not later by each reader."""
+    from cranefmu.master.extracted import extracted_scene
+    from cranefmu.master.scene_names import resolve_scene
+
+    ssp = write_ssp(tmp_path / "plain.ssp", {"rope": built / "Rope.fmu", "pendulum": built / "Pendulum.fmu"},
+                    ROPE_PENDULUM, ROPE_PENDULUM_PARAMETERS)
+    _, scene = extracted_scene(ssp)
+    assert scene.bonds_inferred is True and [name for name, _ in scene.bonds] == ["rope-pendulum"]
+    _, declared = extracted_scene(resolve_scene("hook_sway"))
+    assert declared.bonds_inferred is False and [name for name, _ in declared.bonds] == ["hook"]

@@ -117,7 +117,10 @@ def infer_bonds(scene: Scene, descriptions: Mapping[str, object]) -> list[tuple[
 
 def scene_bonds(scene: Scene, descriptions: Mapping[str, object]) -> tuple[list[tuple[str, list[dict]]], bool]:
     """The scene's declared power bonds, or if it declares none the inferred ones; and whether inferred.
-    An empty power-bond annotation declares that the scene has none: nothing is inferred."""
+    An empty power-bond annotation declares that the scene has none: nothing is inferred.  A scene
+    whose bonds were settled when it was read (``bonds_inferred`` not None) answers from them."""
+    if scene.bonds_inferred is not None:
+        return scene.bonds, scene.bonds_inferred
     if scene.bonds or scene.bonds_declared:
         return scene.bonds, False
     return infer_bonds(scene, descriptions), True

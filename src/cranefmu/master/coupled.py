@@ -94,7 +94,7 @@ class Coupling:
         """Power bond name -> the components of its two sides: declared in the scene, or inferred from
         the connections' units where it declares none (:mod:`.bond_inference`)."""
         s = self._s
-        declared_or_inferred = scene_bonds(s.scene, {c.name: c.md for c in s.comps})[0]
+        declared_or_inferred = scene_bonds(s.scene, {c.name: c.md for c in s.comps})[0]   # settled when read
         return {name: [side.get("component", "") for side in sides] for name, sides in declared_or_inferred}
 
     def _sources(self):

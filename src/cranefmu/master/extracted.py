@@ -6,11 +6,13 @@ also holds the state: the cache of extracted scenes, the background remover, the
 from __future__ import annotations
 
 import copy
+import dataclasses
 import hashlib
 import os
 import shutil
 from pathlib import Path
 
+from .bond_inference import scene_bonds
 from .fmu import FmuComponent
 from .process import DIGESTS, LOCK, SCENES, adopt_extracted, scenes_root
 from .scene import Scene, load_scene
@@ -33,8 +35,10 @@ def extracted_scene(ssp: Path) -> tuple[Path, Scene]:
         workdir.mkdir()
         try:
             scene = load_scene(ssp, workdir)
-            for c in scene.components:
-                FmuComponent.extract(c.name, c.fmu, fmu_dir(workdir, c.name))
+            mds = {c.name: FmuComponent.extract(c.name, c.fmu, fmu_dir(workdir, c.name))[0] for c in scene.components}
+            # the power bonds, declared or inferred from the FMUs' units, settled once for every reader
+            bonds, inferred = scene_bonds(scene, mds)
+            scene = dataclasses.replace(scene, bonds=bonds, bonds_inferred=inferred)
         except BaseException:
             shutil.rmtree(workdir, ignore_errors=True)
             raise

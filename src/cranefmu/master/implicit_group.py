@@ -20,7 +20,6 @@ from __future__ import annotations
 import numpy as np
 
 from .algorithms import Algorithm, FixedPoint, floored
-from .bond_inference import scene_bonds
 from .coupled import Coupling
 from .newton import Newton
 from ..errors import SettingsError

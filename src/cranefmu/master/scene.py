@@ -102,6 +102,9 @@ class Scene:
     stop_conditions: dict[str, str] = field(default_factory=dict)
     settings: dict[str, object] = field(default_factory=dict)   # stored run settings (name -> typed value)
     bonds_declared: bool = False   # the SSD has a power-bond annotation (an empty one: no bonds, none inferred)
+    # whether ``bonds`` were inferred from the FMUs' units: decided once the FMUs were read
+    # (:func:`.extracted.extracted_scene`); None before (a scene read from its SSD alone)
+    bonds_inferred: bool | None = None
 
     @property
     def parameters(self) -> dict[str, Value]:
