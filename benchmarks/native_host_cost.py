@@ -12,7 +12,7 @@ FMI call from the C thread then creates and destroys a Python thread state).
 The machine is shared: each case runs ``--repeat`` times and the best is kept.  Prints a table and
 saves it as benchmarks/results/native_host_cost.{csv,md}.
 
-    .venv/bin/python benchmarks/native_host_cost.py [--stop-time 2] [--repeat 3]
+    .venv/bin/python benchmarks/native_host_cost.py [--stop-time 2] [--repeat 3] [--output DIR]
 """
 from __future__ import annotations
 
@@ -93,7 +93,9 @@ def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--stop-time", type=float, default=2.0)
     p.add_argument("--repeat", type=int, default=3)
+    p.add_argument("--output", type=Path, default=RESULTS, help="results directory (default benchmarks/results)")
     args = p.parse_args(argv)
+    out_dir = args.output
 
     from fmpy import extract, read_model_description
 
@@ -145,8 +147,8 @@ def main(argv: list[str] | None = None) -> int:
     base = rows[0][2]
     header = ["host", "FMU keeps thread state", "us per step", "us per FMI call", "ratio to fmpy"]
     table = [[h, k, f"{s * 1e6:.1f}", f"{s * 1e6 / n_calls:.2f}", f"{s / base:.2f}"] for h, k, s in rows]
-    RESULTS.mkdir(parents=True, exist_ok=True)
-    with open(RESULTS / "native_host_cost.csv", "w", newline="") as f:
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with open(out_dir / "native_host_cost.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(header)
         w.writerows(table)
@@ -156,7 +158,7 @@ def main(argv: list[str] | None = None) -> int:
     md += ["| " + " | ".join(r) + " |" for r in table]
     md += ["", f"Python {sys.version.split()[0]}, reproduce: `.venv/bin/python benchmarks/native_host_cost.py "
            f"--stop-time {args.stop_time:g} --repeat {args.repeat}`"]
-    (RESULTS / "native_host_cost.md").write_text("\n".join(md) + "\n")
+    (out_dir / "native_host_cost.md").write_text("\n".join(md) + "\n")
     print("\n".join(md))
     return 0
 
