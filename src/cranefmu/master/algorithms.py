@@ -25,7 +25,7 @@ import numpy as np
 
 from .acceleration import ACCELERATORS
 from .coupled import Coupling, Part
-from ..errors import SettingsError, SimulationError
+from ..errors import CraneFmuError, SettingsError, SimulationError
 from .newton import Newton
 from .residual import CouplingCriterion
 
@@ -224,12 +224,16 @@ class Iterative(Algorithm):
                     c.commit(t + h)
                     return h, k
             raise self.check.failure(k, u, gu, scale, worst, (t, h))
-        except SimulationError:
+        except SimulationError as error:
             # the accelerated fixed point cannot contract (a stiff seam: its one-step gain far above 1),
             # or an iterate so far off that an FMU failed: Newton's method from the first iterate
             if not self.rescue:
                 raise
-        c.restore(snapshot)
+            failed = error
+        try:
+            c.restore(snapshot)
+        except CraneFmuError:   # an FMU that failed cannot go back: its own failure is the message
+            raise failed from None
         self.newton = Newton(self.check, self.max_iterations)
         return self._newton_step(t, h, snapshot, c.predict(t, h, order=min(self.degree, 2)), scale, k)
 
