@@ -291,3 +291,90 @@ def static_outrigger_loads(boom_length: float, angle_deg: float, load: float,
     y = boom.output_values(t_end, np.zeros(3), np.array([0.0, 0.0, 0.0, 0.0, 0.0, -load * G, 0.0]))
     n = ChassisModel(ChassisParams()).static_reactions(np.array(y[6:9]))
     return float(n[0]), float(n[1])
+
+
+# --- statics of the crane on four outrigger pads (truck_slewing) ---------------------------------------
+def _pad_geometry(retracted: float | None, boom_length: float, angle_deg: float):
+    """The four-pad chassis (Chassis4 defaults) and the boom's mass properties with the segments extended."""
+    from .physics.boom import BoomParams, mass_state
+    from .physics.chassis4 import Chassis4Params, pad_positions
+
+    start = BoomParams().boom_length_start if retracted is None else retracted
+    if not boom_length >= start:
+        raise ValueError(f"boom_length = {boom_length!r} m is shorter than the retracted boom: allowed >= {start!r} m")
+    bp = BoomParams(boom_length_start=start, boom_length_end=boom_length, t_acc=0.0, luff_angle=math.radians(angle_deg))
+    ms = mass_state((boom_length - start) / (2.0 * bp.telescope_speed) + 1.0, bp)   # after the extension
+    cp = Chassis4Params()
+    xs, zs = pad_positions(cp)
+    chassis_mass = cp.m_body + cp.m_platform
+    chassis_moment = cp.m_body * (cp.x_body - cp.x_slew) + cp.m_platform * (cp.x_platform - cp.x_slew)
+    return cp, xs, zs, chassis_mass, chassis_moment, ms
+
+
+def _pad_loads(xs, zs, width, w, m_gamma, m_beta) -> np.ndarray:
+    """Reactions [N] on four pads of a rigid chassis on equal springs (the rigid-cap pile group formula,
+    physics/chassis4.py); where it gives a pad a pull, that pad is off and the other three carry the
+    loads, statically determinate (force and two moment balances)."""
+    xm, length = 0.5 * (xs[0] + xs[2]), xs[2] - xs[0]
+    n = w / 4.0 + (m_gamma - w * xm) * (xs - xm) / length ** 2 + m_beta * zs / width ** 2
+    if n.min() >= 0.0:
+        return n
+    off = int(np.argmin(n))
+    on = [i for i in range(4) if i != off]
+    three = np.linalg.solve(np.array([np.ones(3), xs[on], zs[on]]), np.array([w, m_gamma, m_beta]))
+    out = np.zeros(4)
+    out[on] = three
+    return out
+
+
+def static_pad_reactions(boom_length: float, angle_deg: float, load: float, slew_deg: float,
+                         retracted: float | None = None) -> np.ndarray:
+    """(N1, N2, N3, N4) [N] on the pads front-left, front-right, rear-left, rear-right of the truck crane on
+    four outriggers (Chassis4 and Boom defaults, truck_slewing) at rest: boom telescoped to ``boom_length`` [m]
+    at ``angle_deg`` luffing, slewed to ``slew_deg`` (0 over the rear, 90 over the +z side), hook load ``load``
+    [kg].  Closed form (physics/chassis4.py): W = (m8 + m9 + m_boom + load) g; the boom and load press toward
+    the slewing direction with g (S + load L) cos psi about O2; the pads take them by the rigid-cap formula
+    N_i = W/4 + (M_gamma - W x_m)(x_i - x_m)/l^2 + M_beta z_i/w^2 (three pads, statically determinate, where
+    a pad would pull).  The chassis settles on the soil springs (c = q0 F per pad) and tilts the boom by
+    gamma_e = gamma cos sigma + beta sin sigma (about 1e-3 rad), so psi = phi1 - gamma_e: the settlements
+    q_i = N_i / c give the tilt, iterated to a fixed point (contraction about 1e-3 a step)."""
+    cp, xs, zs, mass, moment, ms = _pad_geometry(retracted, boom_length, angle_deg)
+    sig, phi, c = math.radians(slew_deg), math.radians(angle_deg), cp.soil_coefficient * cp.pad_area
+    w = G * (mass + ms.mass + load)
+    gamma = beta = 0.0
+    for _ in range(20):
+        psi = phi - (gamma * math.cos(sig) + beta * math.sin(sig))
+        reach = G * (ms.S + load * ms.length) * math.cos(psi)
+        n = _pad_loads(xs, zs, cp.outrigger_width, w, G * moment + reach * math.cos(sig), reach * math.sin(sig))
+        q = n / c   # settlements of the pads in contact; a lifted pad lies on the plane of the other three
+        d = np.column_stack([-np.ones(4), xs, zs])
+        on = n > 0.0
+        _, g_new, b_new = np.linalg.lstsq(d[on], q[on], rcond=None)[0]
+        if abs(g_new - gamma) + abs(b_new - beta) < 1e-15:
+            break
+        gamma, beta = float(g_new), float(b_new)
+    return n
+
+
+def pad_tipping_load(boom_length: float, angle_deg: float, slew_deg: float, retracted: float | None = None) -> float:
+    """Hook load [kg] at which the truck crane on four outriggers tips (rigid statics, no tilt): the resultant
+    of all weights reaches an edge of the pad rectangle, so the two pads on that edge carry everything (over
+    the side, 90 deg: the two +z pads).  W x_R = M_gamma, W z_R = M_beta with W, M linear in the load: each
+    edge gives load = (edge W0 - M0) / (g L cos phi1 d - edge g) along the slewing direction d.  inf if the
+    boom never tips that way."""
+    cp, xs, zs, mass, moment, ms = _pad_geometry(retracted, boom_length, angle_deg)
+    sig, phi = math.radians(slew_deg), math.radians(angle_deg)
+    w0 = G * (mass + ms.mass)
+    arm = ms.length * math.cos(phi)   # the load's radius
+    out = math.inf
+    # edges: x = x_rear, x = x_front (from below), z = +w/2, z = -w/2: the resultant's coordinate along each
+    for edge, m0, dirn in ((xs[2], G * moment + G * ms.S * math.cos(phi) * math.cos(sig), math.cos(sig)),
+                           (-xs[0], -(G * moment + G * ms.S * math.cos(phi) * math.cos(sig)), -math.cos(sig)),
+                           (zs[1], G * ms.S * math.cos(phi) * math.sin(sig), math.sin(sig)),
+                           (zs[1], -G * ms.S * math.cos(phi) * math.sin(sig), -math.sin(sig))):
+        # resultant coordinate (m0 + g m arm dirn) / (w0 + g m) = edge  ->  m
+        denom = G * (arm * dirn - edge)
+        if denom > 0.0:
+            m = (edge * w0 - m0) / denom
+            out = min(out, max(m, 0.0))
+    return out
