@@ -80,6 +80,12 @@ def test_resultant_outside_the_pads_has_no_equilibrium():
     w, _, _ = model.applied_loads(inputs(Fy_base=-3.0e4))
     # the resultant 0.2 m beyond the +z edge
     assert contact_statics(model.xs, model.zs, w, 0.0, w * (0.5 * 3.08 + 0.2), model.stiffness) is None
+    # the model then starts on the two +z pads, which carry all of it, the -z pads just clear: tipping
+    u = inputs(Fy_base=-3.0e4, Mx_base=w * (0.5 * 3.08 + 0.2), Mz_base=model.p.g * model.first_moment)   # x_R = 0
+    y = dict(zip(OUT, model.output_list(0.0, model.initial_state(u), u)))
+    assert y["pads_lifted"] == 2.0 and y["tipping"] == 1.0
+    assert y["N2"] + y["N4"] == pytest.approx(w, rel=1e-12) and y["N1"] == y["N3"] == 0.0
+    assert max(y["q1"], y["q3"]) == pytest.approx(0.0, abs=1e-15)
 
 
 def test_energy_is_conserved_without_damping_through_lift_off():

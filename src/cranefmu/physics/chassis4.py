@@ -189,17 +189,37 @@ class Chassis4Model(Model):
         return qs, ns
 
     def initial_state(self, u: np.ndarray) -> np.ndarray:
-        """Static equilibrium on the pads in contact (:func:`contact_statics`); without one (the resultant
-        outside the pads) the chassis starts level on its soil settlement under W/4 per pad and tips."""
+        """Static equilibrium on the pads in contact (:func:`contact_statics`).  Without one (the resultant
+        outside the pads) the chassis rests on the two pads of the edge the resultant lies beyond, which carry
+        the whole vertical load, the other two just clear of the soil: it starts to tip (as :mod:`.chassis`)."""
         self.carry(u)
         w, mg, mbeta = self.applied_loads(u)
         if w <= 0.0:
             return np.zeros(6)
         found = contact_statics(self.xs, self.zs, w, mg, mbeta, self.stiffness)
         if found is None:
-            return np.array([-w / (4.0 * self.stiffness), 0.0, 0.0, 0.0, 0.0, 0.0])
-        _, (neg_y, gamma, beta) = found
+            q = self._tipping_settlements(w, mg / w, mbeta / w)
+            neg_y, gamma, beta = np.linalg.lstsq(np.column_stack([np.ones(4), self.xs, self.zs]), q, rcond=None)[0]
+        else:
+            _, (neg_y, gamma, beta) = found
         return np.array([-neg_y, gamma, beta, 0.0, 0.0, 0.0])
+
+    def _tipping_settlements(self, w: float, x_r: float, z_r: float) -> np.ndarray:
+        """Pad settlements [m] with the load w [N] on the edge pads beyond which the resultant (x_r, z_r) [m]
+        lies, split by the lever along the edge; the opposite pads on the same plane, the lower one at q = 0."""
+        xs, zs, half = self.xs, self.zs, 0.5 * self.p.outrigger_width
+        edges = ((x_r - xs[2], (2, 3), zs, z_r), (xs[0] - x_r, (0, 1), zs, z_r),
+                 (z_r - half, (1, 3), xs, x_r), (-half - z_r, (0, 2), xs, x_r))
+        _, (i, j), along, s_r = max(edges, key=lambda e: e[0])
+        share = min(max((s_r - along[i]) / (along[j] - along[i]), 0.0), 1.0)   # of w on pad j
+        q = np.zeros(4)
+        q[i], q[j] = (1.0 - share) * w / self.stiffness, share * w / self.stiffness
+        k, m = (k for k in range(4) if k not in (i, j))
+        if abs(xs[k] - xs[i]) + abs(zs[k] - zs[i]) > abs(xs[k] - xs[j]) + abs(zs[k] - zs[j]):
+            k, m = m, k                      # k opposite i, m opposite j
+        lift = -max(q[i], q[j])
+        q[k], q[m] = q[i] + lift, q[j] + lift
+        return q
 
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         self.carry(u)
