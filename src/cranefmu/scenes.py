@@ -67,6 +67,23 @@ SCENES = {
          ("Sway angle", ("pendulum.theta",)), ("Outrigger reactions", ("chassis.N_front", "chassis.N_rear")),
          ("Settlements", ("chassis.q1", "chassis.q2")), ("Boom length", ("boom.boom_length",))),
     ),
+    "truck_slewing": SceneInfo(
+        "truck_slewing",
+        "pad reactions and load sway while the truck crane on four outriggers slews its loaded boom 90 deg from "
+        "over the rear to over the side (seed 000's crane, 3-D)",
+        (("drive", "Drive", "kinematic, holding the rope"),
+         ("rope", "Rope", "Kelvin-Voigt, 2 lines, rope run along the boom folded into E"),
+         ("boom", "SlewingBoom", "seed 000 boom, rigid luffing cylinder, slewing trapezoid law, tip in 3-D"),
+         ("chassis", "Chassis4", "body + platform on four elastic pads, 3-D (heave, pitch, roll), unilateral"),
+         ("pendulum", "Pendulum", "3-D point mass (hook + load)")),
+        ("pendulum.theta", "chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4"),
+        {"rope.model": "kelvin_voigt | bouc_wen"},
+        "seed 000 (truck crane 55713-1K): Tables 1-2; slewing and the four pads beyond the seed",
+        (("Pad reactions", ("chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4")),
+         ("Settlements", ("chassis.q1", "chassis.q2", "chassis.q3", "chassis.q4")),
+         ("Sway angle", ("pendulum.theta", "pendulum.phi")), ("Slewing angle", ("boom.slew_angle_out",)),
+         ("Rope tension", ("rope.tension",))),
+    ),
     "hook_sway": SceneInfo(
         "hook_sway",
         "payload sway below a hook of its own mass and length, released from an offset (seed 002)",
@@ -173,6 +190,19 @@ def hook_sway_metrics(r, window: float = 2.0) -> dict[str, float]:
             "half_time": float(t[inner[below[0]]]) if len(below) else math.nan}
 
 
+def truck_slewing_metrics(r) -> dict[str, float]:
+    """Largest sway [deg] of the line tip -> hook, smallest and largest pad reaction [N], tipping (a pad
+    without load: 1.0 or 0.0) and its time [s]."""
+    t = _col(r, "time")
+    sway = np.degrees(np.arctan2(np.hypot(_col(r, "pendulum.x") - _col(r, "boom.x_tip"),
+                                          _col(r, "pendulum.z") - _col(r, "boom.z_tip")),
+                                 _col(r, "boom.y_tip") - _col(r, "pendulum.y")))
+    pads = np.column_stack([_col(r, f"chassis.N{i}") for i in range(1, 5)])
+    off = np.flatnonzero(pads.min(axis=1) <= 0.0)
+    return {"max_sway_deg": float(sway.max()), "N_min": float(pads.min()), "N_max": float(pads.max()),
+            "tipping": float(len(off) > 0), "tipping_time": float(t[off[0]]) if len(off) else math.nan}
+
+
 def elastic_pendulum_metrics(r) -> dict[str, float]:
     theta, tension = np.degrees(_col(r, "pendulum.theta")), _col(r, "rope.tension")
     return {"max_sway_deg": float(np.max(np.abs(theta))), "tension_min": float(tension.min()),
@@ -181,7 +211,8 @@ def elastic_pendulum_metrics(r) -> dict[str, float]:
 
 METRICS: dict[str, Callable[[object], dict[str, float]]] = {
     "elastic_pendulum": elastic_pendulum_metrics, "overhead_lift": overhead_lift_metrics,
-    "truck_telescope": truck_telescope_metrics, "hook_sway": hook_sway_metrics}
+    "truck_telescope": truck_telescope_metrics, "hook_sway": hook_sway_metrics,
+    "truck_slewing": truck_slewing_metrics}
 
 
 def metrics(name: str, result) -> dict[str, float]:
@@ -211,6 +242,10 @@ def summary(name: str, result) -> list[tuple[str, str]]:
                   ("tipping", f"yes: an outrigger lifted off at t = {m['tipping_time']:.3f} s, boom "
                               f"{m['tipping_boom_length']:.3f} m (the run means nothing after it)"
                    if m["tipping"] else "no")]
+    elif name == "truck_slewing" and m:
+        lines += [("max sway", f"{m['max_sway_deg']:.3f} deg"),
+                  ("pad reactions", f"{m['N_min'] / 1e3:.2f} .. {m['N_max'] / 1e3:.2f} kN"),
+                  ("tipping", f"yes: a pad lifted off at t = {m['tipping_time']:.3f} s" if m["tipping"] else "no")]
     elif name == "hook_sway" and m:
         lines += [("payload sway", f"first 2 s {m['sway_first_deg']:.3f} deg, last 2 s {m['sway_last_deg']:.3f} deg "
                                    f"(ratio {m['sway_ratio']:.3f}); smallest swing {m['min_peak_ratio']:.3f} of "
@@ -232,7 +267,9 @@ def _metric_columns(name: str) -> tuple[str, ...]:
                                 "chassis.N_front", "chassis.N_rear"),
             "hook_sway": ("pendulum.x_payload", "pendulum.y_payload", "pendulum.z_payload", "boom.x_tip",
                           "boom.y_tip", "boom.z_tip"),
-            "elastic_pendulum": ("pendulum.theta", "rope.tension")}.get(name, ())
+            "elastic_pendulum": ("pendulum.theta", "rope.tension"),
+            "truck_slewing": ("pendulum.x", "pendulum.y", "pendulum.z", "boom.x_tip", "boom.y_tip", "boom.z_tip",
+                              "chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4")}.get(name, ())
 
 
 # --- parameter sets computed from the seeds' data ----------------------------------------------------

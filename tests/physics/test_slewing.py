@@ -42,11 +42,9 @@ def test_tip_circles_the_slewing_axis_and_its_velocity_is_the_derivative_of_its_
         assert math.atan2(y["z_tip"], y["x_tip"]) == pytest.approx(y["slew_angle_out"], abs=1e-12)
         h = 1e-6
         # the chassis moves on with its rates: central differences of the tip position
-        ahead = dict(state, gamma=state["gamma"] + h * state["gamma_rate"], beta=state["beta"] + h * state["beta_rate"],
-                     y_base=state["y_base"] + h * state["vy_base"])
-        behind = dict(state, gamma=state["gamma"] - h * state["gamma_rate"], beta=state["beta"] - h * state["beta_rate"],
-                      y_base=state["y_base"] - h * state["vy_base"])
-        ya, yb = outputs(model, t + h, **ahead), outputs(model, t - h, **behind)
+        ya, yb = (outputs(model, t + dt, **dict(state, gamma=state["gamma"] + dt * state["gamma_rate"],
+                                                beta=state["beta"] + dt * state["beta_rate"],
+                                                y_base=state["y_base"] + dt * state["vy_base"])) for dt in (h, -h))
         for c in "xyz":
             assert y[f"v{c}_tip"] == pytest.approx((ya[f"{c}_tip"] - yb[f"{c}_tip"]) / (2 * h), abs=1e-7)
 
