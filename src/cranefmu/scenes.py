@@ -412,6 +412,6 @@ def pad_tipping_load(boom_length: float, angle_deg: float, slew_deg: float, retr
         # resultant coordinate (m0 + g m arm dirn) / (w0 + g m) = edge  ->  m
         denom = G * (arm * dirn - edge)
         if denom > 0.0:
-            m = (edge * w0 - m0) / denom
+            m = float((edge * w0 - m0) / denom)
             out = min(out, max(m, 0.0))
     return out
