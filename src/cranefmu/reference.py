@@ -21,16 +21,19 @@ from .errors import ParameterSetError, SceneError, SimulationError
 from .master.scene import Scene, read_scene_folder, typed_value
 from .physics.boom import BoomModel
 from .physics.chassis import ChassisModel
+from .physics.chassis4 import Chassis4Model
 from .physics.component import Model
 from .physics.drive import DriveModel
 from .physics.girder import GirderModel
 from .physics.pendulum import PendulumModel
 from .physics.rope import RopeModel
+from .physics.slewing import SlewingBoomModel
 from .sources import FMU_SOURCES as FMU_DIR  # the checkout's fmus/ or the wheel's copy
 from .sources import SSP_SOURCES as SSP_DIR  # the checkout's ssp/ or the wheel's copy
 
 MODELS: dict[str, type[Model]] = {"Rope": RopeModel, "Pendulum": PendulumModel, "Drive": DriveModel,
-                                  "Girder": GirderModel, "Boom": BoomModel, "Chassis": ChassisModel}
+                                  "Girder": GirderModel, "Boom": BoomModel, "Chassis": ChassisModel,
+                                  "SlewingBoom": SlewingBoomModel, "Chassis4": Chassis4Model}
 ADAPTER_PARAMETERS = ("solver", "rtol", "max_step")   # the FMU's own solver settings, not physics
 INIT_MAX_SWEEPS = 400
 INIT_RELAXATION = 0.5

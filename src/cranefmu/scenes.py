@@ -67,6 +67,23 @@ SCENES = {
          ("Sway angle", ("pendulum.theta",)), ("Outrigger reactions", ("chassis.N_front", "chassis.N_rear")),
          ("Settlements", ("chassis.q1", "chassis.q2")), ("Boom length", ("boom.boom_length",))),
     ),
+    "truck_slewing": SceneInfo(
+        "truck_slewing",
+        "pad reactions and load sway while the truck crane on four outriggers slews its loaded boom 90 deg from "
+        "over the rear to over the side (seed 000's crane, 3-D)",
+        (("drive", "Drive", "kinematic, holding the rope"),
+         ("rope", "Rope", "Kelvin-Voigt, 2 lines, rope run along the boom folded into E"),
+         ("boom", "SlewingBoom", "seed 000 boom, rigid luffing cylinder, slewing trapezoid law, tip in 3-D"),
+         ("chassis", "Chassis4", "body + platform on four elastic pads, 3-D (heave, pitch, roll), unilateral"),
+         ("pendulum", "Pendulum", "3-D point mass (hook + load)")),
+        ("pendulum.theta", "chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4"),
+        {"rope.model": "kelvin_voigt | bouc_wen"},
+        "seed 000 (truck crane 55713-1K): Tables 1-2; slewing and the four pads beyond the seed",
+        (("Pad reactions", ("chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4")),
+         ("Settlements", ("chassis.q1", "chassis.q2", "chassis.q3", "chassis.q4")),
+         ("Sway angle", ("pendulum.theta", "pendulum.phi")), ("Slewing angle", ("boom.slew_angle_out",)),
+         ("Rope tension", ("rope.tension",))),
+    ),
     "hook_sway": SceneInfo(
         "hook_sway",
         "payload sway below a hook of its own mass and length, released from an offset (seed 002)",
@@ -173,6 +190,19 @@ def hook_sway_metrics(r, window: float = 2.0) -> dict[str, float]:
             "half_time": float(t[inner[below[0]]]) if len(below) else math.nan}
 
 
+def truck_slewing_metrics(r) -> dict[str, float]:
+    """Largest sway [deg] of the line tip -> hook, smallest and largest pad reaction [N], tipping (a pad
+    without load: 1.0 or 0.0) and its time [s]."""
+    t = _col(r, "time")
+    sway = np.degrees(np.arctan2(np.hypot(_col(r, "pendulum.x") - _col(r, "boom.x_tip"),
+                                          _col(r, "pendulum.z") - _col(r, "boom.z_tip")),
+                                 _col(r, "boom.y_tip") - _col(r, "pendulum.y")))
+    pads = np.column_stack([_col(r, f"chassis.N{i}") for i in range(1, 5)])
+    off = np.flatnonzero(pads.min(axis=1) <= 0.0)
+    return {"max_sway_deg": float(sway.max()), "N_min": float(pads.min()), "N_max": float(pads.max()),
+            "tipping": float(len(off) > 0), "tipping_time": float(t[off[0]]) if len(off) else math.nan}
+
+
 def elastic_pendulum_metrics(r) -> dict[str, float]:
     theta, tension = np.degrees(_col(r, "pendulum.theta")), _col(r, "rope.tension")
     return {"max_sway_deg": float(np.max(np.abs(theta))), "tension_min": float(tension.min()),
@@ -181,7 +211,8 @@ def elastic_pendulum_metrics(r) -> dict[str, float]:
 
 METRICS: dict[str, Callable[[object], dict[str, float]]] = {
     "elastic_pendulum": elastic_pendulum_metrics, "overhead_lift": overhead_lift_metrics,
-    "truck_telescope": truck_telescope_metrics, "hook_sway": hook_sway_metrics}
+    "truck_telescope": truck_telescope_metrics, "hook_sway": hook_sway_metrics,
+    "truck_slewing": truck_slewing_metrics}
 
 
 def metrics(name: str, result) -> dict[str, float]:
@@ -211,6 +242,10 @@ def summary(name: str, result) -> list[tuple[str, str]]:
                   ("tipping", f"yes: an outrigger lifted off at t = {m['tipping_time']:.3f} s, boom "
                               f"{m['tipping_boom_length']:.3f} m (the run means nothing after it)"
                    if m["tipping"] else "no")]
+    elif name == "truck_slewing" and m:
+        lines += [("max sway", f"{m['max_sway_deg']:.3f} deg"),
+                  ("pad reactions", f"{m['N_min'] / 1e3:.2f} .. {m['N_max'] / 1e3:.2f} kN"),
+                  ("tipping", f"yes: a pad lifted off at t = {m['tipping_time']:.3f} s" if m["tipping"] else "no")]
     elif name == "hook_sway" and m:
         lines += [("payload sway", f"first 2 s {m['sway_first_deg']:.3f} deg, last 2 s {m['sway_last_deg']:.3f} deg "
                                    f"(ratio {m['sway_ratio']:.3f}); smallest swing {m['min_peak_ratio']:.3f} of "
@@ -232,7 +267,9 @@ def _metric_columns(name: str) -> tuple[str, ...]:
                                 "chassis.N_front", "chassis.N_rear"),
             "hook_sway": ("pendulum.x_payload", "pendulum.y_payload", "pendulum.z_payload", "boom.x_tip",
                           "boom.y_tip", "boom.z_tip"),
-            "elastic_pendulum": ("pendulum.theta", "rope.tension")}.get(name, ())
+            "elastic_pendulum": ("pendulum.theta", "rope.tension"),
+            "truck_slewing": ("pendulum.x", "pendulum.y", "pendulum.z", "boom.x_tip", "boom.y_tip", "boom.z_tip",
+                              "chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4")}.get(name, ())
 
 
 # --- parameter sets computed from the seeds' data ----------------------------------------------------
@@ -291,3 +328,90 @@ def static_outrigger_loads(boom_length: float, angle_deg: float, load: float,
     y = boom.output_values(t_end, np.zeros(3), np.array([0.0, 0.0, 0.0, 0.0, 0.0, -load * G, 0.0]))
     n = ChassisModel(ChassisParams()).static_reactions(np.array(y[6:9]))
     return float(n[0]), float(n[1])
+
+
+# --- statics of the crane on four outrigger pads (truck_slewing) ---------------------------------------
+def _pad_geometry(retracted: float | None, boom_length: float, angle_deg: float):
+    """The four-pad chassis (Chassis4 defaults) and the boom's mass properties with the segments extended."""
+    from .physics.boom import BoomParams, mass_state
+    from .physics.chassis4 import Chassis4Params, pad_positions
+
+    start = BoomParams().boom_length_start if retracted is None else retracted
+    if not boom_length >= start:
+        raise ValueError(f"boom_length = {boom_length!r} m is shorter than the retracted boom: allowed >= {start!r} m")
+    bp = BoomParams(boom_length_start=start, boom_length_end=boom_length, t_acc=0.0, luff_angle=math.radians(angle_deg))
+    ms = mass_state((boom_length - start) / (2.0 * bp.telescope_speed) + 1.0, bp)   # after the extension
+    cp = Chassis4Params()
+    xs, zs = pad_positions(cp)
+    chassis_mass = cp.m_body + cp.m_platform
+    chassis_moment = cp.m_body * (cp.x_body - cp.x_slew) + cp.m_platform * (cp.x_platform - cp.x_slew)
+    return cp, xs, zs, chassis_mass, chassis_moment, ms
+
+
+def _pad_loads(xs, zs, width, w, m_gamma, m_beta) -> np.ndarray:
+    """Reactions [N] on four pads of a rigid chassis on equal springs (the rigid-cap pile group formula,
+    physics/chassis4.py); where it gives a pad a pull, that pad is off and the other three carry the
+    loads, statically determinate (force and two moment balances)."""
+    xm, length = 0.5 * (xs[0] + xs[2]), xs[2] - xs[0]
+    n = w / 4.0 + (m_gamma - w * xm) * (xs - xm) / length ** 2 + m_beta * zs / width ** 2
+    if n.min() >= 0.0:
+        return n
+    off = int(np.argmin(n))
+    on = [i for i in range(4) if i != off]
+    three = np.linalg.solve(np.array([np.ones(3), xs[on], zs[on]]), np.array([w, m_gamma, m_beta]))
+    out = np.zeros(4)
+    out[on] = three
+    return out
+
+
+def static_pad_reactions(boom_length: float, angle_deg: float, load: float, slew_deg: float,
+                         retracted: float | None = None) -> np.ndarray:
+    """(N1, N2, N3, N4) [N] on the pads front-left, front-right, rear-left, rear-right of the truck crane on
+    four outriggers (Chassis4 and Boom defaults, truck_slewing) at rest: boom telescoped to ``boom_length`` [m]
+    at ``angle_deg`` luffing, slewed to ``slew_deg`` (0 over the rear, 90 over the +z side), hook load ``load``
+    [kg].  Closed form (physics/chassis4.py): W = (m8 + m9 + m_boom + load) g; the boom and load press toward
+    the slewing direction with g (S + load L) cos psi about O2; the pads take them by the rigid-cap formula
+    N_i = W/4 + (M_gamma - W x_m)(x_i - x_m)/l^2 + M_beta z_i/w^2 (three pads, statically determinate, where
+    a pad would pull).  The chassis settles on the soil springs (c = q0 F per pad) and tilts the boom by
+    gamma_e = gamma cos sigma + beta sin sigma (about 1e-3 rad), so psi = phi1 - gamma_e: the settlements
+    q_i = N_i / c give the tilt, iterated to a fixed point (contraction about 1e-3 a step)."""
+    cp, xs, zs, mass, moment, ms = _pad_geometry(retracted, boom_length, angle_deg)
+    sig, phi, c = math.radians(slew_deg), math.radians(angle_deg), cp.soil_coefficient * cp.pad_area
+    w = G * (mass + ms.mass + load)
+    gamma = beta = 0.0
+    for _ in range(20):
+        psi = phi - (gamma * math.cos(sig) + beta * math.sin(sig))
+        reach = G * (ms.S + load * ms.length) * math.cos(psi)
+        n = _pad_loads(xs, zs, cp.outrigger_width, w, G * moment + reach * math.cos(sig), reach * math.sin(sig))
+        q = n / c   # settlements of the pads in contact; a lifted pad lies on the plane of the other three
+        d = np.column_stack([-np.ones(4), xs, zs])
+        on = n > 0.0
+        _, g_new, b_new = np.linalg.lstsq(d[on], q[on], rcond=None)[0]
+        if abs(g_new - gamma) + abs(b_new - beta) < 1e-15:
+            break
+        gamma, beta = float(g_new), float(b_new)
+    return n
+
+
+def pad_tipping_load(boom_length: float, angle_deg: float, slew_deg: float, retracted: float | None = None) -> float:
+    """Hook load [kg] at which the truck crane on four outriggers tips (rigid statics, no tilt): the resultant
+    of all weights reaches an edge of the pad rectangle, so the two pads on that edge carry everything (over
+    the side, 90 deg: the two +z pads).  W x_R = M_gamma, W z_R = M_beta with W, M linear in the load: each
+    edge gives load = (edge W0 - M0) / (g L cos phi1 d - edge g) along the slewing direction d.  inf if the
+    boom never tips that way."""
+    cp, xs, zs, mass, moment, ms = _pad_geometry(retracted, boom_length, angle_deg)
+    sig, phi = math.radians(slew_deg), math.radians(angle_deg)
+    w0 = G * (mass + ms.mass)
+    arm = ms.length * math.cos(phi)   # the load's radius
+    out = math.inf
+    # edges: x = x_rear, x = x_front (from below), z = +w/2, z = -w/2: the resultant's coordinate along each
+    for edge, m0, dirn in ((xs[2], G * moment + G * ms.S * math.cos(phi) * math.cos(sig), math.cos(sig)),
+                           (-xs[0], -(G * moment + G * ms.S * math.cos(phi) * math.cos(sig)), -math.cos(sig)),
+                           (zs[1], G * ms.S * math.cos(phi) * math.sin(sig), math.sin(sig)),
+                           (zs[1], -G * ms.S * math.cos(phi) * math.sin(sig), -math.sin(sig))):
+        # resultant coordinate (m0 + g m arm dirn) / (w0 + g m) = edge  ->  m
+        denom = G * (arm * dirn - edge)
+        if denom > 0.0:
+            m = float((edge * w0 - m0) / denom)
+            out = min(out, max(m, 0.0))
+    return out

@@ -20,7 +20,8 @@ import math
 
 import numpy as np
 
-from ..sweep.load_chart import L_MAX, L_MIN, STEP, closed_form_max_load, dynamic_chart, static_chart
+from ..sweep.load_chart import (L_MAX, L_MIN, STEP, closed_form_max_load, dynamic_chart, slewing_max_loads,
+                                static_chart)
 from .common import Context, finish, pyplot, write_csv, write_page
 
 STABILITY_FACTOR = 0.85    # rated / tipping on outriggers (ASME B30.5, crane-standards.md)
@@ -85,6 +86,9 @@ def chart() -> list[dict]:
             row[f"angle_{length:g}"] = angle if ok else None
             row[f"tipping_{length:g}"] = tip if ok and math.isfinite(tip) else None
             row[f"rated_{length:g}"] = rated(tip) if ok and math.isfinite(tip) and rated(tip) > 0 else None
+            # on four outrigger pads (truck_slewing's chassis): over the rear and over the side
+            for where, t in zip(("rear", "side"), slewing_max_loads(angle, length) if ok else (math.nan, math.nan)):
+                row[f"rated_{where}_{length:g}"] = rated(t) if math.isfinite(t) and rated(t) > 0 else None
         rows.append(row)
     return rows
 
@@ -148,6 +152,20 @@ def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float |
             cells.append("-" if v is None else f"{v / 1e3:.2f} ({a:.0f} deg)")
         lines.append(f"| {row['radius']:g} | " + " | ".join(cells) + " |")
     lines += ["", "'-': radius beyond the boom, steeper than 80 deg, or no load tips the crane there.", "",
+              "## Rated load [t] over the rear / over the side on four outrigger pads", "",
+              "The truck_slewing chassis: four pads, seed 000's base l7 = 3.08 m along the truck and (assumed) across; "
+              "tipping load = the resultant of all weights on the rear pad edge or on the edge of the two pads on the "
+              "boom's side (`scenes.pad_tipping_load`, rigid statics), rated by the same rule.  Over the rear it "
+              "equals the table above.", "",
+              "| radius [m] | " + " | ".join(f"boom {L:g} m rear / side" for L in LENGTHS) + " |",
+              "| ---: | " + " | ".join("---:" for _ in LENGTHS) + " |"]
+    for row in table:
+        cells = []
+        for L in LENGTHS:
+            rear, side = row[f"rated_rear_{L:g}"], row[f"rated_side_{L:g}"]
+            cells.append(" / ".join("-" if v is None else f"{v / 1e3:.2f}" for v in (rear, side)))
+        lines.append(f"| {row['radius']:g} | " + " | ".join(cells) + " |")
+    lines += ["",
               f"Static tipping lengths at {TIP_LOAD / 1e3:g} t (boom length at which N1 = 0; beyond {L_MAX} m the "
               "model's boom extended by the same law): " + ", ".join(
                   f"{a:g} deg {tipping_length(a):.2f} m" for a in (30.0, 45.0, 60.0)) + "; by the closed-form moment "

@@ -58,6 +58,17 @@ def closed_form_max_load(angle_deg: float, length: float, boom: BoomParams | Non
     return stabilising / (radius - x2) if radius > x2 else math.inf
 
 
+def slewing_max_loads(angle_deg: float, length: float) -> tuple[float, float]:
+    """(over the rear, over the side) static tipping loads [kg] of the crane on four outrigger pads
+    (truck_slewing's Chassis4: seed 000's base l7 = 3.08 m along and across), boom at ``length`` [m] and
+    ``angle_deg``: the resultant of all weights on the rear pad edge, or on the edge of the two pads on the
+    boom's side (rigid statics, :func:`cranefmu.scenes.pad_tipping_load`; over the rear it equals
+    :func:`closed_form_max_load`)."""
+    from ..scenes import pad_tipping_load
+
+    return pad_tipping_load(length, angle_deg, 0.0), pad_tipping_load(length, angle_deg, 90.0)
+
+
 def static_parameters(angle_deg: float, length: float, load: float) -> dict:
     """truck_telescope at rest: boom at ``length`` with its segments extended (offsets), no telescoping."""
     from ..scenes import truck_telescope_parameters

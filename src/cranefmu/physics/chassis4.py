@@ -1,0 +1,245 @@
+"""Truck body and slewing platform on FOUR elastic outrigger pads in 3-D (heave, pitch, roll).
+
+The 3-D companion of :mod:`.chassis` (seed 000's two outriggers in the working plane), for a boom that
+slews.  Seed 000 says the chassis "rests on four extended stays" but models the working plane only; the
+masses, the longitudinal base l7 = 3.08 m, the slewing centre and the soil (q0 = 100 MN/m3 under pads of
+0.45 x 0.45 m) are its Tables 1-2, as in :mod:`.chassis`.  The lateral distance of the pads is not in the
+seed: we take the seed's own base across as well (``outrigger_width`` = l7 = 3.08 m, a square), so over the
+side the tipping line is 1.54 m from the slewing centre against 1.628 m over the rear.
+
+Frame (derived, as :mod:`.chassis` in the working plane): x from the boom foot O2 toward the rear (the boom
+side at slewing angle 0), y up, z to the side the boom reaches at +90 deg.  States: heave y of O2 (up),
+pitch gamma (positive when the +x side goes down, seed 000 eq. 4) and roll beta (positive when the +z side
+goes down), small rotations: a body point at (x, z) moves up by y - gamma x - beta z; pad i at (x_i, z_i)
+sinks by q_i = gamma x_i + beta z_i - y.  Pads 1..4: front-left, front-right, rear-left, rear-right
+(front: x1 = -x_slew; rear: x2 = l7 - x_slew; left z = -w/2, right z = +w/2).  Vertical motion of the
+body points only (seed 000 eq. 5, 9), the body symmetric about its long axis (centre on z = 0).
+
+Equations (derived, Lagrange; generalised forces of gravity, pads and the boom's loads at O2):
+
+    M_q [y'', gamma'', beta'']^T = [Fy - M g + sum N_i,
+                                    g M x_G - Mz + Fx h_foot - sum N_i x_i,
+                                    Mx + Fz h_foot - sum N_i z_i]
+
+with the chassis' mass matrix diag-blocks [[M, -M x_G], [-M x_G, J_O]] (seed 000 eq. 6, 10, as in
+:mod:`.chassis`) and J_roll for beta, plus the boom's inertia as the foot turns it (inputs from
+:class:`~.slewing.SlewingBoomModel`): a boom point at p moves with v = (gamma' p_y, y' - gamma' p_x -
+beta' p_z, beta' p_y), so it adds [[m_b, -S_x, -S_z], [-S_x, J_p, J_pr], [-S_z, J_pr, J_r]].
+
+Soil (seed 000 "C0 = q0 F"): each pad c = q0 F = 20.25 MN/m, damping b = (damping per outrigger
+position) / 2, so two pads at one position equal :mod:`.chassis`' outrigger.  Unilateral: N_i = max(0,
+c q_i + b q_i') while q_i > 0, else 0.  ``tipping`` is 1 while a pad carries nothing (the crane rests on
+three pads or fewer: a pad lifting off is where the stability reserve is used up); ``pads_lifted`` counts
+them.  Integrated with rk4 (no closed-form step).
+
+Statics (:meth:`Chassis4Model.static_reactions`, rigid chassis on four equal springs): three balances
+(force, two moments) for four reactions; compatibility (the pads' settlements lie on the chassis' plane,
+q_i = gamma x_i + beta z_i - y) closes it.  For the rectangle of pads:
+
+    N_i = W/4 + (M_gamma - W x_m)(x_i - x_m) / l^2 + M_beta z_i / w^2
+
+W = M g - Fy (vertical load), M_gamma = g M x_G - Mz + Fx h_foot and M_beta = Mx + Fz h_foot (their moments
+about O2), x_m = (x1 + x2)/2, l = x2 - x1, w = pad width: the rigid-cap pile group formula N_i = V/n +
+M_x y_i / sum y^2 + M_y x_i / sum x^2 (derived here from the three balances and compatibility).  With a
+pad off the remaining three are statically determinate (:func:`contact_statics` solves both cases).
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+
+from .chassis import ChassisParams
+from .component import Model, Signal
+from .params import ParameterError, param
+
+
+@dataclass(frozen=True)
+class Chassis4Params(ChassisParams):
+    component = "chassis"
+    outrigger_width: float = param(3.08, "m", "lateral distance of the left and right pads (not in seed 000: "
+                                   "the seed's longitudinal base l7 taken across, a square)", min=0, min_open=True)
+    J_roll: float = param(10830.0, "kg.m2", "roll inertia of body + platform about the long axis at the pads "
+                          "(estimate: (m8 + m9)(2.5^2 + 1.5^2)/12, a block 2.5 m wide, 1.5 m high)", min=0)
+
+    def check(self) -> None:
+        super().check()
+        if self.pads_per_outrigger != 2:
+            raise ParameterError(f"chassis.pads_per_outrigger = {self.pads_per_outrigger!r} is not allowed for the "
+                                 f"four-pad chassis: its pads are one left and one right at each outrigger, allowed 2")
+
+
+def pad_positions(p: Chassis4Params) -> tuple[np.ndarray, np.ndarray]:
+    """x_i, z_i [m] of pads front-left, front-right, rear-left, rear-right from the boom foot O2."""
+    x1, x2, h = -p.x_slew, p.outrigger_base - p.x_slew, 0.5 * p.outrigger_width
+    return np.array([x1, x1, x2, x2]), np.array([-h, h, -h, h])
+
+
+def contact_statics(xs: np.ndarray, zs: np.ndarray, w: float, m_gamma: float, m_beta: float,
+                    stiffness: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """Static pad reactions N_i [N] and the chassis' (-y, gamma, beta) [m, rad] on unilateral equal springs
+    under the vertical load ``w`` [N] and the moments about O2 ``m_gamma`` (toward +x), ``m_beta`` (toward +z)
+    [N m]: the set of pads in contact with all N_i >= 0 and every other pad clear of the soil (four pads,
+    then each set of three); None when no set holds (the resultant is outside the pads: the crane tips)."""
+    d = np.column_stack([np.ones(4), xs, zs])
+    f = np.array([w, m_gamma, m_beta])
+    for active in itertools.chain([(0, 1, 2, 3)], itertools.combinations(range(4), 3)):
+        da = d[list(active)]
+        xi = np.linalg.solve(stiffness * da.T @ da, f)
+        q = d @ xi
+        if np.all(q[list(active)] >= 0.0) and all(q[i] <= 0.0 for i in range(4) if i not in active):
+            n = np.where(np.isin(np.arange(4), active), stiffness * q, 0.0)
+            return n, xi
+    return None
+
+
+_FX, _FY, _FZ, _MX, _MZ, _MB, _SX, _SZ, _JP, _JR, _JPR = range(11)
+
+
+class Chassis4Model(Model):
+    Params = Chassis4Params
+    description = ("Truck body and slewing platform on four elastic outrigger pads in 3-D (heave, pitch, roll) "
+                   "with unilateral soil contact (seed 000 Tables 1-2, its four stays)")
+    inputs = (
+        Signal("Fx_base", "N", "x force of the boom on the chassis at the boom foot O2", coupling=True),
+        Signal("Fy_base", "N", "y (up) force of the boom on the chassis at O2", coupling=True),
+        Signal("Fz_base", "N", "z (lateral) force of the boom on the chassis at O2", coupling=True),
+        Signal("Mx_base", "N.m", "moment about x at O2 of the boom on the chassis (positive presses the +z side)",
+               coupling=True),
+        Signal("Mz_base", "N.m", "moment about z at O2 of the boom on the chassis (negative presses the +x side)",
+               coupling=True),
+        Signal("m_boom", "kg", "boom mass the foot carries (SlewingBoom m_carried; boom_inertia = 'carried')"),
+        Signal("Sx_boom", "kg.m", "its first moment toward +x about O2 (SlewingBoom Sx_carried)"),
+        Signal("Sz_boom", "kg.m", "its first moment toward +z about O2 (SlewingBoom Sz_carried)"),
+        Signal("Jp_boom", "kg.m2", "its inertia in pitch about O2 (SlewingBoom Jp_carried)"),
+        Signal("Jr_boom", "kg.m2", "its inertia in roll about O2 (SlewingBoom Jr_carried)"),
+        Signal("Jpr_boom", "kg.m2", "its pitch-roll product of inertia (SlewingBoom Jpr_carried)"),
+    )
+    initial_state_inputs = ("Fx_base", "Fy_base", "Fz_base", "Mx_base", "Mz_base")
+    outputs = (
+        Signal("y_base", "m", "vertical displacement of the boom foot O2 (up positive)"),
+        Signal("gamma", "rad", "pitch of the chassis, positive when the +x (rear) side goes down"),
+        Signal("beta", "rad", "roll of the chassis, positive when the +z side goes down"),
+        Signal("vy_base", "m/s", "vertical velocity of O2"),
+        Signal("gamma_rate", "rad/s", "pitch rate"),
+        Signal("beta_rate", "rad/s", "roll rate"),
+        *(Signal(f"q{i}", "m", f"settlement of pad {i} ({name}; negative: lifted off)")
+          for i, name in enumerate(("front-left", "front-right", "rear-left", "rear-right"), 1)),
+        *(Signal(f"N{i}", "N", f"soil reaction on pad {i} ({name})")
+          for i, name in enumerate(("front-left", "front-right", "rear-left", "rear-right"), 1)),
+        Signal("pads_lifted", "1", "number of pads carrying nothing", discrete=True),
+        Signal("tipping", "1", "1 while a pad has lifted off (carries nothing), else 0", discrete=True),
+    )
+
+    def __init__(self, params: Chassis4Params):
+        super().__init__(params)
+        p = self.p
+        self.xs, self.zs = pad_positions(p)
+        x8, x9 = p.x_platform - p.x_slew, p.x_body - p.x_slew
+        self.mass = p.m_platform + p.m_body
+        self.first_moment = p.m_platform * x8 + p.m_body * x9
+        inertia = p.J_platform + p.J_body + p.m_platform * x8 ** 2 + p.m_body * x9 ** 2
+        self.own_mass_matrix = np.array([[self.mass, -self.first_moment, 0.0],
+                                         [-self.first_moment, inertia, 0.0], [0.0, 0.0, p.J_roll]])
+        self.stiffness = p.soil_coefficient * p.pad_area
+        self.pad_damping = p.damping / p.pads_per_outrigger
+        self._carried: tuple[float, ...] | None = None
+        self.mass_matrix = self.own_mass_matrix
+        self.inverse_mass = np.linalg.inv(self.mass_matrix)
+
+    def state_names(self) -> tuple[str, ...]:
+        return ("y", "gamma", "beta", "vy", "gamma_rate", "beta_rate")
+
+    def carry(self, u: np.ndarray) -> None:
+        """The boom's inertia of the inputs into the mass matrix (boom_inertia = 'carried')."""
+        if self.p.boom_inertia != "carried":
+            return
+        carried = tuple(u[_MB:].tolist())
+        if carried == self._carried:
+            return
+        mb, sx, sz, jp, jr, jpr = carried
+        self._carried = carried
+        self.mass_matrix = self.own_mass_matrix + np.array([[mb, -sx, -sz], [-sx, jp, jpr], [-sz, jpr, jr]])
+        self.inverse_mass = np.linalg.inv(self.mass_matrix)
+
+    def applied_loads(self, u: np.ndarray) -> tuple[float, float, float]:
+        """Vertical load W [N] (down positive) and the moments about O2 toward +x (M_gamma) and toward +z
+        (M_beta) [N m] of gravity and the boom: what the pads must carry."""
+        p = self.p
+        fx, fy, fz, mx, mz = u[:_MB].tolist()
+        return self.mass * p.g - fy, p.g * self.first_moment - mz + fx * p.h_foot, mx + fz * p.h_foot
+
+    def static_reactions(self, u: np.ndarray) -> np.ndarray:
+        """Pad reactions [N] of the rigid chassis on four equal springs, all pads in contact (module
+        docstring's formula; negative: that pad would lift off)."""
+        w, mg, mbeta = self.applied_loads(u)
+        xm, l2, w2 = self.xs.mean(), (self.xs[2] - self.xs[0]) ** 2, self.p.outrigger_width ** 2
+        return w / 4.0 + (mg - w * xm) * (self.xs - xm) / l2 + mbeta * self.zs / w2
+
+    def pads(self, x: np.ndarray) -> tuple[list[float], list[float]]:
+        """Settlements q_i [m] and unilateral soil reactions N_i [N] of the four pads."""
+        y, gamma, beta, vy, gr, br = x.tolist()
+        c, b = self.stiffness, self.pad_damping
+        qs, ns = [], []
+        for xi, zi in zip(self.xs.tolist(), self.zs.tolist()):
+            q = gamma * xi + beta * zi - y
+            qs.append(q)
+            ns.append(max(c * q + b * (gr * xi + br * zi - vy), 0.0) if q > 0.0 else 0.0)
+        return qs, ns
+
+    def initial_state(self, u: np.ndarray) -> np.ndarray:
+        """Static equilibrium on the pads in contact (:func:`contact_statics`).  Without one (the resultant
+        outside the pads) the chassis rests on the two pads of the edge the resultant lies beyond, which carry
+        the whole vertical load, the other two just clear of the soil: it starts to tip (as :mod:`.chassis`)."""
+        self.carry(u)
+        w, mg, mbeta = self.applied_loads(u)
+        if w <= 0.0:
+            return np.zeros(6)
+        found = contact_statics(self.xs, self.zs, w, mg, mbeta, self.stiffness)
+        if found is None:
+            q = self._tipping_settlements(w, mg / w, mbeta / w)
+            neg_y, gamma, beta = np.linalg.lstsq(np.column_stack([np.ones(4), self.xs, self.zs]), q, rcond=None)[0]
+        else:
+            _, (neg_y, gamma, beta) = found
+        return np.array([-neg_y, gamma, beta, 0.0, 0.0, 0.0])
+
+    def _tipping_settlements(self, w: float, x_r: float, z_r: float) -> np.ndarray:
+        """Pad settlements [m] with the load w [N] on the edge pads beyond which the resultant (x_r, z_r) [m]
+        lies, split by the lever along the edge; the opposite pads on the same plane, the lower one at q = 0."""
+        xs, zs, half = self.xs, self.zs, 0.5 * self.p.outrigger_width
+        edges = ((x_r - xs[2], (2, 3), zs, z_r), (xs[0] - x_r, (0, 1), zs, z_r),
+                 (z_r - half, (1, 3), xs, x_r), (-half - z_r, (0, 2), xs, x_r))
+        _, (i, j), along, s_r = max(edges, key=lambda e: e[0])
+        share = min(max((s_r - along[i]) / (along[j] - along[i]), 0.0), 1.0)   # of w on pad j
+        q = np.zeros(4)
+        q[i], q[j] = (1.0 - share) * w / self.stiffness, share * w / self.stiffness
+        k, m = (k for k in range(4) if k not in (i, j))
+        if abs(xs[k] - xs[i]) + abs(zs[k] - zs[i]) > abs(xs[k] - xs[j]) + abs(zs[k] - zs[j]):
+            k, m = m, k                      # k opposite i, m opposite j
+        lift = -max(q[i], q[j])
+        q[k], q[m] = q[i] + lift, q[j] + lift
+        return q
+
+    def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        self.carry(u)
+        w, mg, mbeta = self.applied_loads(u)
+        _, ns = self.pads(x)
+        n = np.array(ns)
+        force = np.array([n.sum() - w, mg - n @ self.xs, mbeta - n @ self.zs])
+        return np.concatenate((x[3:], self.inverse_mass @ force))
+
+    def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
+        qs, ns = self.pads(x)
+        lifted = float(sum(1 for n in ns if n == 0.0))
+        return [*x.tolist(), *qs, *ns, lifted, 1.0 if lifted else 0.0]
+
+    def energy(self, x: np.ndarray, u: np.ndarray) -> float:
+        """Kinetic + soil spring energy [J] minus the work of the constant loads (derived; conserved when
+        damping = 0 and the inputs are constant, also through lift-off)."""
+        self.carry(u)
+        v = x[3:]
+        qs, _ = self.pads(x)
+        w, mg, mbeta = self.applied_loads(u)
+        spring = 0.5 * self.stiffness * sum(max(q, 0.0) ** 2 for q in qs)
+        return float(0.5 * v @ self.mass_matrix @ v + spring + w * x[0] - mg * x[1] - mbeta * x[2])

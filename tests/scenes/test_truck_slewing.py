@@ -1,0 +1,85 @@
+"""truck_slewing: the crane on four outriggers at rest against the closed-form pad reactions (slewing angles
+0 / 45 / 90 / 180 deg), lift-off and tipping over the side against the closed form, and the sway the slewing
+excites swinging at the pendulum's period."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cranefmu.master.run import run
+from cranefmu.reference import Monolith
+from cranefmu.scenes import pad_tipping_load, static_pad_reactions
+
+G = 9.81
+PADS = [f"chassis.N{i}" for i in range(1, 5)]
+
+
+def held(slew_deg: float, load: float = 2000.0) -> dict:
+    """The default set with the boom standing at ``slew_deg`` and no slewing manoeuvre."""
+    return {"boom.slew_angle_start": math.radians(slew_deg), "boom.slew_angle": 0.0, "pendulum.mass": load}
+
+
+@pytest.mark.parametrize("slew_deg", [0.0, 45.0, 90.0, 180.0])
+def test_pad_reactions_at_rest_in_the_cosimulation_are_the_closed_form(built, slew_deg):
+    res = run("truck_slewing", stop_time=0.02, step_size=1e-3, parameters=held(slew_deg)).result
+    closed = static_pad_reactions(10.5, 60.0, 2000.0, slew_deg)
+    for name, n in zip(PADS, closed):
+        np.testing.assert_allclose(res[name], n, rtol=1e-6, err_msg=name)
+    assert res["chassis.tipping"].max() == 0.0
+
+
+def _at_rest(slew_deg: float, load: float) -> dict[str, float]:
+    mono = Monolith("truck_slewing", parameters=held(slew_deg, load))
+    return dict(zip(mono.columns, mono.output_row(0.0, mono.initial_state(0.0))))
+
+
+def test_over_the_side_a_far_pad_lifts_first_then_the_crane_tips_at_the_closed_form_load():
+    """Over the side (90 deg) the rigid-cap reactions lose the rear-left pad first (the slewing centre is
+    0.088 m ahead of the pads' centre); three pads carry on until the resultant reaches the +z edge, where the
+    two +z pads carry everything (pad_tipping_load, rigid statics; the soil's tilt moves the load out by
+    about 1e-3 of the boom's height, so 2 % either side)."""
+    tip = pad_tipping_load(10.5, 60.0, 90.0)
+    assert 5.0e3 < tip < 7.0e3
+    # the rigid-cap formula's first lift-off: the rear-left reaction, linear in the load, reaches zero
+    n_a, n_b = (static_pad_reactions(10.5, 60.0, m, 90.0)[2] for m in (1000.0, 2000.0))
+    first = 1000.0 + 1000.0 * n_a / (n_a - n_b)
+    assert 2.0e3 < first < tip
+    below, above = _at_rest(90.0, 0.99 * first), _at_rest(90.0, 1.01 * first)
+    assert below["chassis.pads_lifted"] == 0.0 and above["chassis.pads_lifted"] == 1.0
+    assert above["chassis.N3"] == 0.0 and above["chassis.N1"] > 0.0
+    three = _at_rest(90.0, 0.98 * tip)
+    assert three["chassis.pads_lifted"] == 1.0 and three["chassis.N1"] > 0.0
+    np.testing.assert_allclose([three[p] for p in PADS], static_pad_reactions(10.5, 60.0, 0.98 * tip, 90.0),
+                               rtol=1e-6)
+    assert _at_rest(90.0, 1.02 * tip)["chassis.pads_lifted"] >= 2.0    # no equilibrium: the crane tips
+    # total load: every weight on the pads
+    assert sum(three[p] for p in PADS) == pytest.approx(
+        G * (10590.0 + 4700.0 + 3 * 192.6 + 178.0 + 0.98 * tip), rel=1e-9)
+
+
+def test_slewing_excites_sway_that_swings_on_at_the_pendulums_period(built):
+    """Slewing 90 deg at 0.1 rad/s (2 s ramps) swings the 2 t load; once the boom stands (18.7 s) the hook
+    swings freely: the period of each horizontal component of the sway is 2 pi sqrt(l / g) of the hanging
+    length l (small-oscillation closed form; the soil-supported tip and the rope's stretch shift it by
+    less than 0.5 %), and no pad lifts."""
+    res = run("truck_slewing", stop_time=30.0).result   # the stored settings: Jacobi x1, 10 ms
+    t = res["time"]
+    assert res["boom.slew_angle_out"][-1] == pytest.approx(math.pi / 2, rel=1e-12)
+    assert res["chassis.tipping"].max() == 0.0
+    drop = res["boom.y_tip"][0] - res["pendulum.y"][0]
+    period = 2.0 * math.pi * math.sqrt(drop / G)
+    free = t > 19.0
+    for c in ("x", "z"):
+        d = (res[f"pendulum.{c}"] - res[f"boom.{c}_tip"])[free]
+        d = d - d.mean()
+        tf = t[free]
+        i = np.flatnonzero((d[:-1] < 0.0) & (d[1:] >= 0.0))
+        ups = tf[i] - d[i] * (tf[i + 1] - tf[i]) / (d[i + 1] - d[i])   # upward zero crossings
+        assert len(ups) >= 2
+        measured = (ups[-1] - ups[0]) / (len(ups) - 1)
+        assert measured == pytest.approx(period, rel=5e-3), c
+    sway = np.degrees(np.arctan2(np.hypot(res["pendulum.x"] - res["boom.x_tip"], res["pendulum.z"] - res["boom.z_tip"]),
+                                 res["boom.y_tip"] - res["pendulum.y"]))
+    assert sway[t < 1.0].max() < 1e-9 and sway.max() > 1.0
