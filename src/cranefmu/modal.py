@@ -21,6 +21,7 @@ Limits of a stored setting (issue 24): FREQ_LIMIT 0.5 % and DAMP_LIMIT 5 %.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Callable
@@ -220,7 +221,7 @@ def overhead_hoist(values: dict) -> list[tuple[float, float]]:
     girder = build_params(GirderParams, "girder", values)
     m_h, m_p = pend.mass, pend.m_payload
     weight = (m_h + m_p) * pend.g
-    _, q3 = static_deflections(weight, girder)
+    _, q3 = static_deflections(-weight, girder)   # the rope pulls the drum down
     chord = girder.height + q3 - pend.y0
     l_u = chord / (1.0 + weight / (rope.n_lines * rope.E * rope.A))
     c_rope = stiffness(rope, l_u)
@@ -229,6 +230,48 @@ def overhead_hoist(values: dict) -> list[tuple[float, float]]:
                        [girder.c1, girder.c3, c_rope, pend.c_sling],
                        [girder_damping(girder), girder.b3, damping(rope, c_rope, l_u, m_h + m_p),
                         2.0 * pend.zeta_sling * math.sqrt(pend.c_sling * mu)])
+
+
+def linearised_modes(scene: str, values: dict) -> list[tuple[float, float]]:
+    """Modes of the monolith (:class:`cranefmu.reference.Monolith`, every component's own equations, the
+    rope's regime held) linearised about its initial state with ``values`` ('comp.var', all in force):
+    the eigenvalues s of the central-difference Jacobian of x' = f(0, x) (relative step 1e-6), each
+    complex pair one mode, f = |s| / (2 pi) [Hz], zeta = -Re(s) / |s|.  Lowest first.  For the probes of
+    :data:`MODES`, which start at rest (or with a small kick) in static equilibrium."""
+    return list(_linearised(scene, tuple(sorted(values.items()))))
+
+
+@functools.lru_cache(maxsize=64)
+def _linearised(scene: str, items: tuple) -> tuple[tuple[float, float], ...]:
+    from .reference import Monolith, RegimeEvents
+
+    mono = Monolith(scene, "default", dict(items))
+    x0 = mono.initial_state(0.0)
+    RegimeEvents(mono).pin_from_state(0.0, x0)
+    jac = np.empty((len(x0), len(x0)))
+    for i in range(len(x0)):
+        h = 1e-6 * max(1e-3, abs(x0[i]))
+        up, down = x0.copy(), x0.copy()
+        up[i] += h
+        down[i] -= h
+        jac[:, i] = (mono.rhs(0.0, up) - mono.rhs(0.0, down)) / (2 * h)
+    s = np.linalg.eigvals(jac)
+    return tuple(sorted((float(abs(si) / (2 * math.pi)), float(-si.real / abs(si)))
+                        for si in s if si.imag > 1e-9 * abs(si)))
+
+
+def truck_mode(index: int) -> Callable[[dict], tuple[float, float]]:
+    """The ``index``-th (lowest first) mode of the linearised truck crane (:func:`linearised_modes`)."""
+    return lambda values: linearised_modes("truck_telescope", values)[index]
+
+
+# the truck crane's probes: telescope and winch held (boom 10.5 m), the load at rest below the tip, sent up at
+# 5 cm/s (rope axial and chassis modes; they decay within 2 s), or released at 0.05 rad (the swing)
+TRUCK_HELD = {"boom.boom_length_end": 10.5, "drive.payout_speed": 0.0}
+TRUCK_AXIAL = {**TRUCK_HELD, "pendulum.vy0": 0.05}
+TRUCK_SWING = {**TRUCK_HELD, "pendulum.theta0": 0.05}
+TRUCK_FORMULA = ("linearised monolith (chassis heave and tilt on the pads' soil springs with the boom carried, "
+                 "rope c = E A/(run + L/n), load): eigenvalues of its Jacobian at rest")
 
 
 # the overhead crane's probe: the drum held (kinematic drive at zero speed, so the drivetrain is out), the
@@ -264,6 +307,16 @@ MODES: dict[str, tuple[ModeSpec, ...]] = {
                  lambda v: overhead_hoist(v)[0], span=2.0, probe=OVERHEAD_PROBE, n_fit=2),
         ModeSpec("overhead_lift", "hoist, girder against load", "rope.tension", OVERHEAD_FORMULA,
                  lambda v: overhead_hoist(v)[1], span=2.0, probe=OVERHEAD_PROBE, n_fit=2),
+    ),
+    "truck_telescope": (
+        ModeSpec("truck_telescope", "swing", "pendulum.theta", TRUCK_FORMULA, truck_mode(0), span=20.0,
+                 probe=TRUCK_SWING),
+        ModeSpec("truck_telescope", "load on the rope (axial)", "rope.tension", TRUCK_FORMULA, truck_mode(1),
+                 span=3.0, probe=TRUCK_AXIAL, n_fit=3),
+        ModeSpec("truck_telescope", "chassis on the front pads", "chassis.N_front", TRUCK_FORMULA, truck_mode(2),
+                 span=3.0, probe=TRUCK_AXIAL, n_fit=3),
+        ModeSpec("truck_telescope", "chassis on the rear pads", "chassis.N_rear", TRUCK_FORMULA, truck_mode(3),
+                 span=3.0, probe=TRUCK_AXIAL, n_fit=3),
     ),
 }
 
