@@ -423,6 +423,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{scene}:", flush=True)
         rows, facts = study(scene)
         sections += table(scene, rows, facts)
+        write_modes_csv(rows, Path(args.output).with_name(f"{Path(args.output).stem}_modes_{scene}.csv"))
         write_fidelity(scene, rows, facts, commit, " ".join(["benchmarks/scene_defaults.py",
                                                                *(argv or sys.argv[1:])]))
         best = chosen(rows)
@@ -435,6 +436,26 @@ def main(argv: list[str] | None = None) -> int:
     lines += summary + [""] + sections
     write_docs_ladders()
     return publish(lines, Path(args.output))
+
+
+def write_modes_csv(rows: list[dict], path: Path) -> None:
+    """Each candidate's listed modes: frequency and damping ratio of the run and of the monolith, their
+    errors, beside the candidate's RTF, range error and worst bond ratio (one row per candidate and mode)."""
+    import csv
+
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["candidate", "rtf", "range_err", "bond_ratio", "mode", "f", "f_ref", "freq_err", "zeta",
+                    "zeta_ref", "damp_err", "passes", "note"])
+        for r in rows:
+            head = [r["label"], r.get("rtf", ""), r["worst"], r.get("bond_ratio", "")]
+            note = r.get("failure") or r.get("modal_failure") or ""
+            if not r.get("modes"):
+                w.writerow(head + ["", "", "", "", "", "", "", int(r["ok"]), note])
+            for m in r.get("modes") or []:
+                w.writerow(head + [m["name"], m["f"], m["f_ref"], m["freq_err"], m["zeta"], m["zeta_ref"],
+                                   m["damp_err"], int(r["ok"]), note])
+    print(f"written {path}")
 
 
 def publish(lines: list[str], path: Path) -> int:

@@ -261,13 +261,16 @@ def _linearised(scene: str, items: tuple) -> tuple[tuple[float, float], ...]:
 
 
 def truck_mode(index: int) -> Callable[[dict], tuple[float, float]]:
-    """The ``index``-th (lowest first) mode of the linearised truck crane (:func:`linearised_modes`)."""
-    return lambda values: linearised_modes("truck_telescope", values)[index]
+    """The ``index``-th (lowest first) mode of the truck crane linearised about its rest
+    (:func:`linearised_modes` without the probe's kick)."""
+    return lambda values: linearised_modes("truck_telescope", {k: v for k, v in values.items()
+                                                               if k not in TRUCK_KICK})[index]
 
 
 # the truck crane's probes: telescope and winch held (boom 10.5 m), the load at rest below the tip, sent up at
 # 5 cm/s (rope axial and chassis modes; they decay within 2 s), or released at 0.05 rad (the swing)
 TRUCK_HELD = {"boom.boom_length_end": 10.5, "drive.payout_speed": 0.0}
+TRUCK_KICK = ("pendulum.vy0", "pendulum.theta0")
 TRUCK_AXIAL = {**TRUCK_HELD, "pendulum.vy0": 0.05}
 TRUCK_SWING = {**TRUCK_HELD, "pendulum.theta0": 0.05}
 TRUCK_FORMULA = ("linearised monolith (chassis heave and tilt on the pads' soil springs with the boom carried, "

@@ -104,7 +104,8 @@ def test_hook_sway_defaults_add_no_energy_and_the_old_default_is_flagged(built):
     energy in, and the run says so."""
     res = run("hook_sway", stop_time=10.0, progress=False)
     assert hook_sway_metrics(res.result)["sway_ratio"] < 1.0
-    assert res.stats.bond_energy["hook"] < 0.1 * RESIDUAL_WARNING * res.stats.bond_carried["hook"]
+    # jacobi x1 at 2 ms (issue 24, for the rope's axial mode): 1.2 % of the energy carried; jacobi x2 at 4 ms had 0.67 %
+    assert res.stats.bond_energy["hook"] < 0.2 * RESIDUAL_WARNING * res.stats.bond_carried["hook"]
     assert not res.warnings
     old = run("hook_sway", stop_time=10.0, step_size=1e-3, algorithm="jacobi", extrapolation=0, progress=False)
     assert hook_sway_metrics(old.result)["sway_ratio"] > 1.0
