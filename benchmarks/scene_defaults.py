@@ -152,7 +152,7 @@ def err_worst(err: dict[str, float]) -> float:
     return max(err.values())
 
 
-OPTIONS: dict = {}   # --stop, --steps
+OPTIONS: dict = {}   # --stop, --steps, --series
 
 
 def scene_of(r: dict) -> str:
@@ -174,7 +174,10 @@ def study(scene: str) -> tuple[list[dict], dict]:
         m_p = read_scene_folder(Path(__file__).parents[1] / "ssp" / scene, Path(".")).parameters["pendulum.m_payload"]
         facts["swing_energy"] = m_p * 9.81 * float(np.ptp(ref["pendulum.y_payload"]))
     rows = []
+    wanted = OPTIONS.get("series")
     for algorithm, x in SERIES:
+        if wanted and f"{algorithm}-x{x}" not in wanted:
+            continue
         for h in steps:
             row = candidate(scene, stop, ref, keys, algorithm, x, h, None, sway_ref,
                             settings={"implicit": []} if algorithm == "jacobi" else None)
@@ -182,7 +185,7 @@ def study(scene: str) -> tuple[list[dict], dict]:
             print("  " + line(row), flush=True)
             if row["ok"]:
                 break
-    if scene in IMPLICIT:
+    if scene in IMPLICIT and (not wanted or "implicit" in wanted):
         for h in steps:
             bonds = IMPLICIT[scene]["implicit"]
             row = candidate(scene, stop, ref, keys, "jacobi", 1, h, None, sway_ref, settings=IMPLICIT[scene],
@@ -192,7 +195,7 @@ def study(scene: str) -> tuple[list[dict], dict]:
             print("  " + line(row), flush=True)
             if row["ok"]:
                 break
-    for h0, tol in ADAPTIVE:
+    for h0, tol in ADAPTIVE if not wanted or "adaptive" in wanted else ():
         row = candidate(scene, stop, ref, keys, "jacobi", 1, h0, tol, sway_ref)
         rows.append(row)
         print("  " + line(row), flush=True)
@@ -389,6 +392,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--stop", type=float, default=None, help="at most this span [s] (default: each scene's own)")
     ap.add_argument("--steps", default=None, help="macro steps [s], comma-separated, coarse to fine (default: "
                     + ",".join(f"{h:g}" for h in STEPS) + ")")
+    ap.add_argument("--series", default=None, help="only these candidate series, comma-separated: "
+                    + ", ".join(f"{a}-x{x}" for a, x in SERIES) + ", implicit, adaptive (default: all); a "
+                    "restricted study chooses among what it ran")
     ap.add_argument("--from-table", default=None, metavar="FILE.md", help="no runs: re-derive the choice and "
                     "the ladders of the scenes in a results file this script wrote, into fidelity.json and docs")
     args = ap.parse_args(argv)
@@ -403,7 +409,7 @@ def main(argv: list[str] | None = None) -> int:
                   + " -> ".join(r["label"] for r in fidelity_ladder(rows, chosen(rows))))
         write_docs_ladders()
         return 0
-    OPTIONS.update(stop=args.stop, steps=tuple(float(h) for h in args.steps.split(",")) if args.steps else None)
+    OPTIONS.update(series=set(args.series.split(",")) if args.series else None, stop=args.stop, steps=tuple(float(h) for h in args.steps.split(",")) if args.steps else None)
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
                             cwd=Path(__file__).parent).stdout.strip()
     lines = ["# Scene defaults: the cheapest settings within 1 % of range that keep every listed mode", "",
