@@ -163,7 +163,7 @@ REFERENCES: dict[str, modal.References] = {}   # the monolith's probe solves, sh
 def study(scene: str) -> tuple[list[dict], dict]:
     stop, keys = min(STOP[scene], OPTIONS.get("stop") or math.inf), key_outputs(scene)
     steps = OPTIONS.get("steps") or STEPS
-    ref = reference(scene, stop)
+    ref = reference(scene, stop, rtol=OPTIONS.get("rtol") or 1e-10)
     facts = {"stop": stop, "keys": keys}
     sway_ref = None
     if scene == "hook_sway":
@@ -392,6 +392,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--stop", type=float, default=None, help="at most this span [s] (default: each scene's own)")
     ap.add_argument("--steps", default=None, help="macro steps [s], comma-separated, coarse to fine (default: "
                     + ",".join(f"{h:g}" for h in STEPS) + ")")
+    ap.add_argument("--rtol", type=float, default=None, help="the monolithic reference's rtol (default 1e-10; "
+                    "overhead_lift's takes minutes there, 1e-8 agrees to 3 digits in the range errors)")
     ap.add_argument("--series", default=None, help="only these candidate series, comma-separated: "
                     + ", ".join(f"{a}-x{x}" for a, x in SERIES) + ", implicit, adaptive (default: all); a "
                     "restricted study chooses among what it ran")
@@ -409,7 +411,7 @@ def main(argv: list[str] | None = None) -> int:
                   + " -> ".join(r["label"] for r in fidelity_ladder(rows, chosen(rows))))
         write_docs_ladders()
         return 0
-    OPTIONS.update(series=set(args.series.split(",")) if args.series else None, stop=args.stop, steps=tuple(float(h) for h in args.steps.split(",")) if args.steps else None)
+    OPTIONS.update(rtol=args.rtol, series=set(args.series.split(",")) if args.series else None, stop=args.stop, steps=tuple(float(h) for h in args.steps.split(",")) if args.steps else None)
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
                             cwd=Path(__file__).parent).stdout.strip()
     lines = ["# Scene defaults: the cheapest settings within 1 % of range that keep every listed mode", "",

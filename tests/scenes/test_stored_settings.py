@@ -60,6 +60,10 @@ def test_the_stored_settings_keep_every_listed_mode(built, scene):
     assert check.failure is None
     assert len(check.errors) == len(MODES[scene])
     for e in check.errors:
+        if e.name in modal.NOT_KEPT.get(scene, ()):
+            # a documented miss (docs/scenes_catalog.md): still measured as one, or the catalog is out of date
+            assert not e.meets, f"{scene} {e.name} is kept now: take it off modal.NOT_KEPT and the catalog's list"
+            continue
         assert e.freq_err <= modal.FREQ_LIMIT, f"{scene} {e.name}: f {e.frequency:.6g} against {e.ref_frequency:.6g}"
         assert e.damp_err <= modal.DAMP_LIMIT, f"{scene} {e.name}: zeta {e.damping:.4g} against {e.ref_damping:.4g}"
     assert check.bond_ratio is not None and check.bond_ratio <= RESIDUAL_WARNING
