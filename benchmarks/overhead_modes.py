@@ -36,7 +36,7 @@ def main(argv: list[str] | None = None) -> int:
     head = [f"# overhead_lift: the listed hoist modes per run setting", "",
             f"- date: {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, commit {commit}, load {os.getloadavg()[0]:.1f} "
             "(shared 2 cores)",
-            f"- command: `nice .venv/bin/python benchmarks/overhead_modes.py {' '.join(argv or sys.argv[1:])}`".rstrip(),
+            f"- command: `{' '.join(['nice .venv/bin/python benchmarks/overhead_modes.py', *(argv or sys.argv[1:])])}`",
             f"- probe: {modal.OVERHEAD_PROBE}; limits: frequency {modal.FREQ_LIMIT:.1%}, damping ratio "
             f"{modal.DAMP_LIMIT:.0%}", "", "```"]
     print("\n".join(head), flush=True)
