@@ -24,7 +24,12 @@ benchmarks/results/scene_defaults.md, and stores each scene's chosen setting and
 four settings of the front of wall against the worst error over its limit, :func:`fidelity_ladder`)
 with their measured errors in src/cranefmu/fidelity.json, which ``cranefmu info SCENE`` shows.
 
-    nice .venv/bin/python benchmarks/scene_defaults.py [--scenes hook_sway,...]
+    nice .venv/bin/python benchmarks/scene_defaults.py [--scenes hook_sway,...] [--stop S] [--steps H,...]
+        [--series jacobi-x1,implicit,...] [--rtol 1e-8]
+
+``--series`` and ``--steps`` restrict the candidates (a restricted study chooses among what it ran, and its
+results say so); ``--rtol`` loosens the reference (overhead_lift's 1e-10 solve takes minutes).  Beside the
+markdown, ``<output>_modes_<scene>.csv`` holds every candidate's listed modes one by one.
 """
 from __future__ import annotations
 
