@@ -24,7 +24,12 @@ benchmarks/results/scene_defaults.md, and stores each scene's chosen setting and
 four settings of the front of wall against the worst error over its limit, :func:`fidelity_ladder`)
 with their measured errors in src/cranefmu/fidelity.json, which ``cranefmu info SCENE`` shows.
 
-    nice .venv/bin/python benchmarks/scene_defaults.py [--scenes hook_sway,...]
+    nice .venv/bin/python benchmarks/scene_defaults.py [--scenes hook_sway,...] [--stop S] [--steps H,...]
+        [--series jacobi-x1,implicit,...] [--rtol 1e-8]
+
+``--series`` and ``--steps`` restrict the candidates (a restricted study chooses among what it ran, and its
+results say so); ``--rtol`` loosens the reference (overhead_lift's 1e-10 solve takes minutes).  Beside the
+markdown, ``<output>_modes_<scene>.csv`` holds every candidate's listed modes one by one.
 """
 from __future__ import annotations
 
@@ -152,7 +157,7 @@ def err_worst(err: dict[str, float]) -> float:
     return max(err.values())
 
 
-OPTIONS: dict = {}   # --stop, --steps
+OPTIONS: dict = {}   # --stop, --steps, --series
 
 
 def scene_of(r: dict) -> str:
@@ -163,7 +168,7 @@ REFERENCES: dict[str, modal.References] = {}   # the monolith's probe solves, sh
 def study(scene: str) -> tuple[list[dict], dict]:
     stop, keys = min(STOP[scene], OPTIONS.get("stop") or math.inf), key_outputs(scene)
     steps = OPTIONS.get("steps") or STEPS
-    ref = reference(scene, stop)
+    ref = reference(scene, stop, rtol=OPTIONS.get("rtol") or 1e-10)
     facts = {"stop": stop, "keys": keys}
     sway_ref = None
     if scene == "hook_sway":
@@ -174,7 +179,10 @@ def study(scene: str) -> tuple[list[dict], dict]:
         m_p = read_scene_folder(Path(__file__).parents[1] / "ssp" / scene, Path(".")).parameters["pendulum.m_payload"]
         facts["swing_energy"] = m_p * 9.81 * float(np.ptp(ref["pendulum.y_payload"]))
     rows = []
+    wanted = OPTIONS.get("series")
     for algorithm, x in SERIES:
+        if wanted and f"{algorithm}-x{x}" not in wanted:
+            continue
         for h in steps:
             row = candidate(scene, stop, ref, keys, algorithm, x, h, None, sway_ref,
                             settings={"implicit": []} if algorithm == "jacobi" else None)
@@ -182,7 +190,7 @@ def study(scene: str) -> tuple[list[dict], dict]:
             print("  " + line(row), flush=True)
             if row["ok"]:
                 break
-    if scene in IMPLICIT:
+    if scene in IMPLICIT and (not wanted or "implicit" in wanted):
         for h in steps:
             bonds = IMPLICIT[scene]["implicit"]
             row = candidate(scene, stop, ref, keys, "jacobi", 1, h, None, sway_ref, settings=IMPLICIT[scene],
@@ -192,7 +200,7 @@ def study(scene: str) -> tuple[list[dict], dict]:
             print("  " + line(row), flush=True)
             if row["ok"]:
                 break
-    for h0, tol in ADAPTIVE:
+    for h0, tol in ADAPTIVE if not wanted or "adaptive" in wanted else ():
         row = candidate(scene, stop, ref, keys, "jacobi", 1, h0, tol, sway_ref)
         rows.append(row)
         print("  " + line(row), flush=True)
@@ -389,6 +397,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--stop", type=float, default=None, help="at most this span [s] (default: each scene's own)")
     ap.add_argument("--steps", default=None, help="macro steps [s], comma-separated, coarse to fine (default: "
                     + ",".join(f"{h:g}" for h in STEPS) + ")")
+    ap.add_argument("--rtol", type=float, default=None, help="the monolithic reference's rtol (default 1e-10; "
+                    "overhead_lift's takes minutes there, 1e-8 agrees to 3 digits in the range errors)")
+    ap.add_argument("--series", default=None, help="only these candidate series, comma-separated: "
+                    + ", ".join(f"{a}-x{x}" for a, x in SERIES) + ", implicit, adaptive (default: all); a "
+                    "restricted study chooses among what it ran")
     ap.add_argument("--from-table", default=None, metavar="FILE.md", help="no runs: re-derive the choice and "
                     "the ladders of the scenes in a results file this script wrote, into fidelity.json and docs")
     args = ap.parse_args(argv)
@@ -403,7 +416,7 @@ def main(argv: list[str] | None = None) -> int:
                   + " -> ".join(r["label"] for r in fidelity_ladder(rows, chosen(rows))))
         write_docs_ladders()
         return 0
-    OPTIONS.update(stop=args.stop, steps=tuple(float(h) for h in args.steps.split(",")) if args.steps else None)
+    OPTIONS.update(rtol=args.rtol, series=set(args.series.split(",")) if args.series else None, stop=args.stop, steps=tuple(float(h) for h in args.steps.split(",")) if args.steps else None)
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
                             cwd=Path(__file__).parent).stdout.strip()
     lines = ["# Scene defaults: the cheapest settings within 1 % of range that keep every listed mode", "",
@@ -423,6 +436,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{scene}:", flush=True)
         rows, facts = study(scene)
         sections += table(scene, rows, facts)
+        write_modes_csv(rows, Path(args.output).with_name(f"{Path(args.output).stem}_modes_{scene}.csv"))
         write_fidelity(scene, rows, facts, commit, " ".join(["benchmarks/scene_defaults.py",
                                                                *(argv or sys.argv[1:])]))
         best = chosen(rows)
@@ -435,6 +449,26 @@ def main(argv: list[str] | None = None) -> int:
     lines += summary + [""] + sections
     write_docs_ladders()
     return publish(lines, Path(args.output))
+
+
+def write_modes_csv(rows: list[dict], path: Path) -> None:
+    """Each candidate's listed modes: frequency and damping ratio of the run and of the monolith, their
+    errors, beside the candidate's RTF, range error and worst bond ratio (one row per candidate and mode)."""
+    import csv
+
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["candidate", "rtf", "range_err", "bond_ratio", "mode", "f", "f_ref", "freq_err", "zeta",
+                    "zeta_ref", "damp_err", "passes", "note"])
+        for r in rows:
+            head = [r["label"], r.get("rtf", ""), r["worst"], r.get("bond_ratio", "")]
+            note = r.get("failure") or r.get("modal_failure") or ""
+            if not r.get("modes"):
+                w.writerow(head + ["", "", "", "", "", "", "", int(r["ok"]), note])
+            for m in r.get("modes") or []:
+                w.writerow(head + [m["name"], m["f"], m["f_ref"], m["freq_err"], m["zeta"], m["zeta_ref"],
+                                   m["damp_err"], int(r["ok"]), note])
+    print(f"written {path}")
 
 
 def publish(lines: list[str], path: Path) -> int:

@@ -65,7 +65,8 @@ def fidelity_lines(name: str) -> list[str]:
     best = data["chosen"]
     lines = [f"  measured ({data['span']:g} s; {data['measured']}):",
              f"    chosen: {best['label']}: {_errors(best)}" if best else
-             "    chosen: none meets every limit (the stored setting is the most faithful measured)",
+             "    chosen: none measured meets every limit (the scene keeps its stored setting; the modes it "
+             "does not keep: cranefmu.modal.NOT_KEPT, docs/scenes_catalog.md)",
              "    fidelity ladder, fastest -> most faithful (passes: range <= 0.5 %, half the 1 % target; every listed "
              "mode within 0.5 % frequency and 5 % damping ratio; no bond residual above 10 % of its energy):"]
     return lines + [f"      {r['label']}: {_errors(r)}" for r in data["ladder"]]

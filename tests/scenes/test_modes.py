@@ -58,3 +58,58 @@ def test_the_old_elastic_pendulum_setting_distorts_the_axial_mode_and_5_ms_keeps
     assert not old.meets
     fine = modal.check_setting("elastic_pendulum", dict(jacobi_x2, step_size=0.005), references=refs)
     assert fine.meets and fine.worst_freq < 1e-3 and fine.worst_damp < 0.02
+
+
+def test_hook_sway_axial_mode_is_the_kelvin_voigt_closed_form_with_hook_and_payload():
+    """The short stiff rope under hook and payload (13 kg, c = E A / L = 5e4 N/m): 9.870 Hz, zeta 0.0497."""
+    mode, f, zeta = monolith_mode("hook_sway", "rope axial")
+    assert f == pytest.approx(np.sqrt(1e9 * 2e-5 / 0.4 / 13.0) / (2 * np.pi), rel=1e-9)
+    assert mode.frequency == pytest.approx(f, rel=1e-4)
+    assert mode.damping == pytest.approx(zeta, rel=2e-3)
+
+
+def test_chain_modes_of_two_equal_masses_are_the_golden_ratio_pair():
+    """m, k, m, k hung from a fixed point: omega^2 = (3 -/+ sqrt 5)/2 k/m, undamped; the damping ratio on one
+    mass alone, zeta = b / (2 sqrt(k m))."""
+    (f1, z1), (f2, z2) = modal.chain_modes([2.0, 2.0], [800.0, 800.0], [0.0, 0.0])
+    assert 2 * np.pi * f1 == pytest.approx(np.sqrt((3 - np.sqrt(5)) / 2 * 400.0), rel=1e-12)
+    assert 2 * np.pi * f2 == pytest.approx(np.sqrt((3 + np.sqrt(5)) / 2 * 400.0), rel=1e-12)
+    assert z1 == pytest.approx(0.0, abs=1e-12) and z2 == pytest.approx(0.0, abs=1e-12)
+    # one mass: f = sqrt(k/m)/2pi, zeta = b / (2 sqrt(k m))
+    ((f, z),) = modal.chain_modes([3.0], [1200.0], [6.0])
+    assert f == pytest.approx(np.sqrt(400.0) / (2 * np.pi), rel=1e-12) and z == pytest.approx(6.0 / 120.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("index, name", [(0, "hoist, girder and load in phase"), (1, "hoist, girder against load")])
+def test_overhead_hoist_modes_are_the_four_mass_chain(index, name):
+    """Hoist stopped, load hanging 3 m up: girder (m1 = 17/35 of 5000 kg), drum, hook and load on the rope
+    and the sling; the monolith's two low modes (4.30 Hz, 9.38 Hz) are the linear chain's to 1e-4."""
+    mode, f, zeta = monolith_mode("overhead_lift", name)
+    assert (f, zeta) == modal.overhead_hoist({**modal.scene_values("overhead_lift"), **modal.OVERHEAD_PROBE})[index]
+    assert mode.frequency == pytest.approx(f, rel=1e-4)
+    assert mode.damping == pytest.approx(zeta, rel=1e-3)
+
+
+def test_the_overhead_chain_is_the_linearised_monolith():
+    """The four-mass chain (a formula) and the monolith's Jacobian at rest (every model's own equations)
+    give the same two hoist modes to 1e-5 (the chord is the static one: the rope pulls the drum down by the
+    load's weight; taken upward, it was 8 mm short and the upper mode 2.7e-4 low)."""
+    values = {**modal.scene_values("overhead_lift"), **modal.OVERHEAD_PROBE}
+    chain, mono = modal.overhead_hoist(values)[:2], modal.linearised_modes("overhead_lift", values)[:2]
+    for (f, z), (f_m, z_m) in zip(chain, mono):
+        assert f == pytest.approx(f_m, rel=1e-5) and z == pytest.approx(z_m, rel=1e-5)
+
+
+@pytest.mark.parametrize("name", ["swing", "load on the rope (axial)", "chassis on the front pads",
+                                  "chassis on the rear pads"])
+def test_truck_modes_are_the_linearised_monolith(name):
+    """Telescope and winch held at 10.5 m: the swing (0.165 Hz, the pendulum on 9.1 m of rope), the load on the
+    rope (4.53 Hz) and the chassis on the soil (9.61 Hz, 14.26 Hz, zeta 0.27 and 0.35) fitted from the
+    monolith's free vibration are the eigenvalues of its Jacobian at rest."""
+    mode, f, zeta = monolith_mode("truck_telescope", name)
+    assert mode.frequency == pytest.approx(f, rel=5e-4)
+    if name == "swing":
+        assert f == pytest.approx(np.sqrt(9.81 / 9.09) / (2 * np.pi), rel=0.01)   # sqrt(g/L), L the rope
+        assert abs(mode.damping) < 1e-4
+    else:
+        assert mode.damping == pytest.approx(zeta, rel=2e-3)
