@@ -1,6 +1,7 @@
 """One FMU instance in the master: value references resolved once, typed start values, batched calls."""
 from __future__ import annotations
 
+import atexit
 import ctypes
 import re
 from pathlib import Path
@@ -76,6 +77,40 @@ def _callbacks():
         pass
     _CALLBACKS = cb
     return cb
+
+
+# pythonfmu binaries by path, each held open by this module until the interpreter exits
+_PYTHONFMU_LIBRARIES: dict[str, ctypes.CDLL] = {}
+
+
+def _hold_pythonfmu_library(dll) -> None:
+    """Keep a pythonfmu binary loaded and release its interpreter guard before C's exit handlers run.
+
+    pythonfmu 0.7.0's binary holds its ``PyState`` in a static ``std::shared_ptr`` that C++ destroys
+    among ``exit()``'s handlers, and its ELF destructor ``finalizePythonInterpreter`` then resets that
+    destroyed pointer in ``_dl_fini``: it decrements the use count inside the freed block (valgrind:
+    "Invalid read of size 4 ... 8 bytes inside a block of size 128 free'd").  Its C++ unique symbols make
+    fmpy's dlclose a no-op, so every process that instantiated one reaches that path; when the block has
+    gone to glibc's unsorted bin the decrement hits its ``bk`` pointer and the process aborts at exit
+    ("corrupted double-linked list").  Calling ``finalizePythonInterpreter`` from Python's ``atexit``
+    empties the pointer while it is alive: the C++ destructor and the ELF destructor then find nothing.
+    """
+    path = dll._name
+    if path in _PYTHONFMU_LIBRARIES or not hasattr(dll, "finalizePythonInterpreter"):
+        return
+    if not _PYTHONFMU_LIBRARIES:
+        atexit.register(release_pythonfmu_libraries)
+    held = ctypes.CDLL(path)   # our own reference: the code stays mapped even where dlclose could unload it
+    held.finalizePythonInterpreter.restype = None
+    held.finalizePythonInterpreter.argtypes = []
+    _PYTHONFMU_LIBRARIES[path] = held
+
+
+def release_pythonfmu_libraries() -> None:
+    """Drop each held pythonfmu binary's interpreter guard (at exit; an instance still alive keeps its own
+    reference, and a later instantiation makes a new guard)."""
+    for held in _PYTHONFMU_LIBRARIES.values():
+        held.finalizePythonInterpreter()
 
 
 _SLAVE = None
@@ -204,6 +239,7 @@ class FmuComponent:
             raise SceneError(f"component {self.name!r} ({self.md.modelName}) could not be instantiated: "
                              f"{self.python_error() or err}") from None
         self.alive = True
+        _hold_pythonfmu_library(self.fmu.dll)
         # the hot path calls the C functions themselves (fmpy's wrappers convert lists to new ctypes
         # arrays on every call); argument types as fmpy declared them
         functions = self.fmu._functions
