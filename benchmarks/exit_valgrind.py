@@ -20,11 +20,9 @@ import shutil
 import subprocess
 import sys
 import tempfile
-from datetime import datetime, timezone
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
-RESULTS = REPO / "benchmarks" / "results"
+from result_table import save, stamp
 _WITHOUT = "import cranefmu.master.fmu as f; f._hold_pythonfmu_library = lambda dll: None\n"
 _RUN = "import cranefmu, sys; cranefmu.simulate(sys.argv[1], stop_time=float(sys.argv[2]))\n"
 
@@ -54,22 +52,14 @@ def main() -> None:
     if shutil.which("valgrind") is None:
         print("valgrind is not installed: nothing measured")
         return
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True, text=True).stdout
-    dirty = subprocess.run(["git", "status", "--porcelain", "src"], cwd=REPO, capture_output=True, text=True).stdout
-    load = os.getloadavg()
     rows = [("without the release (main before the fix)", _case(_WITHOUT + _RUN, a.scene, a.stop_time)),
             ("with the release", _case(_RUN, a.scene, a.stop_time))]
     lines = [f"# Invalid heap accesses at exit: cranefmu.simulate({a.scene!r}, stop_time={a.stop_time}) in-process "
-             f"under valgrind, commit {commit.strip()}{' + uncommitted src' if dirty else ''}", "",
-             f"{datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, load average {load[0]:.1f} / {load[1]:.1f} / "
-             f"{load[2]:.1f} (2 cores, shared), valgrind --error-limit=no, PYTHONMALLOC=malloc.", "",
+             "under valgrind", "", f"{stamp('exit_valgrind.py')}; valgrind --error-limit=no, PYTHONMALLOC=malloc.", "",
              "| case | invalid accesses in FMU binaries | where (top frame) | all invalid accesses | exit code |",
              "| --- | --- | --- | --- | --- |"]
     lines += [f"| {name} | {fmu} | {top or '-'} | {total} | {rc} |" for name, (fmu, total, top, rc) in rows]
-    text = "\n".join(lines) + "\n"
-    print(text)
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "exit_valgrind.md").write_text(text)
+    save("exit_valgrind", lines)
 
 
 if __name__ == "__main__":

@@ -174,9 +174,11 @@ class FmuComponent:
     def __init__(self, name: str, fmu_path: Path, unzipdir: Path):
         self.name = name
         self.unzipdir = Path(unzipdir)
-        described = _MODEL_DESCRIPTIONS.get(self.unzipdir) if (self.unzipdir / _EXTRACTED).is_file() else None
+        done = (self.unzipdir / _EXTRACTED).is_file()
+        described = _MODEL_DESCRIPTIONS.get(self.unzipdir) if done else None
         if described is None:
-            described = self.extract(name, Path(fmu_path), self.unzipdir)
+            described = self.describe(name, Path(fmu_path), self.unzipdir) if done else \
+                self.extract(name, Path(fmu_path), self.unzipdir)
         self.md, self.switches = described
         self.variables = {v.name: v for v in self.md.modelVariables}
         self.fmu = None
@@ -192,16 +194,29 @@ class FmuComponent:
         """Unzip ``fmu_path`` safely into ``unzipdir``, check and read its modelDescription.xml, and
         mark the directory done (a later instance from it skips all of this); returns the description
         and the switch names (:func:`switch_names`)."""
-        from fmpy import read_model_description
-
-        from .untrusted import check_xml, safe_extract
+        from .untrusted import safe_extract
 
         # fmpy.extract lets zipfile rewrite '../' entries silently; ours refuses the archive instead
         try:
             safe_extract(fmu_path, unzipdir)
-            md_xml = (unzipdir / "modelDescription.xml").read_bytes()
         except SceneError as err:
             raise SceneError(f"component {name!r}: {err}") from None
+        except Exception as err:
+            raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
+        described = FmuComponent.describe(name, fmu_path, unzipdir)
+        (unzipdir / _EXTRACTED).touch()
+        return described
+
+    @staticmethod
+    def describe(name: str, fmu_path: Path, unzipdir: Path):
+        """Check and read the modelDescription.xml of the FMU extracted in ``unzipdir`` (by :meth:`extract`, in
+        this process or in the one that handed the folder over); returns the description and the switch names."""
+        from fmpy import read_model_description
+
+        from .untrusted import check_xml
+
+        try:
+            md_xml = (unzipdir / "modelDescription.xml").read_bytes()
         except Exception as err:
             raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
         switches = switch_names(check_xml(md_xml, f"component {name!r}: {fmu_path.name}/modelDescription.xml"))
@@ -218,7 +233,6 @@ class FmuComponent:
             normalize(md)
         _check_binary(name, fmu_path.name, unzipdir, md.coSimulation.modelIdentifier, md.fmiVersion == "3.0")
         _MODEL_DESCRIPTIONS[unzipdir] = md, switches
-        (unzipdir / _EXTRACTED).touch()
         return md, switches
 
     # --- life cycle ---------------------------------------------------------------------------

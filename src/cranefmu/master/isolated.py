@@ -52,7 +52,8 @@ def run_isolated(spec: RunSpec, claim: OutputFile | None, signals: tuple[int, ..
         jobdir = Path(tempfile.mkdtemp(prefix="cranefmu_run_"))
         outcome = jobdir / "outcome.pickle"
         job = dict(spec=spec, outcome=str(outcome), claim=(str(claim.target), str(claim.part) if claim.part else None,
-                                                           claim.fd) if claim is not None else None)
+                                                           claim.fd) if claim is not None else None,
+                   scene=_hand_over(spec.ssp, jobdir))
         env = {**os.environ, "TMPDIR": str(jobdir), "PYTHONFAULTHANDLER": "1"}
         # the worker starts with the stop signals blocked (inherited mask) until its handlers are in place
         mask = signal.pthread_sigmask(signal.SIG_BLOCK, stop.signals)
@@ -100,6 +101,17 @@ def run_isolated(spec: RunSpec, claim: OutputFile | None, signals: tuple[int, ..
                 shutil.rmtree(jobdir, ignore_errors=True)
         finally:
             stop.restore()
+
+
+def _hand_over(ssp: Path, jobdir: Path):
+    """This process's extraction of ``ssp`` moved into the job folder for the worker (which then extracts
+    nothing), or None where it cannot be moved (another file system: the worker extracts its own)."""
+    from .extracted import hand_over
+
+    try:
+        return hand_over(ssp, jobdir)
+    except OSError:
+        return None
 
 
 def _outcome(path: Path) -> tuple[str, object]:
