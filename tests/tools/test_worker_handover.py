@@ -1,5 +1,5 @@
-"""An isolated run's worker runs from the caller's extraction of the scene, moved into the job folder, and
-extracts nothing itself (issue 23: a CLI run unzipped every scene and FMU twice, once per process)."""
+"""The worker of ``cranefmu run`` runs from the command's extraction of the scene, moved into the job folder,
+and extracts nothing itself (issue 23: a CLI run unzipped every scene and FMU twice, once per process)."""
 from __future__ import annotations
 
 import os
@@ -49,3 +49,14 @@ def test_an_isolated_cli_run_leaves_no_extraction_behind(built, tmp_path):
                          env={**os.environ, "TMPDIR": str(tmpdir)}, timeout=300)
     assert out.returncode == 0, out.stderr
     assert list(tmpdir.iterdir()) == []
+
+
+def test_an_api_caller_keeps_its_extraction_for_its_other_runs(built, tmp_path):
+    """Only the command hands its extraction over: an API caller may run in other threads from that folder."""
+    code = ("import cranefmu\nfrom cranefmu.master import extracted\n"
+            "cranefmu.simulate('elastic_pendulum', stop_time=0.05, isolate=True, progress=False)\n"
+            "print([folder.is_dir() for folder, _ in extracted._SCENES.values()])\n")
+    out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True,
+                         env={**os.environ, "TMPDIR": str(tmp_path)}, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["[True]"]
