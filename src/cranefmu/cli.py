@@ -70,10 +70,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
         raise CraneFmuError(f"--plot is not allowed with --output {args.output} and {rows:.3g} rows: a stream cannot "
                             f"be read back and at most {KEEP_ROWS:g} rows are kept in memory; write a file instead")
     say = sys.stderr if streamed and same_file_as(args.output, 1) else sys.stdout   # stdout holds the CSV
-    if not args.in_process:   # the worker extracts its own copy; this one would outlive a killed parent
-        from .master.process import clear
+    if not args.in_process:   # the worker takes this process's extraction of the scene (one run here)
+        from .master import isolated
 
-        clear()
+        isolated.HAND_OVER = True
     res = run(replace(spec, keep=keep))
     OUTSIDE.when = f" after the run ended: its {res.rows} rows are in {res.output}" if res.output \
         else " after the run ended"

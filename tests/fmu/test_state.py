@@ -31,7 +31,7 @@ def _save_run_restore(case_id: str) -> dict:
     case = next(c for c in CASES if c.id == case_id)
     with session() as open_fmu:
         a = open_fmu(case.fmu)
-        a.start(case.params)          # initialized at rest with the default inputs ...
+        a.start(case.fmu_params)      # initialized at rest with the default inputs ...
         a.set(case.inputs)            # ... then the case inputs move the states
         _run(a, 0.0, N_BEFORE)
         t = N_BEFORE * H

@@ -367,6 +367,16 @@ def test_an_order_is_refused_where_the_algorithm_does_not_use_it(built):
     assert cranefmu(*QUICK, "--order", "rope,pendulum", "--algorithm", "gauss-seidel").returncode == 0
 
 
+def test_exact_is_refused_for_a_pendulum_with_a_payload(built, tmp_path):
+    """exact is the lone hook's closed form: with a payload it was accepted and integrated with rk4."""
+    p = cranefmu("run", "hook_sway", "--stop-time", "0.02", "--set", "pendulum.solver=exact",
+                 "--output", str(tmp_path / "out.csv"))
+    assert p.returncode == 2
+    assert "pendulum.solver = 'exact' with payload = 'rigid': exact is the closed form of the hook without " \
+           "payload; allowed here: an integrator (rk4, rk45, radau, ...)" in one_line(p.stderr)
+    assert cranefmu(*QUICK, "--set", "pendulum.solver=exact", "--output", str(tmp_path / "hook.csv")).returncode == 0
+
+
 def test_a_closed_pipe_ends_a_listing_without_a_message(built):
     """`cranefmu scenes | head -1`: a reader that went away is no error of ours (was 'cranefmu: error:
     Broken pipe', exit 2, which failed .ci/installed under pipefail): no message, exit 128 + SIGPIPE."""

@@ -46,6 +46,37 @@ def extracted_scene(ssp: Path) -> tuple[Path, Scene]:
         return workdir, copy.deepcopy(scene)
 
 
+def hand_over(ssp: Path, into: Path) -> tuple[Path, Scene] | None:
+    """Move this process's extraction of ``ssp`` into the folder ``into`` (a worker's job folder, same file
+    system) for a worker to :func:`adopt`, and forget it here; None if it is not extracted here.  Saves the
+    worker a second extraction of the same bytes (issue 23: a CLI run extracted every scene twice)."""
+    global _ROOT
+    digest = _digest(Path(ssp))
+    with _LOCK:
+        hit = _SCENES.pop(digest, None)
+        if hit is None or not hit[0].is_dir():
+            return None
+        old, scene = hit
+        new = Path(into) / f"scene_{digest}"
+        os.rename(old, new)
+        if _ROOT is not None and not any(_ROOT.iterdir()):   # nothing of this process left in the temp folder
+            _ROOT.rmdir()
+            _ROOT = None
+    from dataclasses import replace
+
+    from .fmu import forget_extracted
+
+    forget_extracted(old)
+    return new, replace(scene, components=[replace(c, fmu=new / c.fmu.relative_to(old)) for c in scene.components])
+
+
+def adopt(ssp: Path, workdir: Path, scene: Scene) -> None:
+    """Take ``workdir`` (from :func:`hand_over`: ``ssp`` extracted and checked) as this process's extraction of
+    ``ssp``; its FMUs' model descriptions are read from their folders when first needed."""
+    with _LOCK:
+        _SCENES[_digest(Path(ssp))] = (Path(workdir), scene)
+
+
 def _digest(ssp: Path) -> str:
     """SHA-256 of the .ssp's bytes (24 hex digits), hashed again only when its size or mtime changed."""
     st = ssp.stat()

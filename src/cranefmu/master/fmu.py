@@ -1,6 +1,7 @@
 """One FMU instance in the master: value references resolved once, typed start values, batched calls."""
 from __future__ import annotations
 
+import atexit
 import ctypes
 import re
 from pathlib import Path
@@ -30,6 +31,40 @@ def _check_binary(name: str, fmu_name: str, unzipdir: Path, identifier: str, fmi
         if (unzipdir / "binaries").is_dir() else []
     raise SceneError(f"component {name!r}: {fmu_name} has no binary for this platform ({platform}): it has "
                      f"{', '.join(have) or 'no binaries at all'}; rebuild the FMU here (cranefmu build)")
+
+
+# pythonfmu binaries by path, each held open by this module until the interpreter exits
+_PYTHONFMU_LIBRARIES: dict[str, ctypes.CDLL] = {}
+
+
+def _hold_pythonfmu_library(dll) -> None:
+    """Keep a pythonfmu binary loaded and release its interpreter guard before C's exit handlers run.
+
+    pythonfmu 0.7.0's binary holds its ``PyState`` in a static ``std::shared_ptr`` that C++ destroys
+    among ``exit()``'s handlers, and its ELF destructor ``finalizePythonInterpreter`` then resets that
+    destroyed pointer in ``_dl_fini``: it decrements the use count inside the freed block (valgrind:
+    "Invalid read of size 4 ... 8 bytes inside a block of size 128 free'd").  Its C++ unique symbols make
+    fmpy's dlclose a no-op, so every process that instantiated one reaches that path; when the block has
+    gone to glibc's unsorted bin the decrement hits its ``bk`` pointer and the process aborts at exit
+    ("corrupted double-linked list").  Calling ``finalizePythonInterpreter`` from Python's ``atexit``
+    empties the pointer while it is alive: the C++ destructor and the ELF destructor then find nothing.
+    """
+    path = dll._name
+    if path in _PYTHONFMU_LIBRARIES or not hasattr(dll, "finalizePythonInterpreter"):
+        return
+    if not _PYTHONFMU_LIBRARIES:
+        atexit.register(release_pythonfmu_libraries)
+    held = ctypes.CDLL(path)   # our own reference: the code stays mapped even where dlclose could unload it
+    held.finalizePythonInterpreter.restype = None
+    held.finalizePythonInterpreter.argtypes = []
+    _PYTHONFMU_LIBRARIES[path] = held
+
+
+def release_pythonfmu_libraries() -> None:
+    """Drop each held pythonfmu binary's interpreter guard (at exit; an instance still alive keeps its own
+    reference, and a later instantiation makes a new guard)."""
+    for held in _PYTHONFMU_LIBRARIES.values():
+        held.finalizePythonInterpreter()
 
 
 _SLAVE = None
@@ -81,9 +116,11 @@ class FmuComponent:
     def __init__(self, name: str, fmu_path: Path, unzipdir: Path):
         self.name = name
         self.unzipdir = Path(unzipdir)
-        described = _MODEL_DESCRIPTIONS.get(self.unzipdir) if (self.unzipdir / _EXTRACTED).is_file() else None
+        done = (self.unzipdir / _EXTRACTED).is_file()
+        described = _MODEL_DESCRIPTIONS.get(self.unzipdir) if done else None
         if described is None:
-            described = self.extract(name, Path(fmu_path), self.unzipdir)
+            described = self.describe(name, Path(fmu_path), self.unzipdir) if done else \
+                self.extract(name, Path(fmu_path), self.unzipdir)
         self.md, self.switches = described
         self.variables = {v.name: v for v in self.md.modelVariables}
         self.fmu = None
@@ -99,16 +136,29 @@ class FmuComponent:
         """Unzip ``fmu_path`` safely into ``unzipdir``, check and read its modelDescription.xml, and
         mark the directory done (a later instance from it skips all of this); returns the description
         and the switch names (:func:`switch_names`)."""
-        from fmpy import read_model_description
-
-        from .untrusted import check_xml, safe_extract
+        from .untrusted import safe_extract
 
         # fmpy.extract lets zipfile rewrite '../' entries silently; ours refuses the archive instead
         try:
             safe_extract(fmu_path, unzipdir)
-            md_xml = (unzipdir / "modelDescription.xml").read_bytes()
         except SceneError as err:
             raise SceneError(f"component {name!r}: {err}") from None
+        except Exception as err:
+            raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
+        described = FmuComponent.describe(name, fmu_path, unzipdir)
+        (unzipdir / _EXTRACTED).touch()
+        return described
+
+    @staticmethod
+    def describe(name: str, fmu_path: Path, unzipdir: Path):
+        """Check and read the modelDescription.xml of the FMU extracted in ``unzipdir`` (by :meth:`extract`, in
+        this process or in the one that handed the folder over); returns the description and the switch names."""
+        from fmpy import read_model_description
+
+        from .untrusted import check_xml
+
+        try:
+            md_xml = (unzipdir / "modelDescription.xml").read_bytes()
         except Exception as err:
             raise SceneError(f"component {name!r}: {fmu_path.name} is not a readable FMU: {err}") from None
         switches = switch_names(check_xml(md_xml, f"component {name!r}: {fmu_path.name}/modelDescription.xml"))
@@ -125,7 +175,6 @@ class FmuComponent:
             normalize(md)
         _check_binary(name, fmu_path.name, unzipdir, md.coSimulation.modelIdentifier, md.fmiVersion == "3.0")
         _MODEL_DESCRIPTIONS[unzipdir] = md, switches
-        (unzipdir / _EXTRACTED).touch()
         return md, switches
 
     # --- life cycle ---------------------------------------------------------------------------
@@ -146,6 +195,7 @@ class FmuComponent:
             raise SceneError(f"component {self.name!r} ({self.md.modelName}) could not be instantiated: "
                              f"{self.python_error() or err}") from None
         self.alive = True
+        _hold_pythonfmu_library(self.fmu.dll)
         # the hot path calls the C functions themselves (fmpy's wrappers convert lists to new ctypes
         # arrays on every call); argument types as fmpy declared them
         functions = self.fmu._functions

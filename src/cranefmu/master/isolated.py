@@ -35,6 +35,10 @@ from .runspec import RunSpec
 # the real one.  (``-P`` does this from Python 3.11 on; ``-I`` would also drop the user's site-packages.)
 WORKER_COMMAND = [sys.executable, "-c", "import sys\nif sys.path and sys.path[0] == '': del sys.path[0]\n"
                   "import runpy\nrunpy.run_module('cranefmu.master.worker', run_name='__main__', alter_sys=True)"]
+# Move the caller's extraction of the scene to the worker (:func:`_hand_over`): only where nothing else in the
+# process can be using it, i.e. the ``cranefmu run`` command (set by the CLI); an API caller may have runs in
+# other threads instantiating from that folder, and keeps it.
+HAND_OVER = False
 GRACE = 0.7        # seconds a signalled worker gets to close its run before it is killed
 TAIL_BYTES = 8192  # of the worker's stderr, kept for the message if it dies
 
@@ -52,7 +56,8 @@ def run_isolated(spec: RunSpec, claim: OutputFile | None, signals: tuple[int, ..
         jobdir = Path(tempfile.mkdtemp(prefix="cranefmu_run_"))
         outcome = jobdir / "outcome.pickle"
         job = dict(spec=spec, outcome=str(outcome), claim=(str(claim.target), str(claim.part) if claim.part else None,
-                                                           claim.fd) if claim is not None else None)
+                                                           claim.fd) if claim is not None else None,
+                   scene=_hand_over(spec.ssp, jobdir) if HAND_OVER else None)
         env = {**os.environ, "TMPDIR": str(jobdir), "PYTHONFAULTHANDLER": "1"}
         # the worker starts with the stop signals blocked (inherited mask) until its handlers are in place
         mask = signal.pthread_sigmask(signal.SIG_BLOCK, stop.signals)
@@ -100,6 +105,19 @@ def run_isolated(spec: RunSpec, claim: OutputFile | None, signals: tuple[int, ..
                 shutil.rmtree(jobdir, ignore_errors=True)
         finally:
             stop.restore()
+
+
+def _hand_over(ssp: Path, jobdir: Path):
+    """This process's extraction of ``ssp`` moved into the job folder for the worker (which then extracts
+    nothing), or None where it cannot be moved (another file system: the worker extracts its own, and this
+    copy is removed now, as it would outlive a killed caller)."""
+    from .extracted import clear, hand_over
+
+    try:
+        return hand_over(ssp, jobdir)
+    except OSError:
+        clear()
+        return None
 
 
 def _outcome(path: Path) -> tuple[str, object]:

@@ -4,11 +4,12 @@ A process that runs FMUs keeps to this contract (pythonfmu and fmpy workarounds)
 lives here, and the modules that use it import it from here:
 
 - **Each run instantiates its FMUs from directories of its own** (:func:`.extracted.fresh_fmu_dirs`).
-  Measured: instantiating a pythonfmu FMU a second time from the same extracted directory in one
-  process made the process abort at exit ('corrupted double-linked list'; valgrind: pythonfmu's
-  ``finalizePythonInterpreter`` reads memory freed by an exit handler), 14 processes in 16; with a
-  fresh directory per run, 0 in 12.  All Python FMUs of a process share one interpreter (their
-  bundled code has build-unique package names, docs/architecture.md).
+  Measured first: a second instantiation from the same extracted directory made the process abort at
+  exit ('corrupted double-linked list'). The cause was found later in pythonfmu 0.7.0's binary (its
+  ``finalizePythonInterpreter`` writes into its interpreter guard after C++ freed it), and is worked
+  around by :func:`.fmu.release_pythonfmu_libraries` from ``atexit`` (issue 23); fresh directories are
+  kept because every FMU's bundled code then loads as its own package. All Python FMUs of a process share
+  one interpreter (their bundled code has build-unique package names, docs/architecture.md).
 - **An .ssp is extracted once per process** (:func:`.extracted.extracted_scene`), keyed by the SHA-256
   of its bytes (a rebuilt scene gets a new one), under :data:`LOCK`, into one temporary directory
   (:data:`ROOT`) removed at exit (``atexit``) or by :func:`clear`; its FMUs are extracted there too, to

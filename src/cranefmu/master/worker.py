@@ -50,6 +50,10 @@ def main() -> int:
     from .run import _run_here
 
     job = pickle.load(sys.stdin.buffer)
+    if job.get("scene"):   # the parent's extraction, moved into the job folder (isolated._hand_over)
+        from .extracted import adopt
+
+        adopt(job["spec"].ssp, *job["scene"])
     orphaned: list = []
     _watch_parent(INTERRUPT, orphaned)
     claim = OutputFile(Path(job["claim"][0]), Path(job["claim"][1]) if job["claim"][1] else None, job["claim"][2]) \

@@ -225,8 +225,8 @@ class PendulumModel(Model):
     # resting on the ground / the sling's share of the rope force; with start = 'below_top' the hook
     # is placed from the suspension point (declared for every start: the FMU's ModelStructure cannot
     # depend on a parameter value)
-    default_solver = "exact"   # the lone hook's closed-form step; rk4 at max_step otherwise
-    exact_scope = "closed form for the hook without payload, ground or drag, rk4 at max_step otherwise"
+    default_solver = "exact"   # the lone hook's closed-form step; rk4 at max_step with ground or drag
+    exact_scope = "closed form for the hook without ground or drag, rk4 at max_step otherwise; refused with a payload"
     initial_state_inputs = _FORCE + _TOP + ("drop",)
     outputs = (
         *(Signal(n, "m", f"{n} coordinate of the hook") for n in ("x", "y", "z")),
@@ -475,6 +475,12 @@ class PendulumModel(Model):
         if p.payload == "rigid":
             return np.array([*hook, *v, th, ph, 0.0, 0.0])
         return np.array([*hook, *v, *(hook[i] + length * e[i] for i in range(3)), *v])
+
+    def prepare_exact_step(self) -> None:
+        """Refuse ``solver = exact`` with a payload: the closed form is the lone hook's (issue 23)."""
+        if self.p.payload != "none":
+            raise ParameterError(f"pendulum.solver = 'exact' with payload = {self.p.payload!r}: exact is the closed "
+                                 "form of the hook without payload; allowed here: an integrator (rk4, rk45, radau, ...)")
 
     def exact_step(self, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray,
                    r2: np.ndarray, max_step: float) -> np.ndarray | None:
