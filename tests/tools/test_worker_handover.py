@@ -12,12 +12,12 @@ import textwrap
 _CHILD = textwrap.dedent("""
     import sys
     from pathlib import Path
-    from cranefmu.master import extracted, untrusted
+    from cranefmu.master import extracted, process, untrusted
     from cranefmu.master.run import _run_here
     from cranefmu.master.runspec import resolve
 
     spec = resolve("elastic_pendulum", stop_time=0.05, progress=False)
-    root = extracted._ROOT
+    root = process.scenes_root()
     folder, scene = extracted.hand_over(spec.ssp, Path(sys.argv[1]))
     print("root left", root.exists(), "components inside", all(folder in c.fmu.parents for c in scene.components))
     extracted.adopt(spec.ssp, folder, scene)
@@ -53,9 +53,9 @@ def test_an_isolated_cli_run_leaves_no_extraction_behind(built, tmp_path):
 
 def test_an_api_caller_keeps_its_extraction_for_its_other_runs(built, tmp_path):
     """Only the command hands its extraction over: an API caller may run in other threads from that folder."""
-    code = ("import cranefmu\nfrom cranefmu.master import extracted\n"
+    code = ("import cranefmu\nfrom cranefmu.master import process\n"
             "cranefmu.simulate('elastic_pendulum', stop_time=0.05, isolate=True, progress=False)\n"
-            "print([folder.is_dir() for folder, _ in extracted._SCENES.values()])\n")
+            "print([folder.is_dir() for folder, _ in process.SCENES.values()])\n")
     out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True,
                          env={**os.environ, "TMPDIR": str(tmp_path)}, timeout=300)
     assert out.returncode == 0, out.stderr

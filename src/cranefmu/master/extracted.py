@@ -14,7 +14,7 @@ from pathlib import Path
 
 from .bond_inference import scene_bonds
 from .fmu import FmuComponent
-from .process import DIGESTS, LOCK, SCENES, adopt_extracted, scenes_root
+from .process import DIGESTS, LOCK, SCENES, adopt_extracted, drop_empty_root, forget_extracted, scenes_root
 from .scene import Scene, load_scene
 
 
@@ -50,21 +50,16 @@ def hand_over(ssp: Path, into: Path) -> tuple[Path, Scene] | None:
     """Move this process's extraction of ``ssp`` into the folder ``into`` (a worker's job folder, same file
     system) for a worker to :func:`adopt`, and forget it here; None if it is not extracted here.  Saves the
     worker a second extraction of the same bytes (issue 23: a CLI run extracted every scene twice)."""
-    global _ROOT
     digest = _digest(Path(ssp))
-    with _LOCK:
-        hit = _SCENES.pop(digest, None)
+    with LOCK:
+        hit = SCENES.pop(digest, None)
         if hit is None or not hit[0].is_dir():
             return None
         old, scene = hit
         new = Path(into) / f"scene_{digest}"
         os.rename(old, new)
-        if _ROOT is not None and not any(_ROOT.iterdir()):   # nothing of this process left in the temp folder
-            _ROOT.rmdir()
-            _ROOT = None
+        drop_empty_root()   # nothing of this process left in the temp folder
     from dataclasses import replace
-
-    from .fmu import forget_extracted
 
     forget_extracted(old)
     return new, replace(scene, components=[replace(c, fmu=new / c.fmu.relative_to(old)) for c in scene.components])
@@ -73,8 +68,8 @@ def hand_over(ssp: Path, into: Path) -> tuple[Path, Scene] | None:
 def adopt(ssp: Path, workdir: Path, scene: Scene) -> None:
     """Take ``workdir`` (from :func:`hand_over`: ``ssp`` extracted and checked) as this process's extraction of
     ``ssp``; its FMUs' model descriptions are read from their folders when first needed."""
-    with _LOCK:
-        _SCENES[_digest(Path(ssp))] = (Path(workdir), scene)
+    with LOCK:
+        SCENES[_digest(Path(ssp))] = (Path(workdir), scene)
 
 
 def _digest(ssp: Path) -> str:

@@ -111,7 +111,8 @@ def _hand_over(ssp: Path, jobdir: Path):
     """This process's extraction of ``ssp`` moved into the job folder for the worker (which then extracts
     nothing), or None where it cannot be moved (another file system: the worker extracts its own, and this
     copy is removed now, as it would outlive a killed caller)."""
-    from .extracted import clear, hand_over
+    from .extracted import hand_over
+    from .process import clear
 
     try:
         return hand_over(ssp, jobdir)

@@ -62,6 +62,12 @@ def scenes_root() -> Path:
     return _root[0]
 
 
+def drop_empty_root() -> None:
+    """Remove the scenes' directory if nothing is left in it (after a hand-over); call under :data:`LOCK`."""
+    if _root and _root[0].is_dir() and not any(_root[0].iterdir()):
+        _root.pop().rmdir()
+
+
 def clear() -> None:
     """Remove every extracted scene now (they are extracted again when next run)."""
     with LOCK:
