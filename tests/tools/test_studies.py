@@ -114,7 +114,8 @@ def test_a_study_with_a_failed_point_lists_it_and_exits_1(tmp_path, monkeypatch,
             write_page(ctx, "failing", "A study", ["| point | value |", "| 3 | **failed** |"])
 
     monkeypatch.setattr(study_command, "module", lambda name: Failing)
-    args = argparse.Namespace(name="speed", smoke=True, full=False, output=str(tmp_path), workers=None, scheduler=None)
+    args = argparse.Namespace(name="speed", smoke=True, full=False, output=str(tmp_path), workers=None, scheduler=None,
+                             prune=False)
     handler = signal.getsignal(signal.SIGINT)   # the command installs its own Ctrl-C handler
     try:
         assert study_command._cmd_study(args) == 1
