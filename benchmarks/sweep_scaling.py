@@ -3,6 +3,7 @@ long sweep, and an extrapolation to 10,000 runs on 64 and 1,024 workers.
 
     .venv/bin/python benchmarks/sweep_scaling.py              # 40 runs of ~2 s, 200-run memory sweep
     .venv/bin/python benchmarks/sweep_scaling.py --runs 10 --run-seconds 0.5 --memory-runs 60   # small
+    .venv/bin/python benchmarks/sweep_scaling.py --smoke      # CI: seconds, writes sweep_scaling_smoke.md
 
 Runs: elastic_pendulum at H = 1 ms, the stop time calibrated so that one run's own work (its master
 loop) takes --run-seconds on this machine; the runs differ in rope.E (equal cost).
@@ -73,7 +74,12 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--runs", type=int, default=40)
     ap.add_argument("--run-seconds", type=float, default=2.0)
     ap.add_argument("--memory-runs", type=int, default=200)
+    ap.add_argument("--smoke", action="store_true", help="CI: 2 runs, a short calibration, 4 memory runs; writes "
+                    "sweep_scaling_smoke.md (the numbers mean nothing)")
     args = ap.parse_args(argv)
+    global PROBE
+    if args.smoke:
+        args.runs, args.run_seconds, args.memory_runs, PROBE = 2, 0.05, 4, 0.2
     args.argv = list(sys.argv[1:] if argv is None else argv)
     resolve_scene(SCENE)
     tmp = Path(tempfile.mkdtemp(prefix="sweep_scaling_"))
@@ -96,7 +102,7 @@ def main(argv: list[str] | None = None) -> None:
     load1 = os.getloadavg()[0]
     lines = write(args, stop, t_setup, walls, rows, startup, memory, (load0, load1))
     RESULTS.mkdir(parents=True, exist_ok=True)
-    (RESULTS / "sweep_scaling.md").write_text("\n".join(lines) + "\n")
+    (RESULTS / ("sweep_scaling_smoke.md" if args.smoke else "sweep_scaling.md")).write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 
@@ -128,7 +134,7 @@ def write(args, stop, t_setup, walls, rows, startup, memory, load) -> list[str]:
     mem_lines = []
     for pid, rss in by_pid.items():
         k = max(1, len(rss) // 10)
-        early, late = statistics.mean(rss[k:2 * k]), statistics.mean(rss[-k:])
+        early, late = statistics.mean(rss[k:2 * k] or rss), statistics.mean(rss[-k:])   # a worker may run one
         mem_lines.append(f"| {int(pid)} | {len(rss)} | {rss[0]:.1f} | {early:.1f} | {late:.1f} | {late - early:+.1f} |")
     t_run = own[1] + over[1]   # cost of one run on one worker, engine included
     dispatch = 1e-3            # [s] scheduler time per task (Dask's documented order of magnitude)

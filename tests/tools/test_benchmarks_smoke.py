@@ -62,14 +62,15 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
     "stability_map.py": (["--help"], []),
     "startup.py": (["--repeat", "1", "--runs", "2"], ["benchmarks/results/startup.md"]),
     "studies.py": (["startup", "--smoke", "--output", "{tmp}/studies"], ["{tmp}/studies/startup.md"]),
-    "sweep_scaling.py": (["--runs", "2", "--run-seconds", "0.05", "--memory-runs", "2"], ["benchmarks/results/sweep_scaling.md"]),
+    "sweep_scaling.py": (["--smoke"], ["benchmarks/results/sweep_scaling_smoke.md"]),
     "truck_full_run.py": (["--smoke"], ["benchmarks/results/truck_full_run_smoke.md"]),
     "truck_telescope_ssv.py": ([], ["ssp/truck_telescope/default.ssv"]),
     "validation_report.py": (["--quick"], ["docs/validation.md"]),
 }
-# the smallest size takes minutes on the loaded CI machine: left to `pytest -m slow` (measured 600+ s at
-# load 20 for validation_report.py --quick; a shorter --smoke needs its stop times, owned elsewhere)
-SLOW = {"validation_report.py"}
+# the smallest size takes minutes on a loaded machine: left to `pytest -m slow` (measured at load 17-24 on 2
+# cores, 2026-11-26: validation_report.py --quick 600+ s, hook_sway_levers.py --smoke 147 s, foreign_fmus.py
+# 131 s, master_overhead.py 98 s, scene_defaults.py 82 s; the others 0.3-66 s, about 460 s together)
+SLOW = {"validation_report.py", "hook_sway_levers.py", "foreign_fmus.py", "master_overhead.py", "scene_defaults.py"}
 # broken at this commit (measured): left visible as xfail for the script's owner, not hidden
 BROKEN = {"master_calls.py": "its 'before' child stops on the instability alarm (power bond hook unstable at "
                              "t = 1.26 s of a 2 s case at H = 1 ms): a case no longer stable since the physics merge",
