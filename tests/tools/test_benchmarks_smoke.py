@@ -111,11 +111,11 @@ def _env() -> dict[str, str]:
 def _params():
     for script in sorted(SMOKE):
         marks = ([pytest.mark.slow] if script in SLOW else []) + \
-            ([pytest.mark.xfail(reason=BROKEN[script], strict=False)] if script in BROKEN else [])
+            ([pytest.mark.xfail(reason=BROKEN[script], run=False)] if script in BROKEN else [])   # minutes of CI
         yield pytest.param(script, marks=marks, id=script)
 
 
-@pytest.mark.parametrize("script", _params())
+@pytest.mark.parametrize("script", list(_params()))
 def test_benchmark_runs_at_its_smallest_size(script, tree, tmp_path):
     args, writes = SMOKE[script]
     fill = {"tmp": str(tmp_path)}
