@@ -10,13 +10,14 @@ from .common import Context
 
 
 def run_studies(names: list[str], output: str, size: str, workers: int | None = None,
-                scheduler: str | None = None, say=print) -> dict[str, list[str]]:
-    """Run the studies ``names`` (sharing one cluster) into ``output``; {name: its failed points}."""
+                scheduler: str | None = None, say=print, prune: bool = False) -> dict[str, list[str]]:
+    """Run the studies ``names`` (sharing one cluster) into ``output``; {name: its failed points}.
+    ``prune``: drop the rows of their run tables that they did not read (an earlier request)."""
     failures: dict[str, list[str]] = {}
     shared = Context(output, size, workers, scheduler, say)
     try:
         for name in names:
-            ctx = Context(output, size, workers, scheduler, say)
+            ctx = Context(output, size, workers, scheduler, say, prune)
             ctx._client, ctx._cluster = shared._client, shared._cluster
             t0 = clock.perf_counter()
             module(name).run(ctx)
@@ -36,7 +37,7 @@ def _cmd_study(args: argparse.Namespace) -> int:
     size = "smoke" if args.smoke else "full" if args.full else "default"
     interrupt_once()
     try:
-        failures = run_studies(names, args.output, size, args.workers, args.scheduler)
+        failures = run_studies(names, args.output, size, args.workers, args.scheduler, prune=args.prune)
     except KeyboardInterrupt:
         print(f"cranefmu: study interrupted; finished runs are kept under {args.output}/runs/{size}/, the same "
               "command resumes", file=sys.stderr)
@@ -62,4 +63,7 @@ def add_parser(sub) -> None:
     s.add_argument("--workers", type=int, default=None, help="worker processes of the local cluster "
                    "(default: the cores)")
     s.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use the Dask cluster at this address")
+    s.add_argument("--prune", action="store_true", help="drop the rows of OUTPUT/runs/SIZE/ the study did not "
+                   "use (an earlier request: other settings, scene build or code); without it they are kept and "
+                   "the page counts them")
     s.set_defaults(func=_cmd_study)

@@ -27,7 +27,11 @@ class Context:
     workers: int | None = None
     scheduler: str | None = None
     say: Callable[[str], None] = print
+    prune: bool = False                                   # drop rows of its run tables this study did not use
     failures: list[str] = field(default_factory=list)    # one line per failed point of this study
+    ran: int = 0                                          # runs made now
+    reused: int = 0                                       # runs of the same request found in the run tables
+    _used: dict = field(default_factory=dict)             # run table -> the keys this study read
     _client: object = None
     _cluster: object = None
 
@@ -62,6 +66,25 @@ class Context:
 
             self._client, self._cluster = connect(self.workers, self.scheduler)
         return self._client
+
+    def note(self, res) -> None:
+        """Count a sweep's runs (made now, reused) and remember which rows of its table this study read."""
+        self._used.setdefault(Path(res.path), set()).update(r["key"] for r in res.design)
+        self.ran += res.ran
+        self.reused += res.skipped
+
+    def stale_rows(self) -> tuple[int, bool]:
+        """(rows of this study's run tables it did not read: an earlier request, whether they were
+        dropped): they are dropped with ``prune``."""
+        from ..sweep import table
+
+        stale = 0
+        for path, keys in self._used.items():
+            old = {r["key"] for r in table.read(path)} - keys
+            if old and self.prune:
+                table.drop(path, old)
+            stale += len(old)
+        return stale, self.prune
 
     def fail(self, text: str) -> None:
         self.failures.append(" ".join(text.split()))
@@ -121,6 +144,14 @@ def write_page(ctx: Context, name: str, title: str, lines: list[str]) -> Path:
     if ctx.failures:
         page += [f"**{len(ctx.failures)} failed point(s)** (marked in the table and the figure; the command "
                  "exited 1):", ""] + [f"- {f}" for f in ctx.failures] + [""]
+    if ctx._used:
+        stale, dropped = ctx.stale_rows()
+        page += [f"Runs: {ctx.ran} made now, {ctx.reused} reused from OUTPUT/runs/{ctx.size}/ (a row is reused only "
+                 "for the same request: scene file, code, effective settings and inputs)"
+                 + (f"; {stale} row(s) of an earlier request {'dropped (--prune)' if dropped else 'kept there, not used (--prune drops them)'}"
+                    if stale else "") + ".", ""]
+        ctx.say(f"runs: {ctx.ran} now, {ctx.reused} reused" + (f", {stale} stale row(s) "
+                f"{'dropped' if dropped else 'kept (--prune drops them)'}" if stale else ""))
     path = ctx.output / f"{name}.md"
     path.write_text("\n".join(page + lines).rstrip() + "\n")
     return path

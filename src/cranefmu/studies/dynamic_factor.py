@@ -56,9 +56,9 @@ def run(ctx: Context) -> None:
                                       f"rope.start_slack={','.join(repr(s) for s in slacks)}"],
                     ["scene"], ctx.runs(f"dynamic_factor_{model}.csv"), client=ctx.client, step_size=h,
                     stop_time=stop, parameters={"rope.model": model}, progress=False)
-        want = {(f * OMEGA_S, s) for f in factors for s in slacks}
+        ctx.note(res)
         rows += [dict(r, model=model, v_h=V_NOMINAL * r["drive.Omega_s"] / OMEGA_S, slack=r["rope.start_slack"])
-                 for r in res.rows if (r["drive.Omega_s"], r["rope.start_slack"]) in want]
+                 for r in res.design]
     rows.sort(key=lambda r: (r["model"], r["v_h"], r["slack"]))
     for r in rows:
         if r["status"] != "ok":

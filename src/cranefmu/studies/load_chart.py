@@ -106,13 +106,13 @@ def run(ctx: Context) -> None:
     static_pts, dyn_pts, rounds, rel, settle = sizes(ctx)
     table = chart()
     write_csv(ctx.output / "load_chart.csv", table)
-    static = static_chart(static_pts, ctx.runs("load_chart_static.csv"), ctx.client)
+    static = static_chart(static_pts, ctx.runs("load_chart_static.csv"), ctx.client, note=ctx.note)
     for r in static:
         r["tipping"] = tipping_load(r["length"], r["angle"])
         if not math.isfinite(r["scene"]):
             ctx.fail(f"static {r['angle']:g} deg, {r['length']:g} m: {r.get('error') or 'no scene value'}")
     ratings = dynamic_chart(dyn_pts, ctx.runs("load_chart_dynamic.csv"), ctx.client, rel=rel, rounds=rounds,
-                            say=ctx.say, settle=settle)
+                            say=ctx.say, settle=settle, note=ctx.note)
     dyn_rows = []
     for r in ratings:
         tip = tipping_load(r.length, r.angle)

@@ -109,9 +109,8 @@ def bisect_all(ctx: Context, brackets: list[Bracket]) -> None:
         points = [run_point(b.E, h, b.algorithm, b.order) for b, h in zip(open_, steps)]
         res = sweep("elastic_pendulum", points, [metric], ctx.runs("stability_map_runs.csv"), parameters=fixed,
                     client=ctx.client, progress=False, warn_outside=False)
-        by_inputs = {(r["rope.E"], r["step_size"], r["algorithm"], r["extrapolation"]): r for r in res.rows}
-        for b, h in zip(open_, steps):
-            row = by_inputs[(b.E, h, b.algorithm, float(b.order))]
+        ctx.note(res)
+        for b, h, row in zip(open_, steps, res.design):
             if row["status"] == "lost":
                 b.lost = f"H = {h:.4g} s: {row['error']}"
             else:

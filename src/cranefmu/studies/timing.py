@@ -5,8 +5,8 @@ twice in the process and prints one JSON line: ``import`` [s], ``first`` [s] (th
 the process), ``second`` [s] (warm: the same run again), and saves the second run's key outputs at
 its output times to OUT (``.npz``).  Methods: ``ours`` (our master, in-process), ``monolith`` (the
 scene's equations in one ODE, Radau, rtol 1e-6, output at ``time`` of the matching ``ours`` run, or
-every STEP), ``libcosim`` (libcosimpy, fixed step from the .ssp, started from our settled inputs,
-through the checkout's tests/interop_hosts.py).  Timings are wall clock (``time.perf_counter``); the machine may be shared.
+every STEP), ``libcosim`` (libcosimpy, fixed step from the .ssp, started from our settled inputs) and
+``ecos`` (ecospy, fixed step, the .ssp's bound set), both through the checkout's tests/interop_hosts.py.  Timings are wall clock (``time.perf_counter``); the machine may be shared.
 """
 from __future__ import annotations
 
@@ -53,6 +53,14 @@ def _monolith(scene: str, stop: float, step: float):
     return solve(scene, stop, np.linspace(0.0, stop, n), rtol=MONO_RTOL)
 
 
+def _ecos(scene: str, stop: float, step: float):
+    from interop_hosts import ecos_run
+
+    from ..master.run import resolve_scene
+
+    return ecos_run(str(resolve_scene(scene)), step, stop, list(keys(scene)))
+
+
 def _libcosim(scene: str, stop: float, step: float):
     from interop_hosts import libcosim_timed
 
@@ -79,7 +87,7 @@ def settled_start(scene: str) -> dict:
     return settled_inputs(read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR).connections, first)
 
 
-METHODS = {"ours": _ours, "monolith": _monolith, "libcosim": _libcosim}
+METHODS = {"ours": _ours, "monolith": _monolith, "libcosim": _libcosim, "ecos": _ecos}
 
 
 def child(method: str, scene: str, stop: float, step: float, out: str) -> dict:
@@ -92,6 +100,9 @@ def child(method: str, scene: str, stop: float, step: float, out: str) -> dict:
         import cranefmu.master.run  # noqa: F401 - timed as the import
     elif method == "monolith":
         import cranefmu.reference  # noqa: F401
+    elif method == "ecos":
+        sys.path.insert(0, str(checkout_tests()))
+        import ecospy  # noqa: F401
     else:
         sys.path.insert(0, str(checkout_tests()))
         import libcosimpy.CosimExecution  # noqa: F401

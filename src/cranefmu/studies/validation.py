@@ -45,9 +45,9 @@ def run(ctx: Context) -> None:
         res = sweep("overhead_lift", {"parameter_set": sets}, ["scene"], ctx.runs(f"validation_{model}.csv"),
                     client=ctx.client, step_size=STEPS[model], stop_time=stop, parameters={"rope.model": model},
                     progress=False)
-        by_set = {r["parameter_set"]: r for r in res.rows}
-        for pset in sets:
-            co, mono = by_set[pset], monolith(model, pset, stop)
+        ctx.note(res)
+        for pset, co in zip(sets, res.design):
+            mono = monolith(model, pset, stop)
             row = {"model": model, "start": "tight" if pset == "default" else "loose",
                    "measured": float(np.mean(MEASURED[pset])),
                    "cosim": co["dynamic_factor"] if co["status"] == "ok" else None,

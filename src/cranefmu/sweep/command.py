@@ -73,7 +73,8 @@ def add_parser(sub) -> None:
     s.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use the Dask cluster at this address "
                    "(e.g. tcp://10.0.0.5:8786) instead of a local one")
     s.add_argument("--prune", action="store_true", help="drop the rows of --output outside this design (an earlier "
-                   "--vary); without it they are kept with a warning")
+                   "--vary, other fixed inputs, or another build of the scene or the code); without it they are "
+                   "kept with a warning")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=_cmd_sweep)
 

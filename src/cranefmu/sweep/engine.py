@@ -15,6 +15,7 @@ it ends (Ctrl-C included).
 """
 from __future__ import annotations
 
+import hashlib
 import logging
 import os
 import shutil
@@ -22,12 +23,13 @@ import signal
 import sys
 import tempfile
 import time as clock
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..errors import CraneFmuError, ParameterSetError, SettingsError
 from . import table as tables
 from .metrics import Custom, Metric, check, parse_metric
+from .request import digest as request_digest
 from .spec import Run, design as make_design
 from .worker import SspFile, execute
 
@@ -36,14 +38,16 @@ MAX_ATTEMPTS = 2   # a run is retried at most once
 
 @dataclass
 class SweepResult:
-    """What a sweep did: its table (every row, this session's and earlier ones) and counts."""
+    """What a sweep did: its table (every row, this session's and earlier ones), the rows of this
+    design (one per point, in the design's order: what a study reads) and counts."""
 
     path: Path
     rows: list[dict]
+    design: list[dict] = field(default_factory=list)   # the row of each point of this design, in order
     ran: int = 0                 # runs finished in this session
     failed: int = 0              # of those, failed (or lost)
     lost: int = 0                # of those, lost with their worker or the scheduler (rerun on resume)
-    outside: int = 0             # rows of the table outside this design (an earlier design; kept unless pruned)
+    outside: int = 0             # rows of the table outside this design (an earlier design or request; kept unless pruned)
     skipped: int = 0             # already in the table (resumed)
     wall_time: float = 0.0       # [s] of this session, cluster start-up included
     workers: int = 0
@@ -126,8 +130,12 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     facts = scene_facts(scene)
     wanted = [parse_metric(m) for m in (metrics if metrics is not None else default_metrics(facts.name))]
     metric_names = check(wanted, facts.name, facts.columns)
-    runs = list({r.key: r for r in plan.runs(facts.name)}.values())
-    check_inputs(facts, runs)
+    points = plan.runs(facts.name)
+    check_inputs(facts, points)
+    ssp_sha = hashlib.sha256(Path(facts.ssp).read_bytes()).hexdigest()
+    # the key covers the whole request (scene file, code, effective settings), not the inputs alone
+    points = [replace(r, request=request_digest(facts.ssp, ssp_sha, r)) for r in points]
+    runs = list({r.key: r for r in points}.values())
     inputs = plan.names + sorted(plan.fixed)
     table = tables.Table(output, tables.header(inputs, metric_names))
     keys = {r.key for r in runs}
@@ -136,7 +144,8 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
         table.drop(outside)
     elif outside and warn_outside:
         print(f"cranefmu: warning: {table.path} holds {len(outside)} row(s) outside this design (an earlier "
-              "--vary); they are kept; --prune (prune=True) drops them", file=sys.stderr)
+              "--vary, other fixed inputs, or another build of the scene or the code); they are kept; --prune "
+              "(prune=True) drops them", file=sys.stderr)
     todo = [r for r in runs if r.key not in table.done]
     out = SweepResult(table.path, [], skipped=len(runs) - len(todo), outside=0 if prune else len(outside))
     results_dir = None
@@ -151,6 +160,8 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
         table.close()
         out.wall_time = clock.perf_counter() - t0
     out.rows = tables.read(table.path)
+    by_key = {r["key"]: r for r in out.rows}
+    out.design = [by_key[r.key] for r in points]
     return out
 
 

@@ -92,21 +92,24 @@ def dynamic_parameters(angle_deg: float, length: float, speed: float, load: floa
     return values
 
 
-def static_chart(points: list[tuple[float, float]], output, client=None, fractions=(0.3, 0.6)) -> list[dict]:
+def static_chart(points: list[tuple[float, float]], output, client=None, fractions=(0.3, 0.6),
+                 note=None) -> list[dict]:
     """Rated load at rest from the scene for each (angle [deg], length [m]): N1 at the start at two
-    loads (fractions of the closed form), linear zero.  Rows: angle, length, radius, closed_form, scene."""
+    loads (fractions of the closed form), linear zero.  Rows: angle, length, radius, closed_form, scene.
+    ``note``: called with the sweep's result (a study counts reused and stale rows)."""
     from . import sweep
 
     runs = [{**static_parameters(a, L, f * closed_form_max_load(a, L)), "stop_time": 2 * STEP}
             for a, L in points for f in fractions]
     res = sweep("truck_telescope", runs, ["initial:chassis.N_front"], output, client=client, step_size=STEP,
                 progress=False, warn_outside=False)   # a chart of other points may share the table
-    got = {(r["boom.luff_angle"], r["boom.boom_length_start"], r["pendulum.mass"]): r for r in res.rows}
+    if note is not None:
+        note(res)
+    got = iter(res.design)   # the rows of these runs, in their order (a stale row of the table never)
     rows = []
     for a, L in points:
         (m_a, m_b) = (f * closed_form_max_load(a, L) for f in fractions)
-        key = (math.radians(a), L)
-        ra, rb = got[(*key, m_a)], got[(*key, m_b)]
+        ra, rb = next(got), next(got)
         row = {"angle": a, "length": L, "radius": L * math.cos(math.radians(a)),
                "closed_form": closed_form_max_load(a, L), "scene": math.nan, "error": ""}
         if ra["status"] == "ok" and rb["status"] == "ok":   # a failed run leaves the point open (nan)
@@ -157,7 +160,7 @@ class Rating:
 
 
 def dynamic_chart(points: list[tuple[float, float, float]], output, client=None, rel: float = 0.01,
-                  rounds: int = 6, say=print, settle: float | None = None) -> list[Rating]:
+                  rounds: int = 6, say=print, settle: float | None = None, note=None) -> list[Rating]:
     """Largest load that does not tip while telescoping, for each (angle [deg], length [m], speed [m/s]):
     secant rounds, each one sweep of every open point; the per-run table ``output`` makes it resumable."""
     from . import sweep
@@ -172,10 +175,9 @@ def dynamic_chart(points: list[tuple[float, float, float]], output, client=None,
         runs = [dynamic_parameters(r.angle, r.length, r.speed, m, settle) for r, m in batch]
         res = sweep("truck_telescope", runs, ["scene"], output, client=client, step_size=STEP, extrapolation=1,
                     progress=False, warn_outside=False)   # the rounds share one table
-        got = {(x["boom.luff_angle"], x["boom.boom_length_end"], x["boom.telescope_speed"], x["pendulum.mass"]): x
-               for x in res.rows}
-        for r, m in batch:
-            x = got[(math.radians(r.angle), r.length, r.speed, m)]
+        if note is not None:
+            note(res)
+        for (r, m), x in zip(batch, res.design):
             if x["status"] != "ok":
                 r.failure = f"load {m:.1f} kg: {x['error']}"
                 continue

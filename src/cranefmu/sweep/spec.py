@@ -144,6 +144,7 @@ class Run:
 
     scene: str
     inputs: dict = field(hash=False)   # name -> value: 'comp.var' parameters and run settings
+    request: str = ""   # digest of everything else the run's result depends on (:func:`.request.digest`)
 
     @property
     def parameters(self) -> dict:
@@ -159,9 +160,11 @@ class Run:
 
     @property
     def key(self) -> str:
-        """A hash of the scene and every input (sorted, values by repr): the same run has the same key
-        in any order and any session, so a resumed sweep can skip it."""
-        text = json.dumps([self.scene, sorted((k, repr(v)) for k, v in self.inputs.items())])
+        """A hash of the scene, every input (sorted, values by repr) and the request digest: the same
+        run has the same key in any order and any session, so a resumed sweep can skip it, and a run
+        whose scene file, code or effective settings changed has another key, so it runs again."""
+        text = json.dumps([self.scene, sorted((k, repr(v)) for k, v in self.inputs.items())]
+                          + ([self.request] if self.request else []))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 

@@ -83,14 +83,9 @@ class Table:
             self.done.add(row["key"])
 
     def drop(self, keys: set[str]) -> None:
-        """Remove every row of ``keys`` (rewritten beside the file, then renamed over it)."""
+        """Remove every row of ``keys`` (:func:`drop`)."""
         self._file.close()
-        with open(self.path, newline="") as f:
-            rows = [r for r in csv.reader(f)]
-        partial = self.path.with_name(self.path.name + ".prune")
-        with open(partial, "w", newline="") as f:
-            csv.writer(f).writerows([rows[0]] + [r for r in rows[1:] if r and r[0] not in keys])
-        partial.replace(self.path)
+        drop(self.path, keys)
         self.keys -= keys
         self.done -= keys
         self._file = open(self.path, "a", newline="")
@@ -98,6 +93,17 @@ class Table:
 
     def close(self) -> None:
         self._file.close()
+
+
+def drop(path: str | Path, keys: set[str]) -> None:
+    """Remove every row of ``keys`` from the table at ``path`` (rewritten beside it, then renamed over it)."""
+    path = Path(path)
+    with open(path, newline="") as f:
+        rows = [r for r in csv.reader(f)]
+    partial = path.with_name(path.name + ".prune")
+    with open(partial, "w", newline="") as f:
+        csv.writer(f).writerows([rows[0]] + [r for r in rows[1:] if r and r[0] not in keys])
+    partial.replace(path)
 
 
 def read(path: str | Path) -> list[dict]:
