@@ -7,7 +7,7 @@ A ``metric`` turns the rows of ``always``/``during`` into one number:
 - ``max``, ``min``, ``max_abs``, ``mean`` of the column;
 - ``first_crossing``: the first time [s] the column crosses ``level`` (linear between rows);
 - ``dynamic_factor``: max / static, static = ``static`` (an expression) or the column's first row
-  (the scene starts at rest, so its first row is the static value);
+  of the run (the scene starts at rest, so its first row is the static value);
 - ``frequency`` [Hz], ``damping`` [1]: of mode ``mode`` (lowest frequency first) among the
   ``n_modes`` strongest of the column, fitted by :func:`cranefmu.modal.fit_modes` (matrix pencil).
 
@@ -56,6 +56,7 @@ def measured(a: AssertionSpec, t: np.ndarray, y: np.ndarray, values: dict) -> tu
         if not t[0] - 1e-12 <= a.at <= t[-1] + 1e-12:
             raise ValueError(f"at = {a.at:g} s is outside the run ({t[0]:g} to {t[-1]:g} s)")
         return float(np.interp(a.at, t, y))
+    first = float(y[0])   # the run's first row: the static value of a scene that starts at rest
     if a.when == "during":
         inside = (t >= a.during[0] - 1e-12) & (t <= a.during[1] + 1e-12)
         if not inside.any():
@@ -63,10 +64,11 @@ def measured(a: AssertionSpec, t: np.ndarray, y: np.ndarray, values: dict) -> tu
         t, y = t[inside], y[inside]
     if a.metric is None:
         return t, y
-    return metric(a, t, y, values)
+    return metric(a, t, y, values, first)
 
 
-def metric(a: AssertionSpec, t: np.ndarray, y: np.ndarray, values: dict) -> float:
+def metric(a: AssertionSpec, t: np.ndarray, y: np.ndarray, values: dict, first: float) -> float:
+    """The metric of ``a`` over the rows (t, y); ``first``: the run's first value (dynamic factor)."""
     m = a.metric
     if m == "max":
         return float(np.max(y))
@@ -86,7 +88,7 @@ def metric(a: AssertionSpec, t: np.ndarray, y: np.ndarray, values: dict) -> floa
         i = int(hit[0])
         return float(t[i] + (t[i + 1] - t[i]) * (0 - d[i]) / (d[i + 1] - d[i]))
     if m == "dynamic_factor":
-        static = evaluate(a.static, values) if a.static is not None else float(y[0])
+        static = evaluate(a.static, values) if a.static is not None else first
         if static == 0:
             raise ValueError("the static value is 0: no dynamic factor")
         return float(np.max(y) / static)

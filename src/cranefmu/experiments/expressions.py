@@ -12,6 +12,8 @@ import ast
 import math
 import operator
 
+import numpy as np
+
 from ..errors import CraneFmuError
 
 
@@ -25,6 +27,10 @@ FUNCTIONS = {name: getattr(math, name) for name in (
     "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "sqrt", "exp", "log",
     "log10", "hypot", "radians", "degrees", "floor", "ceil")}
 FUNCTIONS.update({"abs": abs, "min": min, "max": max})
+# the same functions element by element, for an expression of result columns (numpy arrays)
+_NUMPY = {"asin": "arcsin", "acos": "arccos", "atan": "arctan", "atan2": "arctan2", "min": "minimum",
+          "max": "maximum"}
+VECTOR_FUNCTIONS = {name: getattr(np, _NUMPY.get(name, name)) for name in FUNCTIONS}
 _BINARY = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
            ast.Pow: operator.pow, ast.Mod: operator.mod}
 _UNARY = {ast.USub: operator.neg, ast.UAdd: operator.pos}
@@ -83,11 +89,14 @@ def names(text: str) -> set[str]:
     return {n for n in out if not any(o != n and o.startswith(n + ".") for o in out)}
 
 
-def evaluate(text: str | float | int, values: dict[str, float]) -> float:
-    """The value of ``text`` (a number is itself) with ``values`` (name -> number) and :data:`CONSTANTS`."""
+def evaluate(text: str | float | int, values: dict, vector: bool = False):
+    """The value of ``text`` (a number is itself) with ``values`` (name -> number) and :data:`CONSTANTS`;
+    ``vector``: values may be arrays (result columns), the functions work element by element and the
+    result is an array."""
     if isinstance(text, (int, float)) and not isinstance(text, bool):
         return float(text)
     tree = parse(text)
+    functions = VECTOR_FUNCTIONS if vector else FUNCTIONS
 
     def ev(node: ast.AST) -> float:
         if isinstance(node, ast.Expression):
@@ -97,7 +106,7 @@ def evaluate(text: str | float | int, values: dict[str, float]) -> float:
         if isinstance(node, (ast.Name, ast.Attribute)):
             name = dotted(node)
             if name in values:
-                return float(values[name])
+                return values[name] if vector else float(values[name])
             if name in CONSTANTS:
                 return CONSTANTS[name]
             raise ExpressionError(f"expression {text!r}: unknown name {name!r} (a parameter component.variable, "
@@ -106,9 +115,12 @@ def evaluate(text: str | float | int, values: dict[str, float]) -> float:
             return _BINARY[type(node.op)](ev(node.left), ev(node.right))
         if isinstance(node, ast.UnaryOp):
             return _UNARY[type(node.op)](ev(node.operand))
-        return FUNCTIONS[node.func.id](*(ev(a) for a in node.args))
+        return functions[node.func.id](*(ev(a) for a in node.args))
 
     try:
+        if vector:
+            with np.errstate(all="ignore"):
+                return np.asarray(ev(tree), dtype=float)
         return float(ev(tree))
     except (ArithmeticError, ValueError, TypeError) as err:
         raise ExpressionError(f"expression {text!r} cannot be evaluated: {err}") from None

@@ -161,4 +161,9 @@ def shaper_impulses(kind: str, frequency: float, damping: float = 0.0) -> list[t
 
 def shaped(profile: Profile, kind: str, frequency: float, damping: float = 0.0) -> Profile:
     """``profile`` through the input shaper ``kind`` (module doc)."""
-    return combine([(a, tau, profile) for a, tau in shaper_impulses(kind, frequency, damping)])
+    out = combine([(a, tau, profile) for a, tau in shaper_impulses(kind, frequency, damping)])
+    last = profile.coefs[-1] if profile.coefs else None
+    if last is not None and last[1:] == (0.0, 0.0, 0.0):   # once every copy is done: the end value exactly
+        # (sum A_i = 1 in exact arithmetic; the sum of the copies may differ in the last bit)
+        out = Profile(out.before, out.starts, out.coefs[:-1] + ((last[0], 0.0, 0.0, 0.0),))
+    return out

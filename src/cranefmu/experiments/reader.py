@@ -29,7 +29,7 @@ METRICS = ("max", "min", "max_abs", "mean", "first_crossing", "dynamic_factor", 
 COMMAND_KINDS = ("hoist", "lower", "telescope", "luff", "slew", "travel", "setpoint", "table")
 CASE_KEYS = {"description", "scene", "parameter_set", "set", "commands", "assert"}
 TOP_KEYS = CASE_KEYS | {"name", "cases"}
-ASSERT_KEYS = {"name", "column", "always", "finally", "at", "during", "metric", "level", "static", "mode",
+ASSERT_KEYS = {"name", "column", "value", "always", "finally", "at", "during", "metric", "level", "static", "mode",
                "n_modes", "min", "max", "equals", "rel", "abs", "source", "description"}
 COMMAND_KEYS = {"kind", "inputs", "rate_inputs", "initial", "moves", "table", "interpolation", "shaper",
                 "frequency", "damping", "description"}
@@ -59,8 +59,9 @@ class AssertionSpec:
     """One assertion as written (docs/experiments.md lists the keys)."""
 
     name: str
-    column: str
+    column: str                                  # a result column, or (expression) an expression of columns
     where: str
+    expression: bool = False
     when: str = "always"
     at: float | None = None
     during: tuple[float, float] | None = None
@@ -336,10 +337,19 @@ def _assertion(a: dict, lines: Lines, table: str, k: int) -> AssertionSpec:
                                   f"{', '.join(sorted(ASSERT_KEYS))}")
     where = lines.at(table, None, k)
     kw: dict = {"where": where}
-    kw["column"] = _string(a.get("column"), lines, table, "column", ) if "column" in a else None
-    if kw["column"] is None:
-        raise ExperimentError(f"{where}: column: missing (the result column \"component.variable\" asserted on)")
-    kw["name"] = _string(a.get("name", f"{kw['column']}#{k + 1}"), lines, table, "name")
+    if ("column" in a) == ("value" in a):
+        raise ExperimentError(f"{where}: an assertion needs column = \"component.variable\" (a result column) "
+                              "or value = an expression of columns and parameters (one of them)")
+    if "column" in a:
+        kw["column"] = _string(a["column"], lines, table, "column")
+    else:
+        kw["column"] = _number(_string(a["value"], lines, table, "value"), lines, table, "value", k, expression=True)
+        kw["expression"] = True
+    default = f"{kw['column'].replace('.', '_')}_{k + 1}" if "column" in a else f"value_{k + 1}"
+    kw["name"] = _string(a.get("name", default), lines, table, "name")
+    if not kw["name"].isidentifier():
+        raise ExperimentError(f"{lines.at(table, 'name', k)}: name = {kw['name']!r} is not allowed: letters, digits "
+                              "and _ (another case's limit names it case.name)")
     chosen = [w for w in WHEN if w in a]
     if len(chosen) > 1:
         raise ExperimentError(f"{lines.at(table, chosen[1], k)}: {chosen[1]}: an assertion takes one of "

@@ -17,8 +17,9 @@ import numpy as np
 
 from ..errors import CraneFmuError
 from .assertions import Verdict, judge, measured
+from .expressions import evaluate
 from .reader import Case, CommandSpec, ExperimentError, load
-from .scene_check import SceneInterface, check
+from .scene_check import SceneInterface, check, columns_of
 
 
 @dataclass
@@ -159,10 +160,13 @@ def _measure(p: Planned, a):
     """What the assertion measures in the case's rows, or the text of why there is nothing."""
     if p.error:   # a failed run fails every assertion of its case
         return p.error
-    if not p.rows or a.column not in p.rows:
+    if not p.rows or not columns_of(a, p.scene) <= set(p.rows):
         return f"no rows of {a.column}"
-    t, y = p.rows["time"], p.rows[a.column]
+    t = p.rows["time"]
     try:
+        y = evaluate(a.column, {**p.values, **p.rows}, vector=True) if a.expression else p.rows[a.column]
+        if np.ndim(y) == 0:
+            y = np.full(len(t), float(y))
         got = measured(a, t, y, p.values)
     except (ValueError, CraneFmuError) as err:
         return str(err)
@@ -201,4 +205,4 @@ def prepare_case(case: Case, results: set[str], overrides: dict) -> Planned:
         raise
     except CraneFmuError as err:
         raise ExperimentError(f"{case.where}: {err}") from None
-    return Planned(case, spec, scene, values, sorted({a.column for a in case.assertions}))
+    return Planned(case, spec, scene, values, sorted(set().union(*(columns_of(a, scene) for a in case.assertions))))

@@ -122,7 +122,9 @@ def check(case: Case, results: set[str]) -> SceneInterface:
         for key in ("frequency", "damping"):
             _known_names(getattr(cmd, key), values, set(), f"{cmd.where}: {key}")
     for a in case.assertions:
-        if a.column not in scene.columns:
+        if a.expression:
+            _known_names(a.column, {**values, **dict.fromkeys(scene.columns)}, set(), f"{a.where}: value")
+        elif a.column not in scene.columns:
             near = [c for c in scene.columns if c.partition(".")[0] == a.column.partition(".")[0]]
             raise ExperimentError(f"{a.where}: column: {a.column!r} is not a column of scene {scene.name}: "
                                   f"{', '.join(near or scene.columns[:20])}")
@@ -145,10 +147,19 @@ def _variable(scene: SceneInterface, key: str, where: str, what: str, causalitie
                               f"{' or '.join(causalities)}s only")
 
 
+def columns_of(a, scene: SceneInterface) -> set[str]:
+    """The result columns assertion ``a`` reads."""
+    if not a.expression:
+        return {a.column}
+    return {n for n in expression_names(a.column) if n in scene.columns}
+
+
 def _known_names(text, values: dict, results: set[str], where: str) -> None:
     if not isinstance(text, str):
         return
     for name in expression_names(text):
         if name not in values and name not in CONSTANTS and name not in results:
-            raise ExperimentError(f"{where}: unknown name {name!r} in {text!r} (a parameter component.variable, "
-                                  f"a result case.assertion, or one of {', '.join(CONSTANTS)})")
+            what = "a result column or a parameter" if "value" in where.rpartition(": ")[2] else \
+                "a parameter component.variable, a result case.assertion"
+            raise ExperimentError(f"{where}: unknown name {name!r} in {text!r} ({what}, or one of "
+                                  f"{', '.join(CONSTANTS)})")
