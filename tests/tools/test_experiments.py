@@ -180,16 +180,16 @@ def test_bad_file_is_one_line_with_file_line_and_key(tmp_path, text, message):
 
 
 @pytest.mark.parametrize("text, message", [
-    ('[[assert]]\ncolumn = "rope.tensio"\nmax = 1\n', r":3: column: 'rope.tensio' is not a column of scene "
+    ('[[assert]]\ncolumn = "rope.tensio"\nmax = 1\n', r":4: column: 'rope.tensio' is not a column of scene "
                                                     r"elastic_pendulum: rope.tension"),
     ('set = {"crane.mass" = 1}\n', r"set: crane.mass: unknown component 'crane'"),
     ('set = {"rope.mass" = 1}\n', r"set: rope.mass: component rope has no variable 'mass'"),
     ('set = {"rope.x_hook" = 1}\n', r"set: rope.x_hook is an input connected to pendulum.x"),
     ('[[commands]]\ninputs = "rope.tension"\nmoves = [{to = 1, speed = 1}]\n',
-     r":3: inputs: rope.tension is an output: a command takes inputs only"),
+     r":4: inputs: rope.tension is an output: a command takes inputs only"),
     ('[[commands]]\ninputs = "rope.x_hook"\nmoves = [{to = 1, speed = 1}]\n',
-     r":3: inputs: rope.x_hook is connected to pendulum.x"),
-    ('[[assert]]\ncolumn = "rope.tension"\nmax = "pendulum.weight * 2"\n', r":3: max: unknown name 'pendulum.weight'"),
+     r":4: inputs: rope.x_hook is connected to pendulum.x"),
+    ('[[assert]]\ncolumn = "rope.tension"\nmax = "pendulum.weight * 2"\n', r":5: max: unknown name 'pendulum.weight'"),
     ('parameter_set = "heavy"\n', r"parameter_set = 'heavy' is not in scene elastic_pendulum"),
     ('step_size = -1\n', r"step_size"),
 ])

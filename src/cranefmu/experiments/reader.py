@@ -43,6 +43,7 @@ class CommandSpec:
 
     inputs: tuple[str, ...]
     where: str                                  # FILE:LINE of the command
+    keys: dict = field(default_factory=dict)    # key -> FILE:LINE where it is written
     kind: str = "setpoint"
     rate_inputs: tuple[str, ...] = ()
     initial: float = 0.0
@@ -76,6 +77,7 @@ class AssertionSpec:
     rel: float | None = None
     abs: float | None = None
     source: str = ""                             # where the limit comes from (a paper's value, a derivation)
+    keys: dict = field(default_factory=dict)     # key -> FILE:LINE where it is written
 
 
 @dataclass(frozen=True)
@@ -253,7 +255,8 @@ def _command(c: dict, lines: Lines, table: str, k: int) -> CommandSpec:
     where = lines.at(table, None, k)
     if "inputs" not in c:
         raise ExperimentError(f"{where}: inputs: missing (the \"component.variable\" the command feeds)")
-    kw: dict = {"inputs": _names(c["inputs"], lines, table, "inputs", k), "where": where}
+    kw: dict = {"inputs": _names(c["inputs"], lines, table, "inputs", k), "where": where,
+                "keys": {key: lines.at(table, key, k) for key in c}}
     if "rate_inputs" in c:
         kw["rate_inputs"] = _names(c["rate_inputs"], lines, table, "rate_inputs", k)
     kind = c.get("kind", "table" if "table" in c else "setpoint")
@@ -336,7 +339,7 @@ def _assertion(a: dict, lines: Lines, table: str, k: int) -> AssertionSpec:
             raise ExperimentError(f"{lines.at(table, key, k)}: {key}: unknown key of an assertion; allowed "
                                   f"{', '.join(sorted(ASSERT_KEYS))}")
     where = lines.at(table, None, k)
-    kw: dict = {"where": where}
+    kw: dict = {"where": where, "keys": {key: lines.at(table, key, k) for key in a}}
     if ("column" in a) == ("value" in a):
         raise ExperimentError(f"{where}: an assertion needs column = \"component.variable\" (a result column) "
                               "or value = an expression of columns and parameters (one of them)")

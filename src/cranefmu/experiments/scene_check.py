@@ -108,28 +108,31 @@ def check(case: Case, results: set[str]) -> SceneInterface:
     values = scene.parameter_values(case.parameter_set, case.parameters)
     commanded: dict[str, str] = {}
     for cmd in case.commands:
-        for target in cmd.inputs + cmd.rate_inputs:
-            _variable(scene, target, cmd.where, "inputs", ("input",))
-            if scene.variables[target.partition(".")[0]][target.partition(".")[2]][1] != "Real":
-                raise ExperimentError(f"{cmd.where}: inputs: {target} is not a Real input")
-            if target in scene.connected:
-                raise ExperimentError(f"{cmd.where}: inputs: {target} is connected to {scene.connected[target]}: "
-                                      "a command feeds an unconnected input only")
-            if target in commanded:
-                raise ExperimentError(f"{cmd.where}: inputs: {target} is commanded twice (also at "
-                                      f"{commanded[target]})")
-            commanded[target] = cmd.where
+        for key, targets in (("inputs", cmd.inputs), ("rate_inputs", cmd.rate_inputs)):
+            where = cmd.keys.get(key, cmd.where)
+            for target in targets:
+                _variable(scene, target, where, key, ("input",))
+                if scene.variables[target.partition(".")[0]][target.partition(".")[2]][1] != "Real":
+                    raise ExperimentError(f"{where}: {key}: {target} is not a Real input")
+                if target in scene.connected:
+                    raise ExperimentError(f"{where}: {key}: {target} is connected to {scene.connected[target]}: "
+                                          "a command feeds an unconnected input only")
+                if target in commanded:
+                    raise ExperimentError(f"{where}: {key}: {target} is commanded twice (also at "
+                                          f"{commanded[target]})")
+                commanded[target] = where
         for key in ("frequency", "damping"):
-            _known_names(getattr(cmd, key), values, set(), f"{cmd.where}: {key}")
+            _known_names(getattr(cmd, key), values, set(), f"{cmd.keys.get(key, cmd.where)}: {key}")
     for a in case.assertions:
         if a.expression:
-            _known_names(a.column, {**values, **dict.fromkeys(scene.columns)}, set(), f"{a.where}: value")
+            _known_names(a.column, {**values, **dict.fromkeys(scene.columns)}, set(),
+                         f"{a.keys.get('value', a.where)}: value")
         elif a.column not in scene.columns:
             near = [c for c in scene.columns if c.partition(".")[0] == a.column.partition(".")[0]]
-            raise ExperimentError(f"{a.where}: column: {a.column!r} is not a column of scene {scene.name}: "
-                                  f"{', '.join(near or scene.columns[:20])}")
+            raise ExperimentError(f"{a.keys.get('column', a.where)}: column: {a.column!r} is not a column of scene "
+                                  f"{scene.name}: {', '.join(near or scene.columns[:20])}")
         for key in ("min", "max", "equals", "static"):
-            _known_names(getattr(a, key), values, results, f"{a.where}: {key}")
+            _known_names(getattr(a, key), values, results, f"{a.keys.get(key, a.where)}: {key}")
     return scene
 
 
