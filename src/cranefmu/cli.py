@@ -91,14 +91,19 @@ def _cmd_run(args: argparse.Namespace) -> int:
         data = res.result if keep else read_csv(res.output, [c for _, cols in plotted for c in cols])
         for path in write_plots(data, res.scene, prefix, plotted, units=scene.units):
             print(f"figure: {path}", file=say)
+    verdicts = []
+    if experiment is not None:   # the case's assertions, judged on its rows (also shown in the report)
+        from .experiments.command import verdicts_after_run
+
+        verdicts = verdicts_after_run(res, experiment)
     if args.report:
         from .report.command import report_after_run
 
-        print(f"report: {report_after_run(args.report, res, scene)}", file=say)
+        print(f"report: {report_after_run(args.report, res, scene, verdicts)}", file=say)
     if experiment is not None:
-        from .experiments.command import after_run
+        from .experiments.command import print_verdicts
 
-        return after_run(res, experiment, say)
+        return print_verdicts(verdicts, say)
     return 0
 
 

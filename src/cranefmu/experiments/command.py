@@ -97,8 +97,8 @@ def experiment_run_spec(args: argparse.Namespace, options: dict, parameters: dic
     return experiment_spec(Path(args.scene), args.case, given, parameters, args.output, not args.in_process)
 
 
-def after_run(res, planned, out) -> int:
-    """The verdicts of the case just run by ``cranefmu run FILE.toml`` (to ``out``); 1 if one failed."""
+def verdicts_after_run(res, planned) -> list[Verdict]:
+    """The verdicts of the case just run by ``cranefmu run FILE.toml`` (``res`` its RunResult)."""
     import numpy as np
 
     from .runner import judge_all
@@ -109,7 +109,11 @@ def after_run(res, planned, out) -> int:
 
         rows = read_csv(res.output, planned.columns)
     planned.rows = {n: np.array(rows[n]) for n in ["time", *planned.columns] if n in rows.dtype.names}
-    verdicts = judge_all([planned])
+    return judge_all([planned])
+
+
+def print_verdicts(verdicts: list[Verdict], out) -> int:
+    """The verdicts' table (to ``out``); 1 if one failed, else 0."""
     for line in table(verdicts):
         print(line, file=out)
     return 0 if all(v.passed for v in verdicts) else 1
