@@ -58,6 +58,11 @@ def test_check_exit_codes_and_json_report(built, tmp_path):
     line = [x for x in failed.stdout.splitlines() if "on_purpose" in x][0]
     assert "FAIL" in line and "<= 1" in line
     assert json.loads(report.read_text())["failed"] == 1
+    pooled = tmp_path / "pooled.json"
+    failed = cranefmu("check", str(good), str(bad), "--jobs", "2", "--report", str(pooled))
+    assert failed.returncode == 1, failed.stderr   # on two worker processes: the same verdicts, bit for bit
+    values = lambda path: [(v["case"], v["name"], v["value"]) for v in json.loads(path.read_text())["verdicts"]]  # noqa: E731
+    assert values(pooled) == values(report)
     refused = cranefmu("check", str(good), str(broken))
     assert refused.returncode == 2
     assert refused.stderr.strip().count("\n") == 0   # one line
@@ -72,11 +77,13 @@ def test_check_exit_codes_and_json_report(built, tmp_path):
 def test_run_one_experiment_writes_its_csv_and_verdicts(built, tmp_path):
     exp = tmp_path / "two.toml"
     exp.write_text(FAILING + "\n[cases.a]\n[cases.b]\nstop_time = 0.2\n")
-    csv = tmp_path / "b.csv"
-    r = cranefmu("run", str(exp), "--case", "b", "--output", str(csv))
+    csv, html = tmp_path / "b.csv", tmp_path / "b.html"
+    r = cranefmu("run", str(exp), "--case", "b", "--output", str(csv), "--report", str(html))
     assert r.returncode == 1, r.stderr            # its assertion on_purpose fails
     assert csv.read_text().count("\n") == 1 + 41  # header, t = 0 .. 0.2 s at the stored 5 ms
     assert "tension_at_release" in r.stdout and "FAIL" in r.stdout
+    page = html.read_text()   # the report shows the verdicts (the page itself: tests/tools/test_report.py)
+    assert "<h2>Assertions</h2>" in page and "<td>on_purpose</td>" in page and "<td>pass</td>" in page
     r = cranefmu("run", str(exp))
     assert r.returncode == 2 and "has cases a, b: give --case NAME" in r.stderr
 

@@ -247,16 +247,22 @@ def _names(value, lines: Lines, table: str, key: str, index: int) -> tuple[str, 
     return tuple(items)
 
 
+def _item(d: dict, allowed: set[str], what: str, lines: Lines, table: str, k: int) -> dict:
+    """The fields every item (a command, an assertion) has: where it is and where each key is; an
+    unknown key refused."""
+    for key in d:
+        if key not in allowed:
+            raise ExperimentError(f"{lines.at(table, key, k)}: {key}: unknown key of {what}; allowed "
+                                  f"{', '.join(sorted(allowed))}")
+    return {"where": lines.at(table, None, k), "keys": {key: lines.at(table, key, k) for key in d}}
+
+
 def _command(c: dict, lines: Lines, table: str, k: int) -> CommandSpec:
-    for key in c:
-        if key not in COMMAND_KEYS:
-            raise ExperimentError(f"{lines.at(table, key, k)}: {key}: unknown key of a command; allowed "
-                                  f"{', '.join(sorted(COMMAND_KEYS))}")
-    where = lines.at(table, None, k)
+    kw = _item(c, COMMAND_KEYS, "a command", lines, table, k)
+    where = kw["where"]
     if "inputs" not in c:
         raise ExperimentError(f"{where}: inputs: missing (the \"component.variable\" the command feeds)")
-    kw: dict = {"inputs": _names(c["inputs"], lines, table, "inputs", k), "where": where,
-                "keys": {key: lines.at(table, key, k) for key in c}}
+    kw["inputs"] = _names(c["inputs"], lines, table, "inputs", k)
     if "rate_inputs" in c:
         kw["rate_inputs"] = _names(c["rate_inputs"], lines, table, "rate_inputs", k)
     kind = c.get("kind", "table" if "table" in c else "setpoint")
@@ -334,12 +340,8 @@ def _table_points(value, lines: Lines, table: str, k: int) -> tuple[tuple[float,
 
 
 def _assertion(a: dict, lines: Lines, table: str, k: int) -> AssertionSpec:
-    for key in a:
-        if key not in ASSERT_KEYS:
-            raise ExperimentError(f"{lines.at(table, key, k)}: {key}: unknown key of an assertion; allowed "
-                                  f"{', '.join(sorted(ASSERT_KEYS))}")
-    where = lines.at(table, None, k)
-    kw: dict = {"where": where, "keys": {key: lines.at(table, key, k) for key in a}}
+    kw = _item(a, ASSERT_KEYS, "an assertion", lines, table, k)
+    where = kw["where"]
     if ("column" in a) == ("value" in a):
         raise ExperimentError(f"{where}: an assertion needs column = \"component.variable\" (a result column) "
                               "or value = an expression of columns and parameters (one of them)")
