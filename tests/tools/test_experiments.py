@@ -170,6 +170,7 @@ def test_cases_inherit_and_override(tmp_path):
     ('[[commands]]\ninputs = "rope.x_top"\nmoves = [{to = 1}]\n', r":3: moves: speed: missing"),
     ('[[commands]]\ninputs = "rope.x_top"\nmoves = [{to = 1, speed = 1}]\nshaper = "zz"\n',
      r":4: shaper = 'zz' is not allowed"),
+    ('[scene]\ncomponents = ["rope"]\n', r":1: scene: a scene composed inline is not read yet"),
 ])
 def test_bad_file_is_one_line_with_file_line_and_key(tmp_path, text, message):
     path = tmp_path / "bad.toml"

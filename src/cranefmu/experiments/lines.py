@@ -62,6 +62,10 @@ class Lines:
             for n in range(first, end + 1):
                 if inline.search(self.lines[n - 1]):
                     return n
+            # a key written as a table of its own: [table.key]
+            sub = self._section(f"{table}.{key}" if table else key, None)
+            if sub is not None:
+                return sub[0]
         return first if table else None
 
     def at(self, table: str = "", key: str | None = None, index: int | None = None) -> str:

@@ -174,6 +174,9 @@ def _case_fields(data: dict, lines: Lines, table: str) -> dict:
     prefix = f"{table}." if table else ""
     if "scene" in data:
         scene = data["scene"]
+        if isinstance(scene, dict):
+            raise ExperimentError(f"{lines.at(table, 'scene')}: scene: a scene composed inline is not read yet: give "
+                                  "a shipped scene's name, an .ssp file or a scene directory (docs/experiments.md)")
         if not isinstance(scene, str) or not scene:
             raise ExperimentError(f"{lines.at(table, 'scene')}: scene = {scene!r} must be a name or a path")
         out["scene"] = _scene_reference(scene, lines.path)
