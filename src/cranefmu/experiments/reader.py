@@ -12,12 +12,16 @@ file's text shows it).
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from ..errors import CraneFmuError
 from .lines import Lines
+
+try:
+    import tomllib
+except ModuleNotFoundError:   # Python 3.10: the same parser as the tomli package
+    import tomli as tomllib
 
 
 class ExperimentError(CraneFmuError):
