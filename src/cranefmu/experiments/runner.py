@@ -66,7 +66,6 @@ def prepare(paths: list[str | Path], overrides: dict | None = None) -> list[Plan
 def commands_of(specs: tuple[CommandSpec, ...], values: dict) -> list:
     """The master's :class:`~cranefmu.master.commands.Command` objects of a case's commands."""
     from ..master.commands import Command
-    from .expressions import evaluate
     from .profiles import ProfileError, moves, shaped, table
 
     out = []
@@ -131,16 +130,16 @@ def _ran(p: Planned) -> str:
 
 def judge_all(planned: list[Planned]) -> list[Verdict]:
     """One verdict per assertion of every case (a failed run fails its assertions, with the reason)."""
-    found: dict[tuple[str, str], object] = {}
+    found: dict[tuple[str, str], object] = {}   # (experiment file, "case.assertion") -> what it measured
     for p in planned:
         for a in p.case.assertions:
-            found[(p.case.experiment, f"{p.case.name}.{a.name}")] = _measure(p, a)
+            found[(str(p.case.file), f"{p.case.name}.{a.name}")] = _measure(p, a)
     out = []
     for p in planned:
         c = p.case
-        results = {name: got for (exp, name), got in found.items() if exp == c.experiment and isinstance(got, float)}
+        results = {name: got for (file, name), got in found.items() if file == str(c.file) and isinstance(got, float)}
         for a in c.assertions:
-            got = found[(c.experiment, f"{c.name}.{a.name}")]
+            got = found[(str(c.file), f"{c.name}.{a.name}")]
             if isinstance(got, str):
                 out.append(Verdict(c.experiment, c.name, a.name, a.column, float("nan"), "", float("-inf"), False,
                                    note=got, source=a.source))
