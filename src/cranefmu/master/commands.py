@@ -12,6 +12,7 @@ the value joins the start values, so the initialization settles with it.
 """
 from __future__ import annotations
 
+import ctypes
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -52,6 +53,13 @@ class CommandFeed:
             rates = [by_name.get(var + suffix) for suffix in ("_dt", "_dt2")]
             vrs = [v.valueReference] + ([r.valueReference for r in rates] if all(rates) else [])
             self.bound.append((comp, var, vrs, cmd.source))
+        # one fmi2SetReal per component a step: its commanded inputs' values and rates side by side
+        self._writes = []
+        for comp in dict.fromkeys(b[0] for b in self.bound):
+            mine = [(vrs, source) for c, _, vrs, source in self.bound if c is comp]
+            n = sum(len(vrs) for vrs, _ in mine)
+            self._writes.append((comp, (ctypes.c_uint * n)(*[vr for vrs, _ in mine for vr in vrs]),
+                                 (ctypes.c_double * n)(), n, [(len(vrs), source) for vrs, source in mine]))
 
     def start_values(self, t: float) -> dict[tuple[str, str], float]:
         """(component, variable) -> the commanded value at t, for the start values."""
@@ -59,9 +67,12 @@ class CommandFeed:
 
     def feed(self, t: float) -> None:
         """Set every commanded input (and its rates, where offered) to its source's values at t."""
-        for comp, _, vrs, source in self.bound:
-            value, rate, curvature = source.at(t)
-            comp.fmu.setReal(vrs, [float(value), float(rate), float(curvature)][:len(vrs)])
+        for comp, vrs, values, n, sources in self._writes:
+            at = 0
+            for count, source in sources:
+                values[at:at + count] = [float(x) for x in source.at(t)][:count]
+                at += count
+            comp.write(vrs, n, values)
             comp.fresh = False
 
 
