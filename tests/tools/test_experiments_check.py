@@ -154,3 +154,12 @@ def test_shipped_experiments_pass(built, tmp_path):
     names = {(v["experiment"], v["case"], v["name"]) for v in data["verdicts"]}
     assert ("anti_sway_trolley", "zvd", "residual") in names
     assert ("overhead_lift_table7", "bw_loose", "factor_paper") in names
+
+
+def test_scene_by_directory(built, tmp_path):
+    """A scene directory (SystemStructure.ssd and its .ssv) is built into a temporary .ssp and run."""
+    exp = tmp_path / "dir.toml"
+    exp.write_text(PASSING.replace('scene = "elastic_pendulum"', f'scene = "{ROOT / "ssp" / "elastic_pendulum"}"'))
+    r = cranefmu("check", str(exp))
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "2 assertions in 1 cases: 2 passed, 0 failed" in r.stdout

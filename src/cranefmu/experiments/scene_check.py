@@ -50,6 +50,7 @@ class SceneInterface:
 
 
 _INTERFACES: dict[str, SceneInterface] = {}
+_BUILT: list[tempfile.TemporaryDirectory] = []   # scene directories' .ssp files, removed at exit
 
 
 def scene_path(reference: str) -> Path:
@@ -63,7 +64,8 @@ def scene_path(reference: str) -> Path:
         from ..build import build, build_ssp
 
         build(verbose=False, only=None)   # the FMUs it refers to
-        return build_ssp(path, Path(tempfile.mkdtemp(prefix="cranefmu_scene_")) / f"{path.name}.ssp")
+        _BUILT.append(tempfile.TemporaryDirectory(prefix="cranefmu_scene_"))
+        return build_ssp(path, Path(_BUILT[-1].name) / f"{path.name}.ssp")
     return resolve_scene(reference)
 
 
