@@ -83,6 +83,8 @@ CASES = [
          dict(Fx_tip=200.0, Fy_tip=-2e4, y_base=-0.01, gamma=0.01, vy_base=0.001, gamma_rate=0.002), 1.0),
     Case("boom-prescribed", BoomModel, dict(luff_delta=0.1),
          dict(Fx_tip=200.0, Fy_tip=-2e4, y_base=-0.01, gamma=0.01, vy_base=0.001, gamma_rate=0.002), 1.0),
+    Case("boom-kinematic-travel", BoomModel, dict(tip="kinematic"),   # an operator's travel command on the tip
+         dict(x_travel=0.2, vx_travel=0.1), 0.5),
     Case("chassis", ChassisModel, dict(h_foot=0.8), dict(Fx_base=1e3, Fy_base=-4e4, M_base=-8e4), 0.3),
 ]
 

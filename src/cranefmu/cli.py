@@ -49,8 +49,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .master.settings import Settings
 
     options = {f.name: getattr(args, f.name) for f in fields(Settings) if hasattr(args, f.name)}
-    spec = resolve(args.scene, parameter_set=args.parameter_set, parameters=_parse_set(args.set),
-                   output=args.output, isolate=not args.in_process, **options)
+    experiment = None
+    if str(args.scene).endswith(".toml"):   # an experiment file: its case's spec (cranefmu.experiments)
+        from .experiments.command import experiment_run_spec
+
+        spec, experiment = experiment_run_spec(args, options, _parse_set(args.set))
+    else:
+        spec = resolve(args.scene, parameter_set=args.parameter_set, parameters=_parse_set(args.set),
+                       output=args.output, isolate=not args.in_process, **options)
     scene = preview(spec.ssp)
     rows = spec.settings.rows_expected()
     if rows > args.max_rows:
@@ -85,10 +91,19 @@ def _cmd_run(args: argparse.Namespace) -> int:
         data = res.result if keep else read_csv(res.output, [c for _, cols in plotted for c in cols])
         for path in write_plots(data, res.scene, prefix, plotted, units=scene.units):
             print(f"figure: {path}", file=say)
+    verdicts = []
+    if experiment is not None:   # the case's assertions, judged on its rows (also shown in the report)
+        from .experiments.command import verdicts_after_run
+
+        verdicts = verdicts_after_run(res, experiment)
     if args.report:
         from .report.command import report_after_run
 
-        print(f"report: {report_after_run(args.report, res, scene)}", file=say)
+        print(f"report: {report_after_run(args.report, res, scene, verdicts)}", file=say)
+    if experiment is not None:
+        from .experiments.command import print_verdicts
+
+        return print_verdicts(verdicts, say)
     return 0
 
 
@@ -255,7 +270,8 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Run a scene.  A setting not given is the scene's stored one if it stores it "
                        "(cranefmu info SCENE), else the default shown.  SIGINT, SIGTERM or SIGHUP ends the run at the "
                        "next step, keeps the rows so far in the CSV and exits 130, 143 or 129.")
-    r.add_argument("scene", help="a shipped scene's name (cranefmu scenes lists them) or the path to an .ssp file")
+    r.add_argument("scene", help="a shipped scene's name (cranefmu scenes lists them), the path to an .ssp file, "
+                   "or an experiment file FILE.toml (its scene, settings and commands; then its assertions)")
     from .master.settings import add_arguments
 
     add_arguments(r)   # every run setting, from cranefmu.master.settings.Settings
@@ -272,6 +288,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--in-process", action="store_true", help="run the FMUs in this process (default: a worker "
                    "process, so a crash inside an FMU is reported instead of ending the command)")
     add_report_option(r)
+    from .experiments.command import add_parser as add_check_parser, add_run_option as add_case_option
+
+    add_case_option(r)
     r.set_defaults(func=_cmd_run)
 
     i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
@@ -331,6 +350,7 @@ def build_parser() -> argparse.ArgumentParser:
     from .studies.command import add_parser as add_study_parser
 
     add_study_parser(sub)
+    add_check_parser(sub)
     return p
 
 

@@ -169,7 +169,9 @@ def _run_observed(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt,
         fresh_fmu_dirs(workdir, loaded, fmu_dirs)   # never instantiate twice from one directory
         execution = build_execution(spec, loaded, fmu_dirs, claim)
         system, bonds, recorder = execution.system, execution.bonds, execution.recorder
-        system.stats.init_iterations = initialize(system, settings.start_time, spec.overrides, settings.init_tolerance)
+        starts = spec.overrides if system.commands is None else \
+            {**spec.overrides, **system.commands.start_values(settings.start_time)}
+        system.stats.init_iterations = initialize(system, settings.start_time, starts, settings.init_tolerance)
         progress = Progress(settings.start_time, settings.stop_time, settings.progress)
         if interrupt.signum is None:
             _loop(system, settings, recorder, bonds, progress, execution.watch, execution.stopper,
@@ -223,6 +225,10 @@ def build_execution(spec: RunSpec, loaded, fmu_dirs: Path, claim: OutputFile | N
     settings = spec.settings
     system = CoSystem(loaded, fmu_dirs, settings.extrapolation)
     try:
+        if spec.commands:
+            from .commands import CommandFeed
+
+            system.commands = CommandFeed(system, spec.commands)
         bonds = BondMonitor(system, resolve_bonds(system, scene_bonds(loaded, {c.name: c.md for c in system.comps})[0]))
         _check_capabilities(system, settings, bonds)
         watch = Watch(system, bonds, settings.adaptive, _solved(system, settings)) if settings.instability_alarm else None

@@ -47,6 +47,7 @@ class RunSpec:
     output: Path | None = None             # CSV written during the run
     keep: bool = True                      # hold the rows in memory
     isolate: bool = False                  # run in a worker process
+    commands: tuple = ()                   # .commands.Command: sources feeding unconnected inputs
 
     def describe(self) -> list[str]:
         """The run's header: one line ``settings: name = value (source), ...`` of every setting given,
@@ -61,10 +62,12 @@ class RunSpec:
 
 
 def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None = None,
-            output: str | Path | None = None, keep: bool = True, isolate: bool = False, **options) -> RunSpec:
+            output: str | Path | None = None, keep: bool = True, isolate: bool = False, commands=(),
+            **options) -> RunSpec:
     """The :class:`RunSpec` of running ``scene`` (a name or an .ssp path) with ``options`` (run
-    settings by name, see :class:`.settings.Settings`).  Raises a :class:`SettingsError` or
-    :class:`ParameterSetError` naming the setting or parameter, its value and what is allowed."""
+    settings by name, see :class:`.settings.Settings`; ``commands``: :class:`.commands.Command` sources
+    fed into unconnected inputs).  Raises a :class:`SettingsError` or :class:`ParameterSetError`
+    naming the setting or parameter, its value and what is allowed."""
     from .extracted import extracted_scene
     from .scene_names import resolve_scene
 
@@ -90,7 +93,7 @@ def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None 
     overrides = _overrides(loaded, parameter_set, parameters)
     _refuse_connected_inputs(loaded, parameters)
     return RunSpec(ssp, loaded.name, settings, sources, set_aside, stored_for, parameter_set, parameters, overrides,
-                   Path(output) if output is not None else None, keep, isolate)
+                   Path(output) if output is not None else None, keep, isolate, tuple(commands))
 
 
 def choose(given: dict, stored: dict, scene_stop_time: float | None) -> tuple[dict, dict, dict, str]:

@@ -145,6 +145,7 @@ class CoSystem:
         self.flag_value = np.zeros(len(self.flag_names))
         self.stats = RunStats(fmu_time={c.name: 0.0 for c in self.comps}, fmu_calls={c.name: 0 for c in self.comps})
         self.can_rollback = all(c.can_get_state for c in self.comps)
+        self.commands = None   # a .commands.CommandFeed: commanded inputs set at every exchange, before the reads
         self._prepare_hot_path()
 
     def _prepare_hot_path(self) -> None:
@@ -305,6 +306,8 @@ class CoSystem:
         where a group would read a component that an input set of the phase makes stale, so the
         values are those a group-by-group exchange in feedthrough order reads."""
         p = self.order_of_extrapolation if order is None else order
+        if self.commands is not None:
+            self.commands.feed(t)
         if not self._stepping:
             self._exchange_groups(t, p)
         else:
@@ -321,6 +324,8 @@ class CoSystem:
     def exchange_as_read(self, t: float) -> None:
         """libcosim's exchange at t: every output read once, now, and held by its input over the next
         step (no re-read after inputs that it depends on directly were set)."""
+        if self.commands is not None:
+            self.commands.feed(t)
         for i in range(len(self.comps)):
             self.read(i)
         values = [self.pull(g) for g in self.links]

@@ -302,7 +302,7 @@ def crane_motion_tip(t: float, p: BoomParams, beta: float, beta_rate: float, len
 # --- the model ----------------------------------------------------------------------------------
 _BASE = ("y_base", "gamma", "vy_base", "gamma_rate")
 _TIP_F = ("Fx_tip", "Fy_tip", "Fz_tip")
-_Y, _G, _VY, _GR, _FX, _FY, _FZ = range(7)
+_Y, _G, _VY, _GR, _FX, _FY, _FZ, _XT, _VXT = range(9)
 _REACT_DEPS = ("gamma", "gamma_rate", "Fx_tip", "Fy_tip")
 
 
@@ -321,13 +321,18 @@ class BoomModel(Model):
         Signal("Fy_tip", "N", "y component of the rope force on the boom tip", coupling=True),
         Signal("Fz_tip", "N", "z component of the rope force on the boom tip (taken by the slewing gear, "
                "not used by the planar model)", coupling=True),
+        # an operator's travel command (cranefmu.experiments): added to a kinematic tip, 0 leaves it as it was
+        Signal("x_travel", "m", "tip = 'kinematic': travel of the crane along x added to the tip position (an "
+               "operator command; 0: none; ignored with the dynamic tip)", coupling=True),
+        Signal("vx_travel", "m/s", "tip = 'kinematic': travel speed along x added to the tip velocity (the rate of "
+               "x_travel; ignored with the dynamic tip)", coupling=True),
     )
     initial_state_inputs = ("gamma", "gamma_rate", "Fx_tip", "Fy_tip")  # angle on the tilted chassis, preload
     outputs = (
-        Signal("x_tip", "m", "x of the boom tip B", depends_on=("gamma",)),
+        Signal("x_tip", "m", "x of the boom tip B", depends_on=("gamma", "x_travel")),
         Signal("y_tip", "m", "y of the boom tip B", depends_on=("y_base", "gamma")),
         Signal("z_tip", "m", "z of the boom tip B (0: working plane; a steered kinematic tip leaves it)"),
-        Signal("vx_tip", "m/s", "x velocity of the boom tip", depends_on=("gamma", "gamma_rate")),
+        Signal("vx_tip", "m/s", "x velocity of the boom tip", depends_on=("gamma", "gamma_rate", "vx_travel")),
         Signal("vy_tip", "m/s", "y velocity of the boom tip", depends_on=("gamma", "vy_base", "gamma_rate")),
         Signal("vz_tip", "m/s", "z velocity of the boom tip (0: working plane; a steered kinematic tip leaves it)"),
         Signal("Fx_base", "N", "x force the boom (pivot and cylinder) exerts on the chassis", depends_on=_REACT_DEPS),
@@ -456,6 +461,10 @@ class BoomModel(Model):
         tip_z = vtip_z = 0.0
         if self._crane_moves:
             (tip, tip_z), (vtip, vtip_z) = crane_motion_tip(t, p, psi, psi_rate, L, Ld)
+        if p.tip == "kinematic":
+            travel, speed = float(u[_XT]), float(u[_VXT])
+            if travel or speed:   # commanded travel (untouched otherwise: the same numbers as without it)
+                tip, vtip = (tip[0] + travel, tip[1]), (vtip[0] + speed, vtip[1])
         fx, fy = u[_FX:_FY + 1].tolist()
         fbx, fby, mb = base_reactions(ms, psi, psi_rate, psi_acc, fx, fy, p.g)
         s3, lever, _, residual = self._cylinder_at(phi1)

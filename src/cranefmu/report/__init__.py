@@ -87,13 +87,14 @@ def _stats_rows(stats, settings) -> list[tuple[str, str]]:
 
 def write_report(path, result, *, scene: str = "", units: dict[str, str] | None = None,
                  settings=None, stats=None, warnings: list[str] | tuple = (), source: str = "",
-                 sources: dict[str, str] | None = None) -> Path:
+                 sources: dict[str, str] | None = None, assertions: list | tuple = ()) -> Path:
     """Write the HTML report of ``result`` to ``path`` and return the path.
 
     ``result`` is a :class:`~cranefmu.master.run.RunResult` (``cranefmu.run(...)``; its scene, settings,
     statistics, warnings and units are taken from it) or a structured array of rows with a ``time`` field
     (``cranefmu.simulate`` or :func:`cranefmu.master.results.read_csv`).  ``scene`` picks the plots and the
-    summary, ``units`` (column -> unit, as :func:`cranefmu.master.run.preview` gives) labels the axes.
+    summary, ``units`` (column -> unit, as :func:`cranefmu.master.run.preview` gives) labels the axes;
+    ``assertions``: an experiment's verdicts (:class:`cranefmu.experiments.assertions.Verdict`), shown first.
     """
     from ..scenes import summary
     from .page import page, plot_specs, table
@@ -121,6 +122,11 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
     missing = sorted({c for c in columns if c not in units})
     plots = plot_specs(result, _groups(scene, columns), units, _reference_lines(result))
     sections = []
+    if assertions:
+        rows = [(v.name, v.column, f"{v.value:.6g}" + (f" @ {v.time:.6g} s" if v.time is not None else ""),
+                 v.limit or "-", f"{v.margin:.6g}", "pass" if v.passed else "FAIL" + (f": {v.note}" if v.note else ""))
+                for v in assertions]
+        sections.append(("Assertions", table(rows, ("assertion", "of", "value", "limit", "margin", "result"))))
     try:
         lines = summary(scene, result)
     except (KeyError, ValueError, IndexError):   # a result lacking a metric's column: ranges only

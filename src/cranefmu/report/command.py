@@ -63,9 +63,10 @@ def add_run_option(parser) -> None:
                         "report (crane animated, plots, settings, coupling health; docs/report.md)")
 
 
-def report_after_run(path, res, scene) -> Path:
-    """The report of a finished ``cranefmu run`` (``res`` a RunResult, ``scene`` its ScenePreview); a run
-    streamed to its CSV without keeping its rows is read back from the CSV (only the columns needed)."""
+def report_after_run(path, res, scene, assertions=()) -> Path:
+    """The report of a finished ``cranefmu run`` (``res`` a RunResult, ``scene`` its ScenePreview; an
+    experiment's ``assertions`` verdicts); a run streamed to its CSV without keeping its rows is read back
+    from the CSV (only the columns needed)."""
     from ..master.results import read_csv
     from . import report_columns, write_report
 
@@ -74,4 +75,5 @@ def report_after_run(path, res, scene) -> Path:
         data = read_csv(res.output, report_columns(res.scene, scene.columns))
     return write_report(path, res if data is res.result else data, scene=res.scene, units=scene.units,
                         settings=res.settings, stats=res.stats, warnings=res.warnings,
-                        sources=res.spec.sources if getattr(res, "spec", None) is not None else None)
+                        sources=res.spec.sources if getattr(res, "spec", None) is not None else None,
+                        assertions=assertions)

@@ -1,0 +1,121 @@
+"""``cranefmu check FILE|DIR...`` and ``cranefmu run FILE.toml``: the command-line side of experiments.
+
+Exit codes of ``check``: 0 every assertion passed, 1 an assertion failed (or a case's run failed),
+2 bad input (a file that cannot be read or does not fit its scene: nothing runs then).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time as clock
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:   # the parser is built for every command: no numpy import here
+    from .assertions import Verdict
+
+
+def _number(x: float) -> str:
+    return "-" if x is None or isinstance(x, float) and math.isnan(x) else f"{x:.6g}"
+
+
+def table(verdicts: list[Verdict]) -> list[str]:
+    """The report: one line per assertion (experiment, case, assertion, value, limit, margin, result)."""
+    head = ("experiment", "case", "assertion", "value", "limit", "margin", "result")
+    rows = []
+    for v in verdicts:
+        value = _number(v.value) + (f" @ {v.time:.6g} s" if v.time is not None else "")
+        result = "pass" if v.passed else "FAIL" + (f": {v.note}" if v.note else "")
+        rows.append((v.experiment, v.case, v.name, value, v.limit or "-", _number(v.margin), result))
+    widths = [max(len(r[i]) for r in [head, *rows]) for i in range(len(head) - 1)]
+    return ["  ".join(c.ljust(w) for c, w in zip(r[:-1], widths)) + "  " + r[-1] for r in [head, *rows]]
+
+
+def write_json(path: Path, verdicts: list[Verdict], planned, wall: float) -> None:
+    cases = [{"experiment": p.case.experiment, "case": p.case.name, "file": str(p.case.file),
+              "scene": p.scene.name, "error": p.error, "wall_s": round(p.wall, 3)} for p in planned]
+    data = {"passed": all(v.passed for v in verdicts), "assertions": len(verdicts),
+            "failed": sum(not v.passed for v in verdicts), "wall_s": round(wall, 3), "cases": cases,
+            "verdicts": [v.as_dict() for v in verdicts]}
+    Path(path).write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+
+
+def _cmd_check(args: argparse.Namespace) -> int:
+    from ..master.output_file import check_directory
+    from .runner import judge_all, prepare, run_cases
+
+    if args.report:
+        check_directory(Path(args.report).resolve().parent, "--report", args.report)
+    wall = clock.perf_counter()
+    planned = prepare(args.paths)
+    if args.jobs < 1:
+        from .reader import ExperimentError
+
+        raise ExperimentError(f"--jobs {args.jobs} is not allowed: 1 or more")
+    say = (lambda line: print(line, file=sys.stderr, flush=True)) if not args.quiet else None
+    run_cases(planned, args.jobs, say)
+    verdicts = judge_all(planned)
+    print("\n".join(table(verdicts)))
+    failed = sum(not v.passed for v in verdicts)
+    wall = clock.perf_counter() - wall
+    print(f"{len(verdicts)} assertions in {len(planned)} cases: {len(verdicts) - failed} passed, {failed} failed "
+          f"({wall:.1f} s)")
+    if args.report:
+        write_json(Path(args.report), verdicts, planned, wall)
+        print(f"report: {args.report}")
+    return 1 if failed else 0
+
+
+def add_parser(sub) -> None:
+    """Register ``cranefmu check``."""
+    p = sub.add_parser("check", help="run experiment files (TOML) and check their assertions: a pass/fail "
+                       "report; exit 1 on a failure, 2 on bad input (docs/experiments.md)")
+    p.add_argument("paths", nargs="+", metavar="FILE|DIR", help="experiment files, or directories of *.toml")
+    p.add_argument("--report", default=None, metavar="FILE.json", help="also write the verdicts as JSON")
+    p.add_argument("--jobs", type=int, default=1, metavar="N", help="run the cases on N worker processes "
+                   "(default 1: one after the other in this process)")
+    p.add_argument("--quiet", action="store_true", help="no line per case on stderr while they run")
+    p.set_defaults(func=_cmd_check)
+
+
+def add_run_option(parser) -> None:
+    """``cranefmu run FILE.toml --case NAME``."""
+    parser.add_argument("--case", default=None, metavar="NAME", help="an experiment file (FILE.toml): the case "
+                        "to run (needed when it has several)")
+
+
+def experiment_run_spec(args: argparse.Namespace, options: dict, parameters: dict):
+    """(RunSpec, Planned) of ``cranefmu run FILE.toml``: the command line's settings over the file's."""
+    from .runner import experiment_spec
+
+    given = {k: v for k, v in options.items() if v is not None}
+    if args.parameter_set is not None:
+        from .reader import ExperimentError
+
+        raise ExperimentError(f"--parameter-set is not allowed with an experiment file ({args.scene}): "
+                              "the file names its parameter_set")
+    return experiment_spec(Path(args.scene), args.case, given, parameters, args.output, not args.in_process)
+
+
+def verdicts_after_run(res, planned) -> list[Verdict]:
+    """The verdicts of the case just run by ``cranefmu run FILE.toml`` (``res`` its RunResult)."""
+    import numpy as np
+
+    from .runner import judge_all
+
+    rows = res.result
+    if not len(rows) and res.output:
+        from ..master.results import read_csv
+
+        rows = read_csv(res.output, planned.columns)
+    planned.rows = {n: np.array(rows[n]) for n in ["time", *planned.columns] if n in rows.dtype.names}
+    return judge_all([planned])
+
+
+def print_verdicts(verdicts: list[Verdict], out) -> int:
+    """The verdicts' table (to ``out``); 1 if one failed, else 0."""
+    for line in table(verdicts):
+        print(line, file=out)
+    return 0 if all(v.passed for v in verdicts) else 1

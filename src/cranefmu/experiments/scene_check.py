@@ -1,0 +1,170 @@
+"""An experiment's cases against their scene: components, variables, columns, parameter values.
+
+Read without running anything (the scene's .ssp and its FMUs' model descriptions), so that every
+mistake of a file (an unknown component or variable, a command on an output or on a connected input,
+an assertion on a column the scene lacks, an expression naming an unknown parameter) is one line
+before the first run.
+"""
+from __future__ import annotations
+
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import CraneFmuError
+from .expressions import CONSTANTS, names as expression_names
+from .reader import Case, ExperimentError
+
+
+@dataclass(frozen=True)
+class SceneInterface:
+    """What a scene offers an experiment."""
+
+    ssp: Path
+    name: str
+    columns: tuple[str, ...]
+    variables: dict[str, dict[str, tuple[str, str, str | None]]]   # comp -> var -> (causality, type, start)
+    connected: dict[str, str]                                       # "comp.input" -> "comp.output"
+    values: dict                                                    # "comp.var" -> value of the default set
+    sets: dict[str, dict]                                           # set name -> its values
+
+    def parameter_values(self, parameter_set: str | None, parameters: dict) -> dict[str, float]:
+        """Every numeric parameter and input start 'comp.var' -> value in force: the FMU's start, the
+        default set, the named set, then ``parameters``."""
+        out: dict[str, float] = {}
+        for comp, vs in self.variables.items():
+            for var, (causality, _, start) in vs.items():
+                if causality in ("parameter", "input") and start is not None:
+                    out[f"{comp}.{var}"] = start
+        out.update(self.values)
+        if parameter_set not in (None, "default"):
+            out.update(self.sets.get(parameter_set, {}))
+        out.update(parameters)
+        numbers = {}
+        for key, value in out.items():
+            try:
+                numbers[key] = float(value)
+            except (TypeError, ValueError):
+                continue   # a switch given by name: not a number of an expression
+        return numbers
+
+
+_INTERFACES: dict[str, SceneInterface] = {}
+_BUILT: list[tempfile.TemporaryDirectory] = []   # scene directories' .ssp files, removed at exit
+
+
+def scene_path(reference: str) -> Path:
+    """The .ssp of a scene name, an .ssp path or a scene directory (built into a temporary folder)."""
+    from ..master.scene_names import resolve_scene
+
+    path = Path(reference)
+    if path.is_dir():
+        if not (path / "SystemStructure.ssd").is_file():
+            raise CraneFmuError(f"scene directory {path} has no SystemStructure.ssd")
+        from ..build import build, build_ssp
+
+        build(verbose=False, only=None)   # the FMUs it refers to
+        _BUILT.append(tempfile.TemporaryDirectory(prefix="cranefmu_scene_"))
+        return build_ssp(path, Path(_BUILT[-1].name) / f"{path.name}.ssp")
+    return resolve_scene(reference)
+
+
+def interface(reference: str) -> SceneInterface:
+    """The :class:`SceneInterface` of a scene reference (cached per reference)."""
+    hit = _INTERFACES.get(reference)
+    if hit is not None:
+        return hit
+    from ..master.extracted import extracted_scene, fmu_dir
+    from ..master.fmu import FmuComponent
+    from ..master.run import preview
+
+    ssp = scene_path(reference)
+    shown = preview(ssp)
+    workdir, loaded = extracted_scene(ssp)
+    variables = {}
+    for c in loaded.components:
+        md = FmuComponent(c.name, c.fmu, fmu_dir(workdir, c.name)).md
+        variables[c.name] = {v.name: (v.causality, v.type, v.start) for v in md.modelVariables}
+    connected = {f"{c.dst}.{c.dst_var}": f"{c.src}.{c.src_var}" for c in loaded.connections}
+    found = SceneInterface(ssp, loaded.name, tuple(shown.columns), variables, connected,
+                           loaded.model_values(None), {s: loaded.model_values(s) for s in loaded.sets})
+    _INTERFACES[reference] = found
+    return found
+
+
+def check(case: Case, results: set[str]) -> SceneInterface:
+    """Refuse, in one line naming file, line and key, what of ``case`` its scene does not have.
+    ``results``: the names ``case.assertion`` of the same experiment (usable in expressions)."""
+    try:
+        scene = interface(case.scene)
+    except CraneFmuError as err:
+        raise ExperimentError(f"{case.where}: scene: {err}") from None
+    if case.parameter_set not in (None, "default") and case.parameter_set not in scene.sets:
+        raise ExperimentError(f"{case.where}: parameter_set = {case.parameter_set!r} is not in scene {scene.name}: "
+                              f"one of {', '.join(['default', *scene.sets])}")
+    for key in case.parameters:
+        _variable(scene, key, case.where, "set", ("parameter", "input"))
+        if key in scene.connected:
+            raise ExperimentError(f"{case.where}: set: {key} is an input connected to {scene.connected[key]}; "
+                                  f"set a parameter of {scene.connected[key].partition('.')[0]} instead")
+    values = scene.parameter_values(case.parameter_set, case.parameters)
+    commanded: dict[str, str] = {}
+    for cmd in case.commands:
+        for key, targets in (("inputs", cmd.inputs), ("rate_inputs", cmd.rate_inputs)):
+            where = cmd.keys.get(key, cmd.where)
+            for target in targets:
+                _variable(scene, target, where, key, ("input",))
+                if scene.variables[target.partition(".")[0]][target.partition(".")[2]][1] != "Real":
+                    raise ExperimentError(f"{where}: {key}: {target} is not a Real input")
+                if target in scene.connected:
+                    raise ExperimentError(f"{where}: {key}: {target} is connected to {scene.connected[target]}: "
+                                          "a command feeds an unconnected input only")
+                if target in commanded:
+                    raise ExperimentError(f"{where}: {key}: {target} is commanded twice (also at "
+                                          f"{commanded[target]})")
+                commanded[target] = where
+        for key in ("frequency", "damping"):
+            _known_names(getattr(cmd, key), values, set(), f"{cmd.keys.get(key, cmd.where)}: {key}")
+    for a in case.assertions:
+        if a.expression:
+            _known_names(a.column, {**values, **dict.fromkeys(scene.columns)}, set(),
+                         f"{a.keys.get('value', a.where)}: value")
+        elif a.column not in scene.columns:
+            near = [c for c in scene.columns if c.partition(".")[0] == a.column.partition(".")[0]]
+            raise ExperimentError(f"{a.keys.get('column', a.where)}: column: {a.column!r} is not a column of scene "
+                                  f"{scene.name}: {', '.join(near or scene.columns[:20])}")
+        for key in ("min", "max", "equals", "static"):
+            _known_names(getattr(a, key), values, results, f"{a.keys.get(key, a.where)}: {key}")
+    return scene
+
+
+def _variable(scene: SceneInterface, key: str, where: str, what: str, causalities: tuple[str, ...]) -> None:
+    comp, _, var = key.partition(".")
+    if comp not in scene.variables:
+        raise ExperimentError(f"{where}: {what}: {key}: unknown component {comp!r}; scene {scene.name} has "
+                              f"{', '.join(sorted(scene.variables))}")
+    found = scene.variables[comp].get(var)
+    if found is None:
+        raise ExperimentError(f"{where}: {what}: {key}: component {comp} has no variable {var!r}")
+    if found[0] not in causalities:
+        verb = "command" if what == "inputs" else "parameter"
+        raise ExperimentError(f"{where}: {what}: {key} is an {found[0]}: a {verb} takes "
+                              f"{' or '.join(causalities)}s only")
+
+
+def columns_of(a, scene: SceneInterface) -> set[str]:
+    """The result columns assertion ``a`` reads."""
+    if not a.expression:
+        return {a.column}
+    return {n for n in expression_names(a.column) if n in scene.columns}
+
+
+def _known_names(text, values: dict, results: set[str], where: str) -> None:
+    if not isinstance(text, str):
+        return
+    for name in expression_names(text):
+        if name not in values and name not in CONSTANTS and name not in results:
+            what = "a result column or a parameter" if "value" in where.rpartition(": ")[2] else \
+                "a parameter component.variable, a result case.assertion"
+            raise ExperimentError(f"{where}: unknown name {name!r} in {text!r} ({what}, or one of "
+                                  f"{', '.join(CONSTANTS)})")
