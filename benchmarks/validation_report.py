@@ -363,7 +363,36 @@ def hook(quick: bool) -> list[str]:
            f"{np.degrees(payload_sway(cm)).max():.2f} deg, hook sway up to {np.degrees(np.abs(cm['pendulum.theta'])).max():.2f} "
            f"deg in the x-y plane and {np.degrees(np.abs(cm['pendulum.phi'])).max():.2f} deg out of it.", ""]
     md += suppression()
+    md += hook_length()
     return md, rows
+
+
+def hook_length() -> list[str]:
+    """Seed 002's length statement: the undamped dip (its theory, 1 s) and the hook-pin damper's slow-mode decay
+    against the hook's length (linear double pendulum, benchmarks/hook_length_trend.py), and the experiment's
+    release from one point (that script's monolithic table, read from its result file)."""
+    from hook_length_trend import LENGTHS, MASSES, linear
+
+    md = ["### The hook's length (seed 002's range)", "",
+          "Linear double pendulum (`benchmarks/hook_length_trend.py`): the undamped envelope's first dip (seed 002's "
+          "theory, 1 s) and, with the hook-pin damper of the set pin_damper, the slow mode's decay rate sigma1 = "
+          "c_pin r^2 / (2 M1) (r: hook-payload relative rotation per unit payload angle, M1: modal inertia) against "
+          "its eigenvalue.", "",
+          "| m_h [kg] | L_h [m] | envelope min / release (undamped) | r | M1 [kg m^2] | sigma1 formula [1/s] "
+          "| sigma1 eigenvalue [1/s] |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    for m in MASSES:
+        for ell in LENGTHS:
+            d = linear(m, ell)
+            md.append(f"| {m:g} | {ell:.2f} | {d['depth']:.4f} | {d['r']:.4f} | {d['M1']:.4f} | "
+                      f"{d['sigma_formula']:.5f} | {d['sigma_eig']:.5f} |")
+    result = ROOT / "benchmarks" / "results" / "hook_length_trend.md"
+    if result.is_file():
+        text = result.read_text().splitlines()
+        part_c = text[next(i for i, line in enumerate(text) if line.startswith("## C.")):]
+        md += ["", f"Every hook released from the same point (seed 002's experiment), from "
+               f"`benchmarks/results/hook_length_trend.md` ({text[2].split(' (')[0]}):", ""]
+        md += [line for line in part_c[1:] if line.startswith("|")]
+    return md + [""]
 
 
 def suppression() -> list[str]:
