@@ -1,5 +1,6 @@
 """Sensitivity of overhead_lift's dynamic factor (seed 001 Table 7) to the girder's reduced mass, the rope's
-modulus, the slack, the damping and the hook's inertia, for the tight and loose rope and both rope models.
+modulus, the slack, the damping, the hook's inertia and the motor's start-up ramp, for the tight and loose rope
+and both rope models.
 
 Each row changes one thing from the scene as shipped (ssp/overhead_lift: girder.mass_model = beam, m1 = 17/35 x
 5000 kg; 0.1 m slack in the loose set) and solves the monolith (cranefmu.reference, Radau, rtol 1e-6); the
@@ -45,6 +46,9 @@ VARIANTS = [
     ("girder b1 = 4.6e4 N s/m (2 x Table 6)", {"girder.b1": 4.6e4}, ("kelvin_voigt", "bouc_wen")),
     ("hook 30 -> 45 kg (pulley J4 = 0.294 kg m2 as ~15 kg at the hook)", {"pendulum.mass": 45.0},
      ("kelvin_voigt", "bouc_wen")),
+    ("motor start direct on line (drive.ramp_time = 0)", {"drive.ramp_time": 0.0}, ("kelvin_voigt", "bouc_wen")),
+    ("frequency ramp 0.3 s (shipped 0.5 s, an estimate)", {"drive.ramp_time": 0.3}, ("kelvin_voigt", "bouc_wen")),
+    ("frequency ramp 0.4 s", {"drive.ramp_time": 0.4}, ("kelvin_voigt", "bouc_wen")),
     ("slack 0.05 m", {"rope.start_slack": 0.05}, ("kelvin_voigt", "bouc_wen")),
     ("slack 0.2 m", {"rope.start_slack": 0.2}, ("kelvin_voigt", "bouc_wen")),
 ]

@@ -24,6 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from cranefmu.errors import CraneFmuError  # noqa: E402
+from cranefmu.physics.boucwen import BoucWenParams  # noqa: E402
 from cranefmu.reference import solve  # noqa: E402
 from cranefmu.scenes import (hook_sway_metrics, hook_sway_parameters, overhead_lift_metrics,  # noqa: E402
                              payload_sway, static_outrigger_loads, truck_telescope_metrics,
@@ -110,21 +111,29 @@ def figure(name: str, title: str, curves: list, ylabel: str, xlabel: str = "time
 
 
 # --- seed 001 --------------------------------------------------------------------------------------
+# the scene's Bouc-Wen set (fitted to the hoist loop, ssp/overhead_lift/default.ssv) and the constructed defaults
+ROPES = (("kelvin_voigt", {"rope.model": "kelvin_voigt"}),
+         ("bouc_wen (fitted, the scene's set)", {"rope.model": "bouc_wen"}),
+         ("bouc_wen (constructed defaults)", {"rope.model": "bouc_wen",
+                                              **{f"rope.{name}": value for name, value, _
+                                                 in BoucWenParams.field_specs()}}))
+
+
 def overhead_lift(quick: bool) -> list[str]:
     stop = 2.5 if quick else 4.0
     rows, curves = [], []
     results = {}
-    for rope in ("kelvin_voigt", "bouc_wen"):
+    for rope, rope_params in ROPES:
         for case, pset in (("tight", "default"), ("loose", "loose")):
             engine = "monolithic"
             try:
-                r = run("overhead_lift", stop, 1601, pset, {"rope.model": rope})
+                r = run("overhead_lift", stop, 1601, pset, rope_params)
             except (ArithmeticError, CraneFmuError) as err:
                 # the monolith has no after_step projection of the Bouc-Wen state; the FMU has
                 print(f"  monolithic solve failed ({err}); co-simulation at H = {COSIM_STEP} s instead", flush=True)
                 engine = f"co-simulation, Jacobi, H = {COSIM_STEP:g} s"
                 try:
-                    r = cosim("overhead_lift", min(stop, 2.0), COSIM_STEP, pset, {"rope.model": rope})
+                    r = cosim("overhead_lift", min(stop, 2.0), COSIM_STEP, pset, rope_params)
                 except CraneFmuError as err2:   # reported in the table, the rest still runs
                     results[(rope, case)] = {"error": f"{type(err2).__name__}: {err2}"}
                     continue
@@ -145,7 +154,10 @@ def overhead_lift(quick: bool) -> list[str]:
           + ", ".join(f"{m['take_up']:.4f} m/s ({rope})" for (rope, case), m in results.items()
                       if case == "loose" and "take_up" in m)
           + " at the hook when it goes taut (motor unloaded, near synchronous speed: 1000 rpm / 60 x 2 pi x "
-          "0.25 m x 2 / 4 = 0.2182 m/s).  Sensitivity of these factors: benchmarks/results/overhead_sensitivity.md.",
+          "0.25 m x 2 / 4 = 0.2182 m/s).  Bouc-Wen: the scene stores the nine parameters fitted to the hoist's "
+          "load-unload loop (Table 6's rope, `cranefmu.fit_boucwen.hoist_loop`; benchmarks/results/"
+          "boucwen_hoist_fit.md); 'constructed defaults' is the earlier set (`BoucWenParams()`, 50 % of steel's "
+          "E, not fitted).  Sensitivity of these factors: benchmarks/results/overhead_sensitivity.md.",
           "",
           "| rope model | start | dynamic factor | lift-off [s] | measured (Table 7) | model - measured |",
           "| --- | --- | --- | --- | --- | --- |"]
@@ -351,7 +363,36 @@ def hook(quick: bool) -> list[str]:
            f"{np.degrees(payload_sway(cm)).max():.2f} deg, hook sway up to {np.degrees(np.abs(cm['pendulum.theta'])).max():.2f} "
            f"deg in the x-y plane and {np.degrees(np.abs(cm['pendulum.phi'])).max():.2f} deg out of it.", ""]
     md += suppression()
+    md += hook_length()
     return md, rows
+
+
+def hook_length() -> list[str]:
+    """Seed 002's length statement: the undamped dip (its theory, 1 s) and the hook-pin damper's slow-mode decay
+    against the hook's length (linear double pendulum, benchmarks/hook_length_trend.py), and the experiment's
+    release from one point (that script's monolithic table, read from its result file)."""
+    from hook_length_trend import LENGTHS, MASSES, linear
+
+    md = ["### The hook's length (seed 002's range)", "",
+          "Linear double pendulum (`benchmarks/hook_length_trend.py`): the undamped envelope's first dip (seed 002's "
+          "theory, 1 s) and, with the hook-pin damper of the set pin_damper, the slow mode's decay rate sigma1 = "
+          "c_pin r^2 / (2 M1) (r: hook-payload relative rotation per unit payload angle, M1: modal inertia) against "
+          "its eigenvalue.", "",
+          "| m_h [kg] | L_h [m] | envelope min / release (undamped) | r | M1 [kg m^2] | sigma1 formula [1/s] "
+          "| sigma1 eigenvalue [1/s] |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    for m in MASSES:
+        for ell in LENGTHS:
+            d = linear(m, ell)
+            md.append(f"| {m:g} | {ell:.2f} | {d['depth']:.4f} | {d['r']:.4f} | {d['M1']:.4f} | "
+                      f"{d['sigma_formula']:.5f} | {d['sigma_eig']:.5f} |")
+    result = ROOT / "benchmarks" / "results" / "hook_length_trend.md"
+    if result.is_file():
+        text = result.read_text().splitlines()
+        part_c = text[next(i for i, line in enumerate(text) if line.startswith("## C.")):]
+        md += ["", f"Every hook released from the same point (seed 002's experiment), from "
+               f"`benchmarks/results/hook_length_trend.md` ({text[2].split(' (')[0]}):", ""]
+        md += [line for line in part_c[1:] if line.startswith("|")]
+    return md + [""]
 
 
 def suppression() -> list[str]:

@@ -13,7 +13,8 @@ bounds (z_u > 0, -1 < s <= 1, n >= 1) and removes the redundancy of b and c, whi
 as c ln(b): b is held at its initial value.  The initial state is z0 = F_0/F_2(x_0) - F_1(x_0) from
 the first sample (clipped to the admissible band), so z0 is not a fitted variable.
 
-The example loop ``tests/data/boucwen_loop.csv`` is made by :func:`make_example_loop`.
+The example loop ``tests/data/boucwen_loop.csv`` is made by :func:`make_example_loop`; the hoist's
+loop (seed 001's rope as Table 6 states it, the set the overhead_lift scene stores) by :func:`hoist_loop`.
 """
 from __future__ import annotations
 
@@ -125,6 +126,41 @@ def make_example_loop(path: str) -> None:
     (0.25 % of the force range), seed 1."""
     x, f = synthetic_loop(BoucWenParams(), 3.8e-3, cycles=2, points_per_cycle=120, noise=50.0, seed=1)
     write_loop_csv(path, x, f)
+
+
+# seed 001 Table 6 (the hoist's rope and load) and Table 7 (the largest measured dynamic factor)
+HOIST_E = 1.155e11          # E_l [Pa]
+HOIST_A = 5.53e-5           # A_l [m^2]
+HOIST_LINES = 4             # n_lin
+HOIST_MASS = 1800.0 + 30.0  # m_2 + m_4 [kg]
+HOIST_ZETA = 0.07           # zeta of eq. 9
+HOIST_PEAK_FACTOR = 1.55    # Table 7, loose rope
+G = 9.81
+
+
+def hoist_loop(cycles: int = 3, points_per_cycle: int = 120) -> tuple[np.ndarray, np.ndarray]:
+    """Load-unload loop of one 1 m line of seed 001's hoist rope, as Table 6 states that rope [m], [N].
+
+    Seed 001 identified its Bouc-Wen set on cyclic tensile tests of a section of the 12 mm rope
+    (PN-EN ISO 6892-1, its Fig. 2 and ref. [26]) and does not publish the loops or the values.  The
+    nearest reproducible equivalent is the rope its Table 6 gives for the same hoist: stiffness
+    E_l A_l per line and the damping of eq. 9, zeta = 0.07, which at the rope-load mode's frequency
+    omega (b omega = 2 zeta c, whatever mass eq. 9 takes) dissipates a fixed fraction of the
+    cycle's work.  Written along the path (eq. 1 is rate independent, so only the path matters):
+
+        x(s) = x_m (1 - cos 2 pi s) / 2,   F(s) = k x_m / 2 (1 - cos 2 pi s + 2 zeta sin 2 pi s),  F >= 0
+
+    with k = E_l A_l / 1 m and x_m the elongation at the largest line force of the hoist, the
+    measured loose-rope factor times the suspended weight over the lines,
+    F_m = 1.55 (m_2 + m_4) g / n_lin = 6957 N (Table 7; x_m = F_m / k = 1.089 mm).  The loop
+    dissipates pi zeta = 22 % of its loading work k x_m^2 / 2 (derived: integral of F dx).
+    """
+    k = HOIST_E * HOIST_A / 1.0
+    x_m = HOIST_PEAK_FACTOR * HOIST_MASS * G / HOIST_LINES / k
+    th = 2.0 * math.pi * np.linspace(0.0, cycles, cycles * points_per_cycle + 1)
+    x = 0.5 * x_m * (1.0 - np.cos(th))
+    f = np.maximum(0.0, 0.5 * k * x_m * (1.0 - np.cos(th) + 2.0 * HOIST_ZETA * np.sin(th)))
+    return x, f
 
 
 # --- the fit --------------------------------------------------------------------------------

@@ -227,6 +227,32 @@ def test_hook_pin_damper_gives_the_damped_double_pendulum(dimension, j_hook, j_p
     assert np.all(exact.real < 0.0)   # both modes decay
 
 
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_load_turning_with_the_rope_is_a_compound_pendulum(dimension):
+    """J_hook without a payload (seed 000's J_1 of the load, eq. 19): a load of mass m on a stiff rope of length l
+    from a fixed top swings at sqrt(m g l / (m l^2 + J)), the compound pendulum (closed form), and with J = 0 at
+    sqrt(g / l).  Sizes: the truck's 2.5 t load, a 2.5 t steel cube's J_1 = m a^2 / 6 = 194.4 kg m^2, l = 2 m
+    (short, so that J shows: 1.9 % of m l^2)."""
+    m_load, ell, k = 2500.0, 2.0, 1e10
+    j1 = m_load * (m_load / 7850.0) ** (2.0 / 3.0) / 6.0
+    assert j1 == pytest.approx(194.4, abs=0.1)
+    for j in (0.0, j1):
+        y0 = -(ell + m_load * G / k)
+        m = _model(dimension=dimension, mass=m_load, y0=y0, g=G, J_hook=j)
+        x0 = m.initial_state(_rope_u(np.array([0.0, y0, 0.0]), k, ell))
+
+        def f(x):
+            return m.derivatives(0.0, x, _rope_u(x, k, ell))
+
+        assert np.max(np.abs(f(x0))) < 1e-6
+        jac = np.column_stack([(f(x0 + dx) - f(x0 - dx)) / 2e-7 for dx in np.eye(len(x0)) * 1e-7])
+        omegas = np.abs(np.linalg.eigvals(jac).imag)
+        swing = omegas[(omegas > 1e-3) & (omegas < 100.0)]
+        assert len(swing) == 2 * (dimension - 1)
+        length = -y0
+        assert np.allclose(swing, math.sqrt(m_load * G * length / (m_load * length ** 2 + j)), rtol=1e-6)
+
+
 # --- energy and angular momentum --------------------------------------------------------------
 
 @pytest.mark.parametrize("payload", ["rigid", "elastic"])

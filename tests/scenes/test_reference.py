@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from cranefmu.master.run import run
+from cranefmu.physics.boucwen import BoucWenParams
 from cranefmu.reference import Monolith, solve
 
 STOP = 1.0
@@ -45,7 +46,10 @@ def test_cosimulation_error_falls_with_the_step_at_the_scheme_order(built, refer
 # overhead_lift, loose rope, Bouc-Wen: slack -> taut (located switch in the monolith, the FMU's own
 # law and projection in the co-simulation) -> lift-off -> largest tension at 0.3 s.  A 1 cm slack and a
 # 0.1 s ramp from t = 0 bring the impact to 0.12 s, so the runs stay short.
-LIFT = {"rope.model": "bouc_wen", "rope.start_slack": 0.01, "drive.start_time": 0.0, "drive.ramp_time": 0.1}
+# The constructed Bouc-Wen set (BoucWenParams()) the thresholds below were measured with; the scene's stored set
+# (fitted to the hoist loop, stiffer at small amplitude) converges with the same order, 2.7e-3 at 2e-4 s.
+LIFT = {"rope.model": "bouc_wen", "rope.start_slack": 0.01, "drive.start_time": 0.0, "drive.ramp_time": 0.1,
+        **{f"rope.{name}": value for name, value, _ in BoucWenParams.field_specs()}}
 LIFT_STOP = 0.3
 
 

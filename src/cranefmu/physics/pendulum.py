@@ -74,6 +74,9 @@ turns with the rope link, an inertia J_hook / l^2 against the hook's acceleratio
 top's acceleration is not an input and the rope's stretch rate l' is left out: exact for an inextensible
 link from a tip at rest; the payload's term is exact).  :meth:`PendulumModel._rigid_body` solves
 hook, sling tension and R_t together; with both 0 and no damper the equations above are used as they are.
+Without a payload ``J_hook`` is the load's own inertia turning with the rope (seed 000 eq. 19,
+T_1 = 0.5 m_1 v_1^2 + 0.5 J_1 theta'^2): (m I + J_hook / l^2 P_r) a = F (derived, same assumptions), so a
+rigid link of length l from a fixed top swings at sqrt(m g l / (m l^2 + J_hook)) (compound pendulum).
 
 Ground contact (seed 001 eq. 7, with the damper b_p of Fig. 4 / Table 6): the lowest body
 (payload if any, else hook) and a unilateral spring-damper at y = ground_height,
@@ -139,8 +142,9 @@ class PendulumParams(Params):
                          "rigid sling (0: none, seed 002; the hook_sway scene states its value)", min=0, tunable=True)
     J_payload: float = param(0.0, "kg.m2", "rigid sling: moment of inertia of the payload about its centre, turning "
                              "with the sling (seed 002 [I]; 0: point mass)", min=0)
-    J_hook: float = param(0.0, "kg.m2", "rigid sling: moment of inertia of the hook about its centre, turning with "
-                          "the rope link (seed 002 [I]; 0: point mass; taken with the top at rest)", min=0)
+    J_hook: float = param(0.0, "kg.m2", "moment of inertia of the hook about its centre, turning with the rope link "
+                          "(seed 002 [I]; with payload = 'none' the load's, seed 000 J_1; 0: point mass; taken with "
+                          "the top at rest)", min=0)
     # --- ground contact (seed 001 eq. 7) ---
     ground: str = param("none", "", "ground under the load: none, or a unilateral spring-damper (seed 001 eq. 7)",
                         choices=("none", "spring_damper"))
@@ -369,6 +373,19 @@ class PendulumModel(Model):
         fp_eff = (fpv + r_t / mp) * np.array(m)
         return tuple(ah.tolist()), s, tuple(fp_eff.tolist())
 
+    def _turning_load(self, x: list[float], u: list[float], force: tuple[float, float, float]) -> list[float]:
+        """Acceleration [m/s2] of a load without payload that turns with the rope link (``J_hook``, seed 000
+        J_1): (m I + J / l^2 (I - e_r e_r^T)) a = F on the free directions (module docstring)."""
+        p, m = self.p, self._m
+        d = np.array([x[0] - u[3], x[1] - u[4], x[2] - u[5]])
+        ell2 = float(d @ d)
+        er = d / math.sqrt(ell2)
+        a = p.mass * np.eye(3) + p.J_hook / ell2 * (np.eye(3) - np.outer(er, er))
+        free = [i for i in range(3) if m[i] != 0.0]
+        acc = np.zeros(3)
+        acc[free] = np.linalg.solve(a[np.ix_(free, free)], np.array(force)[free])
+        return acc.tolist()
+
     def _rigid_free(self, x: list[float], u: list[float]) -> list[float]:
         """:meth:`derivatives_list` of :meth:`_rigid` without ground and drag (f_p = g_vec, F_h = F_rope +
         m_h g_vec): the same operations on the same values in the same order, so the same bits, without
@@ -490,7 +507,7 @@ class PendulumModel(Model):
         x(h) = x0 + v0 h + (u0 h^2/2 + r1 h^3/6 + r2 h^4/24)/m + g_vec h^2/2  (frozen directions
         masked).  Same result as rk4 (exact for these polynomials) without the sub-steps."""
         p = self.p
-        if p.payload != "none" or self._has_ground or self._k_load != 0.0:
+        if p.payload != "none" or self._has_ground or self._k_load != 0.0 or p.J_hook != 0.0:
             return None
         h2, h3 = h * h, h * h * h
         inv_m = 1.0 / p.mass
@@ -519,6 +536,8 @@ class PendulumModel(Model):
                 dx, dy, dz = self._drag(self._k_load, x[3], x[4], x[5])
                 fx, fy, fz = fx + dx, fy + dy, fz + dz
             mass = p.mass
+            if p.J_hook != 0.0:
+                return [x[3], x[4], x[5], *self._turning_load(x, _floats(u), (fx, fy - mass * p.g, fz))]
             return [x[3], x[4], x[5], fx / mass * m[0], (fy / mass - p.g) * m[1], fz / mass * m[2]]
         x, u = _floats(x), _floats(u)
         if self._free_rigid:
