@@ -25,7 +25,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from . import cache
+from . import cache, compose
 from .errors import CraneFmuError, SceneError
 from .sources import (CHECKOUT, FMU_SOURCES, IN_CHECKOUT, PACKAGE_DIR, SSP_SOURCES, bundle_sources, fmu_scripts,
                       scene_dirs, scene_files, source_digest)
@@ -137,6 +137,8 @@ def _ensure_binaries(fmu: Path, model_identifier: str) -> None:
 def scene_fmus(scene_dir: Path) -> list[Path]:
     """FMUs a scene's SSD refers to (``source="resources/<Name>.fmu"``), as paths under fmus/."""
     ssd = Path(scene_dir) / "SystemStructure.ssd"
+    if not ssd.is_file() and compose.has_source(scene_dir):   # a new scene source, its SSD not written yet
+        return sorted({FMU_DIR / c.fmu_file for c in compose.read_source(scene_dir).components})
     try:
         key = (str(scene_dir), str(FMU_DIR), ssd.stat().st_mtime_ns)
     except OSError:
@@ -171,7 +173,7 @@ def ssp_generators() -> list[Path]:
     """The package files that write an .ssp (the component bindings are generated): a change to them
     makes every .ssp stale."""
     return [PACKAGE_DIR / "build.py", PACKAGE_DIR / "master" / "scene.py", PACKAGE_DIR / "settled_start.py",
-            PACKAGE_DIR / "master" / "initialization.py"]
+            PACKAGE_DIR / "master" / "initialization.py", *sorted((PACKAGE_DIR / "compose").glob("*.py"))]
 
 
 def ssd_with_component_bindings(scene_dir: Path, start: dict[str, float] | None = None) -> bytes:
@@ -404,6 +406,10 @@ def _build(force: bool, verbose: bool, only: list[str] | None) -> list[Path]:
                 print(f"building {_shown(FMU_DIR / (script.stem + '.fmu'))}", flush=True)
             done.append(build_fmu(script))
     for source in scenes:
+        # a scene written as components and ports: its SSD is generated (in the cache it is the
+        # checkout's, which tests/tools/test_compose.py holds equal to the generated one)
+        if not in_cache() and compose.has_source(source) and compose.write_ssd(source, FMU_DIR) and verbose:
+            print(f"writing {_shown(source / 'SystemStructure.ssd')} from {compose.FILE}", flush=True)
         scene = _staged(source)
         if force or ssp_is_stale(scene):
             missing = [f for f in scene_fmus(scene) if not f.exists()]

@@ -1,0 +1,57 @@
+"""Scenes composed from components and ports: ``ssp/<scene>/scene.toml`` -> ``SystemStructure.ssd``.
+
+A scene source names its components (FMU and parameter values), the ``.ssv`` file of its default
+set, its connect lines (two ports joined with ``=``, variables with ``->``), its stored run settings
+and stop conditions (docs/composition.md).  The build writes the SSD from it (:func:`write_ssd`);
+the SSD stays committed beside it, so every reader of scenes keeps reading SSDs.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from .expand import Expanded, expand
+from .interface import Interface, read_interface
+from .source import FILE, SceneSource, read_source
+from .ssd import ssd_bytes
+
+__all__ = ["Composed", "compose", "write_ssd", "has_source", "read_source", "FILE"]
+
+
+@dataclass(frozen=True)
+class Composed:
+    source: SceneSource
+    interfaces: dict[str, Interface]
+    expanded: Expanded
+    ssd: bytes
+
+
+def has_source(folder: Path) -> bool:
+    """True if the scene folder ``folder`` is written as a scene source (its SSD is generated)."""
+    return (Path(folder) / FILE).is_file()
+
+
+def compose(source: Path, fmu_dir: Path) -> Composed:
+    """The scene of ``source`` (a scene.toml or its folder), its FMUs found in ``fmu_dir`` by file
+    name; a :class:`~cranefmu.errors.CompositionError` naming file and line at the first misfit."""
+    src = read_source(source)
+    interfaces = {}
+    for c in src.components:
+        fmu = Path(fmu_dir) / c.fmu_file
+        if not fmu.is_file():
+            raise src.fail(c.name, f"component {c.name}: FMU {c.fmu_file} is not in {fmu_dir}")
+        interfaces[c.name] = read_interface(fmu)
+    expanded = expand(src, interfaces)
+    return Composed(src, interfaces, expanded, ssd_bytes(src, interfaces, expanded))
+
+
+def write_ssd(folder: Path, fmu_dir: Path) -> bool:
+    """Write ``folder``/SystemStructure.ssd from its scene.toml if it differs; True if written."""
+    target = Path(folder) / "SystemStructure.ssd"
+    data = compose(folder, fmu_dir).ssd
+    if target.is_file() and target.read_bytes() == data:
+        return False
+    tmp = target.with_name(f".{target.name}.tmp")
+    tmp.write_bytes(data)
+    tmp.replace(target)
+    return True
