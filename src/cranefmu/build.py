@@ -74,11 +74,13 @@ def in_cache() -> bool:
 
 
 def fmu_is_stale(script: Path) -> bool:
-    """True if the FMU of ``script`` is missing or (in a checkout) older than its script or the bundle.
+    """True if the FMU of ``script`` or its OSP model description is missing, or (in a checkout) the FMU
+    is older than its script or the bundle.
 
     In the cache a present FMU is current: its folder is named by the digest of all sources."""
     fmu = FMU_DIR / f"{script.stem}.fmu"
-    if not fmu.exists():
+    # every FMU of ours declares ports: its OSP model description is part of the build
+    if not fmu.exists() or not (FMU_DIR / f"{script.stem}_OspModelDescription.xml").exists():
         return True
     return not in_cache() and fmu.stat().st_mtime < _newest([script, *bundle_sources()])
 
@@ -103,6 +105,7 @@ def build_fmu(script: Path, dest: Path | None = None) -> Path:
         shutil.copy2(built, tmp_fmu)
         _ensure_binaries(tmp_fmu, script.stem)
         tmp_fmu.replace(dest)  # never leave a half-written FMU behind
+        write_osp_description(dest)
         # pythonfmu imports the staged script and bundle into this process: forget them, so the
         # next build imports its own staged copy
         for mod in [m for m in sys.modules if m == staged_script.stem or m.split(".")[0] == name]:
@@ -110,6 +113,22 @@ def build_fmu(script: Path, dest: Path | None = None) -> Path:
         while str(stage) in sys.path:
             sys.path.remove(str(stage))
     return dest
+
+
+def write_osp_description(fmu: Path) -> Path | None:
+    """Write the OSP-IS ``<Model>_OspModelDescription.xml`` of ``fmu`` beside it, where libcosim looks
+    (its ports as variable groups, :mod:`cranefmu.compose.osp`); None for an FMU without ports."""
+    from .compose.interface import read_interface
+    from .compose.osp import osp_file_name, osp_model_description
+
+    iface = read_interface(fmu)
+    if not iface.ports:
+        return None
+    target = fmu.with_name(osp_file_name(iface))
+    tmp = target.with_name(f"{target.name}.{os.getpid()}.tmp")
+    tmp.write_bytes(osp_model_description(iface))
+    tmp.replace(target)
+    return target
 
 
 def _installed_binaries() -> Path:

@@ -331,6 +331,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .studies.command import add_parser as add_study_parser
 
     add_study_parser(sub)
+    from .compose.command import add_parser as add_compose_parser
+
+    add_compose_parser(sub)
     return p
 
 

@@ -37,9 +37,11 @@ def compose(source: Path, fmu_dir: Path) -> Composed:
     src = read_source(source)
     interfaces = {}
     for c in src.components:
-        fmu = Path(fmu_dir) / c.fmu_file
+        beside = src.path.parent / c.fmu   # fmu = "Other.fmu": a file beside the source first
+        fmu = beside if c.fmu.endswith(".fmu") and beside.is_file() else Path(fmu_dir) / c.fmu_file
         if not fmu.is_file():
-            raise src.fail(c.name, f"component {c.name}: FMU {c.fmu_file} is not in {fmu_dir}")
+            raise src.fail(c.name, f"component {c.name}: FMU {c.fmu_file} is neither beside {src.path.name} nor in "
+                                   f"{fmu_dir}")
         interfaces[c.name] = read_interface(fmu)
     expanded = expand(src, interfaces)
     return Composed(src, interfaces, expanded, ssd_bytes(src, interfaces, expanded))

@@ -43,9 +43,21 @@ class Bond:
 
 
 @dataclass(frozen=True)
+class PortPair:
+    """A port line whose every link was added (none routed elsewhere): other tools may join it as one
+    (an OSP VariableGroupConnection); its links are ``count`` from index ``first``."""
+
+    a: tuple[str, PortSpec]
+    b: tuple[str, PortSpec]
+    first: int
+    count: int
+
+
+@dataclass(frozen=True)
 class Expanded:
     links: list[Link]
     bonds: list[Bond]
+    pairs: list[PortPair]
 
 
 def expand(src: SceneSource, interfaces: dict[str, Interface]) -> Expanded:
@@ -53,12 +65,16 @@ def expand(src: SceneSource, interfaces: dict[str, Interface]) -> Expanded:
     the line and the port or variable at the first misfit."""
     links: list[Link] = []
     bonds: list[Bond] = []
+    pairs: list[PortPair] = []
     driven: dict[tuple[str, str], Link] = {}
     for line in src.connect:
         pair, flow = _PORT_PAIR.match(line), _FLOW.match(line)
         if pair:
-            new, bond = _port_pair(src, interfaces, line, *pair.groups())
-            new = [k for k in new if (k.dst, k.dst_var) not in driven]
+            new, bond, ends = _port_pair(src, interfaces, line, *pair.groups())
+            kept = [k for k in new if (k.dst, k.dst_var) not in driven]
+            if kept == new and new:
+                pairs.append(PortPair(*ends, len(links), len(new)))
+            new = kept
             if bond is not None:
                 if any(b.name == bond.name for b in bonds):
                     raise src.fail(line, f"connect {line!r}: a power bond named {bond.name!r} exists already: "
@@ -77,7 +93,7 @@ def expand(src: SceneSource, interfaces: dict[str, Interface]) -> Expanded:
         for k in new:
             driven[(k.dst, k.dst_var)] = k
         links += new
-    return Expanded(links, bonds)
+    return Expanded(links, bonds, pairs)
 
 
 def _end(src: SceneSource, interfaces: dict[str, Interface], line: str, text: str, port_first: bool = False):
@@ -122,7 +138,7 @@ def _flow(src: SceneSource, interfaces: dict[str, Interface], line: str, a: str,
 
 
 def _port_pair(src: SceneSource, interfaces: dict[str, Interface], line: str, a: str, b: str,
-               name: str | None) -> tuple[list[Link], Bond | None]:
+               name: str | None) -> tuple[list[Link], Bond | None, tuple]:
     ends = [_end(src, interfaces, line, text, port_first=True) for text in (a, b)]
     for end, text in zip(ends, (a, b)):
         if len(end) == 2 or end[2] is not None:
@@ -153,7 +169,7 @@ def _port_pair(src: SceneSource, interfaces: dict[str, Interface], line: str, a:
     elif name:
         raise src.fail(line, f"connect {line!r}: 'as {name}' names a power bond, and these ports do not form one "
                              "(each needs force and velocity)")
-    return links, bond
+    return links, bond, ((ca, pa), (cb, pb))
 
 
 def _checked(src: SceneSource, interfaces: dict[str, Interface], line: str, link: Link) -> Link:
@@ -172,8 +188,9 @@ def _checked(src: SceneSource, interfaces: dict[str, Interface], line: str, link
 
 
 def same_unit(a: str, b: str) -> bool:
-    """True if the units ``a`` and ``b`` are one (equal text, or the same factor and SI exponents)."""
-    if a == b:
+    """True if the units ``a`` and ``b`` are one (equal text, or the same factor and SI exponents); a
+    variable that declares no unit (a foreign FMU's) is not checked."""
+    if a == b or not a or not b:
         return True
     try:
         return parse_unit(a or "1") == parse_unit(b or "1")

@@ -30,7 +30,8 @@ class ComponentSource:
 
     @property
     def fmu_file(self) -> str:
-        return self.fmu if self.fmu.endswith(".fmu") else f"{self.fmu}.fmu"
+        """The FMU's file name, as the SSD's ``resources/`` holds it."""
+        return Path(self.fmu).name if self.fmu.endswith(".fmu") else f"{self.fmu}.fmu"
 
 
 @dataclass(frozen=True)
@@ -108,7 +109,8 @@ def parse_source(text: str, path: Path) -> SceneSource:
     for key in ("name", "description", "parameters"):
         if key in data and not isinstance(data[key], str):
             raise src.fail(key, f"{key} = {data[key]!r}: give a string")
-    return SceneSource(path, text, data.get("name") or path.parent.name, data.get("description", ""), components,
+    default_name = path.parent.name if path.name == FILE else path.stem
+    return SceneSource(path, text, data.get("name") or default_name, data.get("description", ""), components,
                        connect, expose, data.get("parameters"), times["start_time"] or 0.0, times["stop_time"],
                        _table(src, data, "settings"), stop_when)
 
