@@ -7,6 +7,7 @@ the SSD stays committed beside it, so every reader of scenes keeps reading SSDs.
 """
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -53,7 +54,7 @@ def write_ssd(folder: Path, fmu_dir: Path) -> bool:
     data = compose(folder, fmu_dir).ssd
     if target.is_file() and target.read_bytes() == data:
         return False
-    tmp = target.with_name(f".{target.name}.tmp")
+    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")   # builds side by side: one each
     tmp.write_bytes(data)
     tmp.replace(target)
     return True

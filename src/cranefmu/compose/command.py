@@ -9,64 +9,71 @@ import argparse
 import shutil
 import tempfile
 import zipfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
-from . import compose, read_source
+from . import Composed, compose, read_source
 
 
-def pack(source: Path, dest: Path) -> Path:
-    """Compose ``source`` and write the .ssp ``dest``: its SSD, the .ssv files beside the source and the
-    FMUs.  When every FMU is one cranefmu builds, through the build (each set's settled start, the
-    component bindings libcosim reads); with a foreign FMU, a plain archive our master settles itself."""
+def built(source: Path) -> Composed:
+    """``source`` composed, the FMUs cranefmu builds (``fmu = "Rope"``) built first."""
     from .. import build as b
 
-    src = read_source(source)
-    ours = sorted({c.fmu for c in src.components if not c.fmu.endswith(".fmu")})
+    ours = sorted({c.fmu for c in read_source(source).components if not c.fmu.endswith(".fmu")})
     if ours:
         b.build(verbose=False, only=ours)
-    folder = src.path.parent
-    composed = compose(source, b.FMU_DIR)
+    return compose(source, b.FMU_DIR)
+
+
+@contextmanager
+def staged(composed: Composed) -> Iterator[Path]:
+    """A temporary scene folder: the generated SSD and the .ssv files beside the source."""
+    with tempfile.TemporaryDirectory(prefix="cranefmu_compose_") as tmp:
+        folder = Path(tmp) / composed.source.name
+        folder.mkdir()
+        (folder / "SystemStructure.ssd").write_bytes(composed.ssd)
+        for ssv in sorted(composed.source.path.parent.glob("*.ssv")):
+            shutil.copy2(ssv, folder / ssv.name)
+        yield folder
+
+
+def pack(source: Path | Composed, dest: Path) -> Path:
+    """Write the .ssp ``dest`` of ``source`` (a scene source, or one composed): its SSD, the .ssv files
+    beside the source and the FMUs.  When every FMU is one cranefmu builds, through the build (each
+    set's settled start, the component bindings libcosim reads); with a foreign FMU, a plain archive
+    our master settles itself."""
+    from .. import build as b
+
+    composed = source if isinstance(source, Composed) else built(source)
     dest = Path(dest)
     dest.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="cranefmu_compose_") as tmp:
-        staged = Path(tmp) / composed.source.name
-        staged.mkdir()
-        (staged / "SystemStructure.ssd").write_bytes(composed.ssd)
-        for ssv in sorted(folder.glob("*.ssv")):
-            shutil.copy2(ssv, staged / ssv.name)
-        fmus = {iface.fmu for iface in composed.interfaces.values()}
+    fmus = sorted({iface.fmu for iface in composed.interfaces.values()})
+    with staged(composed) as folder:
         if all(f.parent == b.FMU_DIR for f in fmus):
-            return b.build_ssp(staged, dest)
+            return b.build_ssp(folder, dest)
         with zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zf:
-            zf.writestr("SystemStructure.ssd", composed.ssd)
-            for ssv in sorted(staged.glob("*.ssv")):
-                zf.write(ssv, f"resources/{ssv.name}")
-            for fmu in sorted(fmus):
+            for f in sorted(folder.iterdir()):
+                zf.write(f, f.name if f.suffix == ".ssd" else f"resources/{f.name}")
+            for fmu in fmus:
                 zf.write(fmu, f"resources/{fmu.name}")
     return dest
 
 
-def write_osp(source: Path, folder: Path) -> Path:
-    """Compose ``source`` into ``folder`` as libcosim's other scene form: ``OspSystemStructure.xml``
+def write_osp(source: Path | Composed, folder: Path) -> Path:
+    """Write ``source`` into ``folder`` as libcosim's other scene form: ``OspSystemStructure.xml``
     (whole ports joined as variable groups, :func:`.osp.osp_system_structure`), its FMUs and their
     ``<Model>_OspModelDescription.xml``.  The default set are the initial values, the stored step
     (else 1 ms) the base step."""
     from .. import build as b
-    from ..master.scene import read_ssd
+    from ..master.scene import read_scene_folder
     from .osp import osp_file_name, osp_model_description, osp_system_structure
 
-    src = read_source(source)
-    ours = sorted({c.fmu for c in src.components if not c.fmu.endswith(".fmu")})
-    if ours:
-        b.build(verbose=False, only=ours)
-    composed = compose(source, b.FMU_DIR)
+    composed = source if isinstance(source, Composed) else built(source)
+    with staged(composed) as scene_dir:
+        scene = read_scene_folder(scene_dir, b.FMU_DIR)
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="cranefmu_compose_") as tmp:
-        (Path(tmp) / "SystemStructure.ssd").write_bytes(composed.ssd)
-        for ssv in sorted(src.path.parent.glob("*.ssv")):
-            shutil.copy2(ssv, Path(tmp) / ssv.name)
-        scene = read_ssd(Path(tmp) / "SystemStructure.ssd", Path(tmp), b.FMU_DIR)
     for iface in composed.interfaces.values():
         shutil.copy2(iface.fmu, folder / iface.fmu.name)
         if iface.ports:
@@ -90,13 +97,12 @@ def add_parser(sub) -> None:
 
 
 def _cmd_compose(args: argparse.Namespace) -> int:
-    from .. import build as b
-
-    src = read_source(Path(args.source))
-    path = pack(Path(args.source), Path(args.output or f"{src.name}.ssp"))
+    composed = built(Path(args.source))
+    path = pack(composed, Path(args.output or f"{composed.source.name}.ssp"))
+    print(f"wrote {path} (scene {composed.source.name}: {len(composed.source.components)} components)")
     if args.ssd:
-        Path(args.ssd).write_bytes(compose(args.source, b.FMU_DIR).ssd)
+        Path(args.ssd).write_bytes(composed.ssd)
+        print(f"wrote {args.ssd}")
     if args.osp:
-        print(f"wrote {write_osp(Path(args.source), Path(args.osp))}")
-    print(f"wrote {path} (scene {src.name}: {len(src.components)} components)")
+        print(f"wrote {write_osp(composed, Path(args.osp))}")
     return 0
