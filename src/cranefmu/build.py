@@ -427,8 +427,15 @@ def _build(force: bool, verbose: bool, only: list[str] | None) -> list[Path]:
     for source in scenes:
         # a scene written as components and ports: its SSD is generated (in the cache it is the
         # checkout's, which tests/tools/test_compose.py holds equal to the generated one)
-        if not in_cache() and compose.has_source(source) and compose.write_ssd(source, FMU_DIR) and verbose:
-            print(f"writing {_shown(source / 'SystemStructure.ssd')} from {compose.FILE}", flush=True)
+        if not in_cache() and compose.has_source(source):
+            ssd = _shown(source / "SystemStructure.ssd")
+            done_ssd = compose.write_ssd(source, FMU_DIR)
+            if done_ssd == "written" and verbose:
+                print(f"writing {ssd} from {compose.FILE}", flush=True)
+            elif done_ssd == "kept":
+                print(f"cranefmu: warning: {ssd} was changed after its {compose.FILE} and differs from what that "
+                      f"generates: building from the SSD as it is; carry the change into {compose.FILE} "
+                      "(docs/composition.md)", file=sys.stderr, flush=True)
         scene = _staged(source)
         if force or ssp_is_stale(scene):
             missing = [f for f in scene_fmus(scene) if not f.exists()]

@@ -176,6 +176,39 @@ def test_bad_toml_and_bad_values_name_the_line(built, tmp_path):
         compose(folder, built)
 
 
+def test_bad_settings_and_component_names_name_the_line(built, tmp_path):
+    folder = tmp_path / "settings"
+    folder.mkdir()
+    (folder / "scene.toml").write_text('# the settings below\ncomponents = {rope = "Rope"}\nconnect = []\n'
+                                       '[settings]\nalgorithm = "jacobi"\nstep_size = -1.0\n')
+    with pytest.raises(CompositionError, match=r"scene.toml:4: stored run settings: .*step_size"):
+        compose(folder, built)
+    (folder / "scene.toml").write_text('connect = []\n[components]\n"my.rope" = "Rope"\n')
+    with pytest.raises(CompositionError, match=r"scene.toml:3: component name 'my.rope' is not allowed"):
+        compose(folder, built)
+
+
+def test_the_build_keeps_an_ssd_edited_after_its_scene_toml(built, tmp_path):
+    """An SSD changed by hand (or merged in) after scene.toml is not overwritten: the build says so and
+    leaves it for a person to carry into scene.toml; an edit of scene.toml writes the SSD again."""
+    import os
+
+    from cranefmu.compose import write_ssd
+
+    folder = tmp_path / "scene"
+    folder.mkdir()
+    (folder / "scene.toml").write_text(BASE.replace('  "LINE",\n', ""))
+    assert write_ssd(folder, built) == "written" and write_ssd(folder, built) == "same"
+    ssd = folder / "SystemStructure.ssd"
+    edited = ssd.read_text().replace('name="scene"', 'name="edited"')
+    ssd.write_text(edited)
+    toml = folder / "scene.toml"
+    os.utime(toml, (ssd.stat().st_mtime - 10,) * 2)
+    assert write_ssd(folder, built) == "kept" and ssd.read_text() == edited
+    os.utime(toml, (ssd.stat().st_mtime + 10,) * 2)
+    assert write_ssd(folder, built) == "written" and 'name="scene"' in ssd.read_text()
+
+
 def test_the_cli_reports_a_bad_scene_in_one_line(built, tmp_path, capsys):
     folder = tmp_path / "cli"
     folder.mkdir()

@@ -14,7 +14,7 @@ from pathlib import Path
 from .expand import Expanded, expand
 from .interface import Interface, read_interface
 from .source import FILE, SceneSource, read_source
-from .ssd import ssd_bytes
+from .ssd import setting_text, ssd_bytes
 
 __all__ = ["Composed", "compose", "write_ssd", "has_source", "read_source", "FILE"]
 
@@ -45,16 +45,35 @@ def compose(source: Path, fmu_dir: Path) -> Composed:
                                    f"{fmu_dir}")
         interfaces[c.name] = read_interface(fmu)
     expanded = expand(src, interfaces)
+    _check_settings(src)
     return Composed(src, interfaces, expanded, ssd_bytes(src, interfaces, expanded))
 
 
-def write_ssd(folder: Path, fmu_dir: Path) -> bool:
-    """Write ``folder``/SystemStructure.ssd from its scene.toml if it differs; True if written."""
-    target = Path(folder) / "SystemStructure.ssd"
+def _check_settings(src: SceneSource) -> None:
+    """The stored run settings as the scene reader will check them, refused here with the file and line."""
+    from ..errors import SettingsError
+    from ..master.settings import stored_settings
+
+    try:
+        stored_settings({k: setting_text(v) for k, v in src.settings.items()}, src.stop_time)
+    except SettingsError as err:
+        raise src.fail("settings", f"stored run settings: {err}") from None
+
+
+def write_ssd(folder: Path, fmu_dir: Path) -> str:
+    """Write ``folder``/SystemStructure.ssd from its scene.toml where it differs.  Returns "same",
+    "written", or "kept": the SSD differs and was changed after scene.toml (an edit by hand, or one
+    merged in), so it is left as it is for a person to carry into scene.toml
+    (tests/tools/test_compose.py fails until then) rather than lost."""
+    folder = Path(folder)
+    target = folder / "SystemStructure.ssd"
     data = compose(folder, fmu_dir).ssd
-    if target.is_file() and target.read_bytes() == data:
-        return False
+    if target.is_file():
+        if target.read_bytes() == data:
+            return "same"
+        if target.stat().st_mtime > (folder / FILE).stat().st_mtime:
+            return "kept"
     tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")   # builds side by side: one each
     tmp.write_bytes(data)
     tmp.replace(target)
-    return True
+    return "written"

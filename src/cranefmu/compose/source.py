@@ -6,6 +6,7 @@ numbers for values, so a message finds its line by the text it quotes (:meth:`Sc
 """
 from __future__ import annotations
 
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,6 +19,7 @@ else:   # pragma: no cover - Python 3.10 (pyproject: tomli there)
     import tomli as tomllib
 
 FILE = "scene.toml"
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 KEYS = ("name", "description", "start_time", "stop_time", "parameters", "components", "connect", "expose",
         "settings", "stop_when")
 
@@ -50,10 +52,13 @@ class SceneSource:
     stop_when: dict[str, str] = field(default_factory=dict)
 
     def where(self, quoted: str) -> str:
-        """``file:line`` of the first line holding ``quoted`` (a connect line, a key), else ``file``."""
-        for number, line in enumerate(self.text.splitlines(), 1):
-            if quoted in line:
-                return f"{self.path}:{number}"
+        """``file:line`` of the first line (not a comment) holding ``quoted`` in quotes (a connect line),
+        else bare (a key), else ``file``."""
+        lines = self.text.splitlines()
+        for needle in (f'"{quoted}"', quoted):
+            for number, line in enumerate(lines, 1):
+                if needle in line and not line.lstrip().startswith("#"):
+                    return f"{self.path}:{number}"
         return str(self.path)
 
     def fail(self, quoted: str, message: str) -> CompositionError:
@@ -88,6 +93,9 @@ def parse_source(text: str, path: Path) -> SceneSource:
         raise src.fail("components", "a scene needs components = {name = \"FMU\", ...}")
     components = []
     for name, spec in comps.items():
+        if not _NAME.match(name):
+            raise src.fail(name, f"component name {name!r} is not allowed: letters, digits and _ (a connect line "
+                                 "splits component.port at the first dot)")
         if isinstance(spec, str):
             components.append(ComponentSource(name, spec))
         elif isinstance(spec, dict) and isinstance(spec.get("fmu"), str):

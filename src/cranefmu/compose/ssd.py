@@ -141,10 +141,11 @@ def _annotations(system, src: SceneSource, expanded: Expanded) -> None:
     if src.settings:
         settings, ns = annotation("org.cranefmu.settings", "Settings")
         for key, value in src.settings.items():
-            settings.set(key, _setting(value))
+            settings.set(key, setting_text(value))
 
 
-def _setting(value) -> str:
+def setting_text(value) -> str:
+    """A stored setting's TOML value as the SSD attribute's text (a list joined with commas)."""
     if isinstance(value, bool):
         return str(value).lower()
     if isinstance(value, float):
