@@ -220,7 +220,9 @@ def libcosim_run(ssp: str, step: float, steps: int, columns: list[str], scene_di
     from libcosimpy.CosimObserver import CosimObserver
 
     log_output_level(CosimLogLevel.ERROR)
-    if scene_dir is None:
+    if scene_dir is None and ssp.endswith(".xml"):   # an OspSystemStructure.xml: its own base step
+        ex, keep = CosimExecution.from_osp_config_file(ssp), []
+    elif scene_dir is None:
         ex, keep = CosimExecution.from_ssp_file(ssp, step_size=int(round(step * NS))), []
     else:
         ex, keep = libcosim_execution(scene_dir, fmu_dir, step=step)

@@ -25,7 +25,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from . import cache
+from . import cache, compose
 from .errors import CraneFmuError, SceneError
 from .sources import (CHECKOUT, FMU_SOURCES, IN_CHECKOUT, PACKAGE_DIR, SSP_SOURCES, bundle_sources, fmu_scripts,
                       scene_dirs, scene_files, source_digest)
@@ -74,11 +74,13 @@ def in_cache() -> bool:
 
 
 def fmu_is_stale(script: Path) -> bool:
-    """True if the FMU of ``script`` is missing or (in a checkout) older than its script or the bundle.
+    """True if the FMU of ``script`` or its OSP model description is missing, or (in a checkout) the FMU
+    is older than its script or the bundle.
 
     In the cache a present FMU is current: its folder is named by the digest of all sources."""
     fmu = FMU_DIR / f"{script.stem}.fmu"
-    if not fmu.exists():
+    # every FMU of ours declares ports: its OSP model description is part of the build
+    if not fmu.exists() or not (FMU_DIR / f"{script.stem}_OspModelDescription.xml").exists():
         return True
     return not in_cache() and fmu.stat().st_mtime < _newest([script, *bundle_sources()])
 
@@ -103,6 +105,7 @@ def build_fmu(script: Path, dest: Path | None = None) -> Path:
         shutil.copy2(built, tmp_fmu)
         _ensure_binaries(tmp_fmu, script.stem)
         tmp_fmu.replace(dest)  # never leave a half-written FMU behind
+        write_osp_description(dest)
         # pythonfmu imports the staged script and bundle into this process: forget them, so the
         # next build imports its own staged copy
         for mod in [m for m in sys.modules if m == staged_script.stem or m.split(".")[0] == name]:
@@ -110,6 +113,22 @@ def build_fmu(script: Path, dest: Path | None = None) -> Path:
         while str(stage) in sys.path:
             sys.path.remove(str(stage))
     return dest
+
+
+def write_osp_description(fmu: Path) -> Path | None:
+    """Write the OSP-IS ``<Model>_OspModelDescription.xml`` of ``fmu`` beside it, where libcosim looks
+    (its ports as variable groups, :mod:`cranefmu.compose.osp`); None for an FMU without ports."""
+    from .compose.interface import read_interface
+    from .compose.osp import osp_file_name, osp_model_description
+
+    iface = read_interface(fmu)
+    if not iface.ports:
+        return None
+    target = fmu.with_name(osp_file_name(iface))
+    tmp = target.with_name(f"{target.name}.{os.getpid()}.tmp")
+    tmp.write_bytes(osp_model_description(iface))
+    tmp.replace(target)
+    return target
 
 
 def _installed_binaries() -> Path:
@@ -137,6 +156,8 @@ def _ensure_binaries(fmu: Path, model_identifier: str) -> None:
 def scene_fmus(scene_dir: Path) -> list[Path]:
     """FMUs a scene's SSD refers to (``source="resources/<Name>.fmu"``), as paths under fmus/."""
     ssd = Path(scene_dir) / "SystemStructure.ssd"
+    if not ssd.is_file() and compose.has_source(scene_dir):   # a new scene source, its SSD not written yet
+        return sorted({FMU_DIR / c.fmu_file for c in compose.read_source(scene_dir).components})
     try:
         key = (str(scene_dir), str(FMU_DIR), ssd.stat().st_mtime_ns)
     except OSError:
@@ -171,7 +192,7 @@ def ssp_generators() -> list[Path]:
     """The package files that write an .ssp (the component bindings are generated): a change to them
     makes every .ssp stale."""
     return [PACKAGE_DIR / "build.py", PACKAGE_DIR / "master" / "scene.py", PACKAGE_DIR / "settled_start.py",
-            PACKAGE_DIR / "master" / "initialization.py"]
+            PACKAGE_DIR / "master" / "initialization.py", *sorted((PACKAGE_DIR / "compose").glob("*.py"))]
 
 
 def ssd_with_component_bindings(scene_dir: Path, start: dict[str, float] | None = None) -> bytes:
@@ -404,6 +425,17 @@ def _build(force: bool, verbose: bool, only: list[str] | None) -> list[Path]:
                 print(f"building {_shown(FMU_DIR / (script.stem + '.fmu'))}", flush=True)
             done.append(build_fmu(script))
     for source in scenes:
+        # a scene written as components and ports: its SSD is generated (in the cache it is the
+        # checkout's, which tests/tools/test_compose.py holds equal to the generated one)
+        if not in_cache() and compose.has_source(source):
+            ssd = _shown(source / "SystemStructure.ssd")
+            done_ssd = compose.write_ssd(source, FMU_DIR)
+            if done_ssd == "written" and verbose:
+                print(f"writing {ssd} from {compose.FILE}", flush=True)
+            elif done_ssd == "kept":
+                print(f"cranefmu: warning: {ssd} was changed after its {compose.FILE} and differs from what that "
+                      f"generates: building from the SSD as it is; carry the change into {compose.FILE} "
+                      "(docs/composition.md)", file=sys.stderr, flush=True)
         scene = _staged(source)
         if force or ssp_is_stale(scene):
             missing = [f for f in scene_fmus(scene) if not f.exists()]

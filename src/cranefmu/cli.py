@@ -351,6 +351,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_study_parser(sub)
     add_check_parser(sub)
+    from .compose.command import add_parser as add_compose_parser
+
+    add_compose_parser(sub)
     return p
 
 

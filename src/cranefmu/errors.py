@@ -30,3 +30,8 @@ class SimulationError(CraneFmuError):
 
     def __reduce__(self):  # keep the partial result when the error crosses a process boundary
         return (type(self), (str(self), self.result, self.output))
+
+
+class CompositionError(SceneError):
+    """A scene source (ssp/<scene>/scene.toml) names an unknown component, port or variable, or connects
+    two ends whose units or directions do not fit; the message names the file, the line and the port."""

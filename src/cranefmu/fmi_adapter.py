@@ -30,11 +30,12 @@ from pythonfmu.enums import Fmi2Status
 
 from . import units
 from .integrators import EXACT, METHODS, integrate, rk4_list
-from .physics.component import Model
+from .physics.component import Model, check_ports, port_takes
 from .physics.params import ParameterError, allowed_text, check_value, enumeration_text
 
 EXTRAPOLATION_SUFFIXES = ("_dt", "_dt2")  # d/dt and d2/dt2 of a coupling input
 ENUMERATIONS_TOOL = "org.cranefmu.enumerations"  # VendorAnnotations tool listing each switch's names
+PORTS_TOOL = "org.cranefmu.ports"  # VendorAnnotations tool declaring the mechanical ports (docs/composition.md)
 
 
 def solvers(model: type[Model]) -> tuple[str, ...]:
@@ -364,13 +365,24 @@ class CraneSlave(Fmi2Slave):
             if real is not None and not units.dimensionless(unit):
                 real.set("unit", unit)
                 used[unit] = units.parse(unit)
+        annotations = Element("VendorAnnotations")
         if self._switches:
-            annotations = Element("VendorAnnotations")
             listing = SubElement(SubElement(annotations, "Tool", name=ENUMERATIONS_TOOL), "Enumerations")
             for name, names in self._switches.items():
                 var = SubElement(listing, "Variable", name=name)
                 for code, item in enumerate(names):
                     SubElement(var, "Item", name=item, value=str(code))
+        if self.physics.ports:
+            check_ports(self.physics)
+            listing = SubElement(SubElement(annotations, "Tool", name=PORTS_TOOL), "Ports")
+            for port in self.physics.ports:
+                attrs = {"name": port.name, "kind": port.kind, "takes": port_takes(self.physics, port),
+                         "description": port.description}
+                attrs |= {part: " ".join(names) for part, names in port.parts() if names}
+                if port.sign != 1:
+                    attrs["sign"] = str(port.sign)
+                SubElement(listing, "Port", attrs)
+        if len(annotations):
             root.insert(list(root).index(root.find("ModelVariables")), annotations)
         if used:
             defs = Element("UnitDefinitions")

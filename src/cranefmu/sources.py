@@ -34,10 +34,12 @@ def fmu_scripts() -> list[Path]:
 
 
 def scene_dirs() -> list[Path]:
-    """The scene source folders ``ssp/<scene>/`` (those holding a SystemStructure.ssd), sorted."""
+    """The scene source folders ``ssp/<scene>/`` (those holding a SystemStructure.ssd or the scene.toml
+    it is generated from), sorted."""
     if not SSP_SOURCES.is_dir():
         return []
-    return sorted(p for p in SSP_SOURCES.iterdir() if (p / "SystemStructure.ssd").is_file())
+    return sorted(p for p in SSP_SOURCES.iterdir()
+                  if (p / "SystemStructure.ssd").is_file() or (p / "scene.toml").is_file())
 
 
 def scene_files(scene_dir: Path) -> list[Path]:

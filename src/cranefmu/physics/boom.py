@@ -57,7 +57,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .motion_laws import trapezoid_motion
-from .component import Model, Signal
+from .component import Model, Port, Signal
 from .params import Params, ParameterError, param
 
 
@@ -328,6 +328,18 @@ class BoomModel(Model):
                "x_travel; ignored with the dynamic tip)", coupling=True),
     )
     initial_state_inputs = ("gamma", "gamma_rate", "Fx_tip", "Fy_tip")  # angle on the tilted chassis, preload
+    # the mechanical ports a scene connects as one (docs/composition.md)
+    ports = (
+        Port("tip", "boom tip motion under the rope force",
+             force=("Fx_tip", "Fy_tip", "Fz_tip"), velocity=("vx_tip", "vy_tip", "vz_tip"),
+             position=("x_tip", "y_tip", "z_tip")),
+        Port("foot_heave", "vertical force of the boom on the chassis at the foot O2 and its velocity",
+             force=("Fy_base",), velocity=("vy_base",), position=("y_base",)),
+        Port("foot_tilt", "moment of the boom on the chassis and the tilt rate (gamma turns opposite to M_base)",
+             force=("M_base",), velocity=("gamma_rate",), position=("gamma",), kind="angular", sign=-1),
+        Port("foot_x", "horizontal force of the boom on the chassis at O2 (the chassis is rigid along x: no motion)",
+             force=("Fx_base",)),
+    )
     outputs = (
         Signal("x_tip", "m", "x of the boom tip B", depends_on=("gamma", "x_travel")),
         Signal("y_tip", "m", "y of the boom tip B", depends_on=("y_base", "gamma")),

@@ -64,7 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .component import Model, Signal
+from .component import Model, Port, Signal
 from .linear_step import LinearPropagator, step_key
 from .params import Params, ParameterError, param
 
@@ -122,6 +122,14 @@ class ChassisModel(Model):
         Signal("J_boom", "kg.m2", "its moment of inertia about O2 turning with the chassis (Boom J_carried)"),
     )
     initial_state_inputs = ("Fx_base", "Fy_base", "M_base")  # static settlements under the boom loads
+    # the mechanical ports a scene connects as one (docs/composition.md)
+    ports = (
+        Port("foot_heave", "vertical motion of the boom foot O2 under the force of the boom",
+             force=("Fy_base",), velocity=("vy_base",), position=("y_base",)),
+        Port("foot_tilt", "tilt of the chassis under the moment of the boom (gamma turns opposite to M_base)",
+             force=("M_base",), velocity=("gamma_rate",), position=("gamma",), kind="angular", sign=-1),
+        Port("foot_x", "horizontal force of the boom at O2 (rigid along x: no motion)", force=("Fx_base",)),
+    )
     outputs = (
         Signal("y_base", "m", "vertical displacement of the boom foot O2 (up positive)"),
         Signal("gamma", "rad", "tilt of the chassis, positive when the boom side goes down (seed 000 eq. 4)"),

@@ -35,6 +35,81 @@ class Signal:
     discrete: bool = False
 
 
+@dataclass(frozen=True)
+class Port:
+    """One mechanical interface of a model: the force, velocity and position variables of one
+    point (or axis), one name per axis, in the same axis order.
+
+    Which side gives what follows from the signal tables: a port whose force variables are outputs
+    gives force (it takes the motion as inputs, e.g. the rope at the hook); one whose position and
+    velocity are outputs gives motion (it takes the force, e.g. the hook).  A port may lack a part:
+    no force (it follows a motion and exerts nothing back, e.g. the hook's view of the suspension
+    point), no velocity (a reaction on a fixed axis).  Two connected ports with force and velocity
+    form a power bond P = sign * sum(force_i * velocity_i) (docs/power_bonds.md).
+
+    kind: "linear" (force N, velocity m/s, position m) or "angular" (moment N.m, rad/s, rad).
+    sign: -1 where the model's velocity turns against its force (a tilt opposite to the moment).
+    """
+
+    name: str
+    description: str
+    force: tuple[str, ...] = ()
+    velocity: tuple[str, ...] = ()
+    position: tuple[str, ...] = ()
+    kind: str = "linear"
+    sign: int = 1
+
+    def __post_init__(self):
+        if self.kind not in PORT_UNITS:
+            raise ValueError(f"port {self.name}: kind = {self.kind!r} is not allowed: one of {', '.join(PORT_UNITS)}")
+        if self.sign not in (1, -1):
+            raise ValueError(f"port {self.name}: sign = {self.sign!r} is not allowed: 1 or -1")
+        sizes = {len(part) for part in (self.force, self.velocity, self.position) if part}
+        if len(sizes) != 1:
+            raise ValueError(f"port {self.name}: force, velocity and position need one variable per axis "
+                             f"(sizes {len(self.force)}, {len(self.velocity)}, {len(self.position)})")
+
+    def parts(self) -> tuple[tuple[str, tuple[str, ...]], ...]:
+        """(part, variables) in the order a connection of two ports lists them: position, velocity, force."""
+        return (("position", self.position), ("velocity", self.velocity), ("force", self.force))
+
+
+#: the unit of each part of a port, by kind
+PORT_UNITS = {"linear": {"force": "N", "velocity": "m/s", "position": "m"},
+              "angular": {"force": "N.m", "velocity": "rad/s", "position": "rad"}}
+
+
+def check_ports(model: type["Model"]) -> None:
+    """Raise ``ValueError`` naming the port if one names an unknown signal, a unit that is not its
+    part's, or mixes directions (its motion must all be inputs and its force outputs, or the reverse)."""
+    signals = {s.name: ("input", s) for s in model.inputs} | {s.name: ("output", s) for s in model.outputs}
+    for port in model.ports:
+        kinds = set()
+        for part, names in port.parts():
+            for name in names:
+                if name not in signals:
+                    raise ValueError(f"{model.__name__} port {port.name}: {part} {name} is not an input or output")
+                causality, signal = signals[name]
+                if signal.unit != PORT_UNITS[port.kind][part]:
+                    raise ValueError(f"{model.__name__} port {port.name}: {part} {name} has unit {signal.unit}, "
+                                     f"a {port.kind} port's {part} needs {PORT_UNITS[port.kind][part]}")
+                gives_force = (causality == "output") == (part == "force")
+                kinds.add(gives_force)
+        if len(kinds) != 1:
+            raise ValueError(f"{model.__name__} port {port.name}: its motion must all be inputs and its force "
+                             "outputs (it gives force), or the reverse (it gives motion)")
+
+
+def port_takes(model: type["Model"], port: Port) -> str:
+    """"motion" if ``port``'s position and velocity are inputs (it gives force, or nothing: a follower),
+    "force" if its force is an input (it gives motion)."""
+    outputs = {s.name for s in model.outputs}
+    for part, names in port.parts():
+        if names:
+            return "motion" if (names[0] in outputs) == (part == "force") else "force"
+    return "motion"
+
+
 class Model:
     """Base of every subsystem model.  Subclasses set the class attributes and override the
     numerics; a model without internal states returns an empty state vector."""
@@ -42,6 +117,8 @@ class Model:
     Params: ClassVar[type[Params]]
     inputs: ClassVar[tuple[Signal, ...]] = ()
     outputs: ClassVar[tuple[Signal, ...]] = ()
+    #: the model's mechanical ports (:class:`Port`): what a scene connects as one (docs/composition.md)
+    ports: ClassVar[tuple[Port, ...]] = ()
     description: ClassVar[str] = ""
     #: inputs that ``initial_state`` reads: at initialization every output may depend on them
     initial_state_inputs: ClassVar[tuple[str, ...]] = ()

@@ -66,7 +66,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .motion_laws import trapezoid_motion
-from .component import Model, Signal
+from .component import Model, Port, Signal
 from .params import Params, ParameterError, param
 
 
@@ -256,6 +256,11 @@ class DriveModel(Model):
         Signal("drum_force", "N", "force of one rope line at the drum (lowering sense positive)", coupling=True),
     )
     initial_state_inputs = ("drum_force",)  # pretwist of the drivetrain under the load
+    # the mechanical ports a scene connects as one (docs/composition.md)
+    ports = (
+        Port("drum", "drum payout under the line force",
+             force=("drum_force",), velocity=("payout_rate",), position=("payout",)),
+    )
     outputs = (
         Signal("payout", "m", "rope paid out by the drum since the start, all rope ends (positive lowers)"),
         Signal("payout_rate", "m/s", "payout speed (negative while hoisting)"),

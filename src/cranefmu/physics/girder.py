@@ -49,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .component import Model, Signal
+from .component import Model, Port, Signal
 from .linear_step import LinearPropagator
 from .params import Params, ParameterError, param
 
@@ -162,6 +162,12 @@ class GirderModel(Model):
                           + ("" if c == "y" else "; ignored, girder rigid horizontally"), coupling=True)
                    for c in "xyz")
     initial_state_inputs = ("Fy_rope",)  # static deflections under the load
+    # the mechanical ports a scene connects as one (docs/composition.md)
+    ports = (
+        Port("trolley", "motion of the rope suspension point (drum bearing) under the rope force",
+             force=("Fx_rope", "Fy_rope", "Fz_rope"), velocity=("vx_top", "vy_top", "vz_top"),
+             position=("x_top", "y_top", "z_top")),
+    )
     outputs = (
         *(Signal(n, "m", f"{n[0]} of the rope suspension point (drum)") for n in _TOP[:3]),
         *(Signal(n, "m/s", f"{n[1]} velocity of the rope suspension point") for n in _TOP[3:]),

@@ -94,7 +94,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .component import Model, Signal
+from .component import Model, Port, Signal
 from .params import ParameterError, Params, param
 
 _HALF_PI = 0.5 * math.pi
@@ -232,6 +232,16 @@ class PendulumModel(Model):
     default_solver = "exact"   # the lone hook's closed-form step; rk4 at max_step with ground or drag
     exact_scope = "closed form for the hook without ground or drag, rk4 at max_step otherwise; refused with a payload"
     initial_state_inputs = _FORCE + _TOP + ("drop",)
+    # the mechanical ports a scene connects as one (docs/composition.md)
+    ports = (
+        Port("hook", "hook motion under the rope force",
+             force=("Fx_rope", "Fy_rope", "Fz_rope"), velocity=("vx", "vy", "vz"), position=("x", "y", "z")),
+        Port("top", "the suspension point the hook hangs from (sway angles, hook-pin damper): followed, no force",
+             velocity=("vx_top", "vy_top", "vz_top"), position=("x_top", "y_top", "z_top")),
+        Port("suspension",
+             "the suspension point passed on (input top, for a rope that must see the point the hook was placed from)",
+             position=("x_suspension", "y_suspension", "z_suspension")),
+    )
     outputs = (
         *(Signal(n, "m", f"{n} coordinate of the hook") for n in ("x", "y", "z")),
         *(Signal(n, "m/s", f"{n[1]} velocity of the hook") for n in ("vx", "vy", "vz")),

@@ -76,7 +76,7 @@ import numpy as np
 
 from . import boucwen
 from .boucwen import BoucWenParams
-from .component import Model, Signal
+from .component import Model, Port, Signal
 from .params import ParameterError, Params, param
 
 
@@ -233,6 +233,17 @@ class RopeModel(Model):
         # every input in it takes rates, and these share the group pendulum -> rope
     # Bouc-Wen z0, and the taken-up length of start = 'taut'
     initial_state_inputs = _KINEMATIC_INPUTS[:3] + _KINEMATIC_INPUTS[6:9] + ("payout", "load", "run_extension")
+    # the mechanical ports a scene connects as one (docs/composition.md)
+    ports = (
+        Port("hook", "rope force on the hook and hook velocity",
+             force=("Fx_hook", "Fy_hook", "Fz_hook"), velocity=("vx_hook", "vy_hook", "vz_hook"),
+             position=("x_hook", "y_hook", "z_hook")),
+        Port("top", "rope force on the suspension point and its velocity",
+             force=("Fx_top", "Fy_top", "Fz_top"), velocity=("vx_top", "vy_top", "vz_top"),
+             position=("x_top", "y_top", "z_top")),
+        Port("drum", "line force at the drum and payout rate (power the rope takes from the drum)",
+             force=("drum_force",), velocity=("payout_rate",), position=("payout",)),
+    )
     outputs = (
         Signal("tension", "N", "total rope force on the hook (all lines)", depends_on=_FORCE_DEPS),
         Signal("drum_force", "N", "force of one line at the drum (tension / n_lines)", depends_on=_FORCE_DEPS),

@@ -1,0 +1,79 @@
+"""Scenes composed from components and ports: ``ssp/<scene>/scene.toml`` -> ``SystemStructure.ssd``.
+
+A scene source names its components (FMU and parameter values), the ``.ssv`` file of its default
+set, its connect lines (two ports joined with ``=``, variables with ``->``), its stored run settings
+and stop conditions (docs/composition.md).  The build writes the SSD from it (:func:`write_ssd`);
+the SSD stays committed beside it, so every reader of scenes keeps reading SSDs.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from .expand import Expanded, expand
+from .interface import Interface, read_interface
+from .source import FILE, SceneSource, read_source
+from .ssd import setting_text, ssd_bytes
+
+__all__ = ["Composed", "compose", "write_ssd", "has_source", "read_source", "FILE"]
+
+
+@dataclass(frozen=True)
+class Composed:
+    source: SceneSource
+    interfaces: dict[str, Interface]
+    expanded: Expanded
+    ssd: bytes
+
+
+def has_source(folder: Path) -> bool:
+    """True if the scene folder ``folder`` is written as a scene source (its SSD is generated)."""
+    return (Path(folder) / FILE).is_file()
+
+
+def compose(source: Path, fmu_dir: Path) -> Composed:
+    """The scene of ``source`` (a scene.toml or its folder), its FMUs found in ``fmu_dir`` by file
+    name; a :class:`~cranefmu.errors.CompositionError` naming file and line at the first misfit."""
+    src = read_source(source)
+    interfaces = {}
+    for c in src.components:
+        beside = src.path.parent / c.fmu   # fmu = "Other.fmu": a file beside the source first
+        fmu = beside if c.fmu.endswith(".fmu") and beside.is_file() else Path(fmu_dir) / c.fmu_file
+        if not fmu.is_file():
+            raise src.fail(c.name, f"component {c.name}: FMU {c.fmu_file} is neither beside {src.path.name} nor in "
+                                   f"{fmu_dir}")
+        interfaces[c.name] = read_interface(fmu)
+    expanded = expand(src, interfaces)
+    _check_settings(src)
+    return Composed(src, interfaces, expanded, ssd_bytes(src, interfaces, expanded))
+
+
+def _check_settings(src: SceneSource) -> None:
+    """The stored run settings as the scene reader will check them, refused here with the file and line."""
+    from ..errors import SettingsError
+    from ..master.settings import stored_settings
+
+    try:
+        stored_settings({k: setting_text(v) for k, v in src.settings.items()}, src.stop_time)
+    except SettingsError as err:
+        raise src.fail("settings", f"stored run settings: {err}") from None
+
+
+def write_ssd(folder: Path, fmu_dir: Path) -> str:
+    """Write ``folder``/SystemStructure.ssd from its scene.toml where it differs.  Returns "same",
+    "written", or "kept": the SSD differs and was changed after scene.toml (an edit by hand, or one
+    merged in), so it is left as it is for a person to carry into scene.toml
+    (tests/tools/test_compose.py fails until then) rather than lost."""
+    folder = Path(folder)
+    target = folder / "SystemStructure.ssd"
+    data = compose(folder, fmu_dir).ssd
+    if target.is_file():
+        if target.read_bytes() == data:
+            return "same"
+        if target.stat().st_mtime > (folder / FILE).stat().st_mtime:
+            return "kept"
+    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")   # builds side by side: one each
+    tmp.write_bytes(data)
+    tmp.replace(target)
+    return "written"

@@ -1,0 +1,108 @@
+"""``cranefmu compose SOURCE --output X.ssp``: a scene source anywhere on disk (a scene.toml, its
+folder, or any ``<name>.toml``) composed and built into an .ssp that ``cranefmu run X.ssp`` runs.
+
+The shipped scenes (``ssp/<scene>/scene.toml``) need no command: ``cranefmu build`` writes their SSDs.
+"""
+from __future__ import annotations
+
+import argparse
+import shutil
+import tempfile
+import zipfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+from . import Composed, compose, read_source
+
+
+def built(source: Path) -> Composed:
+    """``source`` composed, the FMUs cranefmu builds (``fmu = "Rope"``) built first."""
+    from .. import build as b
+
+    ours = sorted({c.fmu for c in read_source(source).components if not c.fmu.endswith(".fmu")})
+    if ours:
+        b.build(verbose=False, only=ours)
+    return compose(source, b.FMU_DIR)
+
+
+@contextmanager
+def staged(composed: Composed) -> Iterator[Path]:
+    """A temporary scene folder: the generated SSD and the .ssv files beside the source."""
+    with tempfile.TemporaryDirectory(prefix="cranefmu_compose_") as tmp:
+        folder = Path(tmp) / composed.source.name
+        folder.mkdir()
+        (folder / "SystemStructure.ssd").write_bytes(composed.ssd)
+        for ssv in sorted(composed.source.path.parent.glob("*.ssv")):
+            shutil.copy2(ssv, folder / ssv.name)
+        yield folder
+
+
+def pack(source: Path | Composed, dest: Path) -> Path:
+    """Write the .ssp ``dest`` of ``source`` (a scene source, or one composed): its SSD, the .ssv files
+    beside the source and the FMUs.  When every FMU is one cranefmu builds, through the build (each
+    set's settled start, the component bindings libcosim reads); with a foreign FMU, a plain archive
+    our master settles itself."""
+    from .. import build as b
+
+    composed = source if isinstance(source, Composed) else built(source)
+    dest = Path(dest)
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    fmus = sorted({iface.fmu for iface in composed.interfaces.values()})
+    with staged(composed) as folder:
+        if all(f.parent == b.FMU_DIR for f in fmus):
+            return b.build_ssp(folder, dest)
+        with zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zf:
+            for f in sorted(folder.iterdir()):
+                zf.write(f, f.name if f.suffix == ".ssd" else f"resources/{f.name}")
+            for fmu in fmus:
+                zf.write(fmu, f"resources/{fmu.name}")
+    return dest
+
+
+def write_osp(source: Path | Composed, folder: Path) -> Path:
+    """Write ``source`` into ``folder`` as libcosim's other scene form: ``OspSystemStructure.xml``
+    (whole ports joined as variable groups, :func:`.osp.osp_system_structure`), its FMUs and their
+    ``<Model>_OspModelDescription.xml``.  The default set are the initial values, the stored step
+    (else 1 ms) the base step."""
+    from .. import build as b
+    from ..master.scene import read_scene_folder
+    from .osp import osp_file_name, osp_model_description, osp_system_structure
+
+    composed = source if isinstance(source, Composed) else built(source)
+    with staged(composed) as scene_dir:
+        scene = read_scene_folder(scene_dir, b.FMU_DIR)
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    for iface in composed.interfaces.values():
+        shutil.copy2(iface.fmu, folder / iface.fmu.name)
+        if iface.ports:
+            (folder / osp_file_name(iface)).write_bytes(osp_model_description(iface))
+    target = folder / "OspSystemStructure.xml"
+    target.write_bytes(osp_system_structure(composed, scene.bound, float(scene.settings.get("step_size", 1e-3))))
+    return target
+
+
+def add_parser(sub) -> None:
+    """Register ``compose`` on the subparsers ``sub`` of the cranefmu command."""
+    c = sub.add_parser("compose", help="compose a scene source (scene.toml: components, ports, connect lines) "
+                                       "into an .ssp that cranefmu run takes (docs/composition.md)")
+    c.add_argument("source", help="a scene source: a .toml file, or a folder holding scene.toml")
+    c.add_argument("--output", default=None, help="the .ssp to write (default: <scene name>.ssp here)")
+    c.add_argument("--ssd", default=None, metavar="FILE", help="also write the generated SystemStructure.ssd here")
+    c.add_argument("--osp", default=None, metavar="DIR", help="also write the scene for libcosim's OSP loader: "
+                   "DIR/OspSystemStructure.xml (ports joined as variable groups), the FMUs and their "
+                   "<Model>_OspModelDescription.xml")
+    c.set_defaults(func=_cmd_compose)
+
+
+def _cmd_compose(args: argparse.Namespace) -> int:
+    composed = built(Path(args.source))
+    path = pack(composed, Path(args.output or f"{composed.source.name}.ssp"))
+    print(f"wrote {path} (scene {composed.source.name}: {len(composed.source.components)} components)")
+    if args.ssd:
+        Path(args.ssd).write_bytes(composed.ssd)
+        print(f"wrote {args.ssd}")
+    if args.osp:
+        print(f"wrote {write_osp(composed, Path(args.osp))}")
+    return 0
