@@ -29,7 +29,7 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from . import units
-from .integrators import EXACT, METHODS, integrate, rk4_list
+from .integrators import AUTO, EXACT, METHODS, integrate, rk4_list
 from .physics.component import Model, check_ports, port_takes
 from .physics.params import ParameterError, allowed_text, check_value, enumeration_text
 
@@ -39,9 +39,12 @@ PORTS_TOOL = "org.cranefmu.ports"  # VendorAnnotations tool declaring the mechan
 
 
 def solvers(model: type[Model]) -> tuple[str, ...]:
-    """The internal solvers an FMU of ``model`` offers: every integrator, and ``exact`` where the
-    model has a closed-form step (:meth:`Model.exact_step` overridden)."""
-    return METHODS + ((EXACT,) if model.exact_step is not Model.exact_step else ())
+    """The internal solvers an FMU of ``model`` offers: every integrator, ``exact`` where the model has a
+    closed-form step (:meth:`Model.exact_step` overridden), and ``auto`` where that step applies to some
+    configurations only (the model's default: ``exact`` where :meth:`Model.exact_applies`, else rk4)."""
+    exact = (EXACT,) if model.exact_step is not Model.exact_step else ()
+    # "auto" last, so the integer codes of the others (in .ssv files) stay what they were
+    return METHODS + exact + ((AUTO,) if model.default_solver == AUTO else ())
 
 
 class CraneSlave(Fmi2Slave):
@@ -173,11 +176,17 @@ class CraneSlave(Fmi2Slave):
         for name in ("solver", "rtol", "max_step"):
             check_value(self.instance_name, name, self._named(name), self._param_meta[name])
         self._solver = self._named("solver")
+        model = self.physics(self.physics.Params(**self._param_fields()))
+        if self._solver == AUTO:
+            self._solver = EXACT if model.exact_applies() else "rk4"
+        return model
+
+    def _param_fields(self) -> dict:
         fields = {n: self._named(n) for n, _, _ in self.physics.Params.field_specs()}
         for n, default, _ in self.physics.Params.field_specs():
             if isinstance(default, float) and isinstance(fields[n], int) and not isinstance(fields[n], bool):
                 fields[n] = float(fields[n])
-        return self.physics(self.physics.Params(**fields))
+        return fields
 
     def _inputs(self) -> np.ndarray:
         """The inputs as a read-only float array, built once per change of the inputs."""

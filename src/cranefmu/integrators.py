@@ -28,6 +28,7 @@ RHS = Callable[[float, np.ndarray], np.ndarray]
 FIXED_STEP = ("euler", "rk2", "rk4", "trbdf2")
 #: the model's own closed-form step (``Model.exact_step``), offered by the FMUs whose model has one
 EXACT = "exact"
+AUTO = "auto"   # a model's own closed-form step where it applies, rk4 elsewhere (fmi_adapter.solvers)
 ADAPTIVE = ("rk45", "radau", "bdf")
 METHODS = FIXED_STEP + ADAPTIVE
 

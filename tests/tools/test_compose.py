@@ -80,14 +80,16 @@ def _hand_written(scene: str) -> str:
 
 @pytest.mark.parametrize("scene", ["elastic_pendulum", "hook_sway", "overhead_lift", "truck_telescope"])
 def test_the_generated_ssd_holds_what_the_hand_written_one_held(built, scene, tmp_path):
-    """Same components and connectors, connections in the same order, parameter sets, power bonds,
-    stop conditions and stored settings, as the scene reader sees them."""
+    """Same components and connectors, connections in the same order, parameter sets, power bonds and
+    stop conditions, as the scene reader sees them."""
     (tmp_path / "SystemStructure.ssd").write_text(_hand_written(scene))
     folder = b.SSP_SOURCES / scene
     old, new = read_ssd(tmp_path / "SystemStructure.ssd", folder, built), read_ssd(folder / "SystemStructure.ssd",
                                                                                   folder, built)
+    # not the stored settings: they are re-measured on purpose (issue 24 changed hook_sway's and overhead_lift's
+    # after the port); tests/scenes/test_stored_settings.py holds them to their limits
     for field in ("name", "connections", "bound", "sets", "start_time", "stop_time", "bonds", "stop_conditions",
-                  "settings", "bonds_declared"):
+                  "bonds_declared"):
         assert getattr(new, field) == getattr(old, field), field
     assert [(c.name, c.source, set(c.connectors)) for c in new.components] == \
         [(c.name, c.source, set(c.connectors)) for c in old.components]

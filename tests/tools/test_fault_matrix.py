@@ -375,6 +375,11 @@ def test_exact_is_refused_for_a_pendulum_with_a_payload(built, tmp_path):
     assert "pendulum.solver = 'exact' with payload = 'rigid': exact is the closed form of the hook without " \
            "payload; allowed here: an integrator (rk4, rk45, radau, ...)" in one_line(p.stderr)
     assert cranefmu(*QUICK, "--set", "pendulum.solver=exact", "--output", str(tmp_path / "hook.csv")).returncode == 0
+    # the default, auto, is exact without payload and rk4 with one: a scene with a payload needs no solver set
+    for solver in ("auto", "rk4"):
+        assert cranefmu("run", "hook_sway", "--stop-time", "0.02", "--set", f"pendulum.solver={solver}",
+                        "--output", str(tmp_path / f"{solver}.csv")).returncode == 0
+    assert (tmp_path / "auto.csv").read_bytes() == (tmp_path / "rk4.csv").read_bytes()
 
 
 def test_a_closed_pipe_ends_a_listing_without_a_message(built):

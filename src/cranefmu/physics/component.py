@@ -188,6 +188,11 @@ class Model:
         ``max_step`` [s]).  A model that overrides it offers the solver ``exact``."""
         return None
 
+    def exact_applies(self) -> bool:
+        """Whether :meth:`exact_step` is this configuration's closed form (``solver = auto`` takes it then,
+        rk4 otherwise)."""
+        return True
+
     def prepare_exact_step(self) -> None:
         """Once-per-model work of :meth:`exact_step` (a propagator, its imports), done when the FMU
         leaves initialization so that the first step costs what every later step costs."""

@@ -229,8 +229,9 @@ class PendulumModel(Model):
     # resting on the ground / the sling's share of the rope force; with start = 'below_top' the hook
     # is placed from the suspension point (declared for every start: the FMU's ModelStructure cannot
     # depend on a parameter value)
-    default_solver = "exact"   # the lone hook's closed-form step; rk4 at max_step with ground or drag
-    exact_scope = "closed form for the hook without ground or drag, rk4 at max_step otherwise; refused with a payload"
+    default_solver = "auto"    # the lone hook's closed-form step, rk4 with a payload (exact is refused there)
+    exact_scope = ("closed form for the hook without ground or drag, rk4 at max_step otherwise; refused with a payload "
+                   "(auto, the default: exact without payload, rk4 with one)")
     initial_state_inputs = _FORCE + _TOP + ("drop",)
     # the mechanical ports a scene connects as one (docs/composition.md)
     ports = (
@@ -502,6 +503,9 @@ class PendulumModel(Model):
         if p.payload == "rigid":
             return np.array([*hook, *v, th, ph, 0.0, 0.0])
         return np.array([*hook, *v, *(hook[i] + length * e[i] for i in range(3)), *v])
+
+    def exact_applies(self) -> bool:
+        return self.p.payload == "none"
 
     def prepare_exact_step(self) -> None:
         """Refuse ``solver = exact`` with a payload: the closed form is the lone hook's (issue 23)."""
