@@ -9,11 +9,14 @@ Linear estimate: the swing's inertia grows from m s^2 to m s^2 + J_1 (s = 9.09 m
 sqrt(1 + J_1 / (m s^2)) - 1.  Each row is the monolithic solve (cranefmu.reference, Radau, rtol 1e-6) of the
 default set (0.35 m/s, 60 deg, 2.5 t), 30 s.  Writes benchmarks/results/truck_load_inertia.md.
 
-    nice -n 10 .venv/bin/python benchmarks/truck_load_inertia.py
+    nice -n 10 .venv/bin/python benchmarks/truck_load_inertia.py [--smoke]
+
+``--smoke`` (CI: the numbers mean nothing): 2 s solves into truck_load_inertia_smoke.md.
 """
 from __future__ import annotations
 
 import math
+import sys
 import time
 
 import numpy as np
@@ -24,6 +27,7 @@ from cranefmu.reference import solve
 from cranefmu.scenes import truck_telescope_metrics
 
 M, RHO, ROPE = 2500.0, 7850.0, 9.09
+SPAN = 30.0   # [s] of each solve
 SIDE = (M / RHO) ** (1.0 / 3.0)
 LONG, WIDTH = 2.0, math.sqrt(M / RHO / 2.0)
 LOADS = [("point mass (the scene)", 0.0),
@@ -35,16 +39,18 @@ KEYS = (("max_sway_deg", "largest sway [deg]", "{:.4f}"), ("sway_after_deg", "fr
         ("elongation_max", "rope elongation max [mm]", "{:.4f}"))
 
 
-def main() -> None:
+def main(smoke: bool = False) -> None:
     t0 = time.time()
+    span = 2.0 if smoke else SPAN
     lines = ["# truck_telescope: the load's rotational inertia J_1 (seed 000 eq. 19)", "",
-             f"{stamp('truck_load_inertia.py')}).  Default set (0.35 m/s, 60 deg, 2.5 t), monolithic solve, 30 s.", "",
+             f"{stamp('truck_load_inertia.py')}).  Default set (0.35 m/s, 60 deg, 2.5 t), monolithic solve, "
+             f"{span:g} s.", "",
              "| load | J_1 [kg m^2] | J_1 / (m s^2) | frequency change, linear | "
              + " | ".join(label for _, label, _ in KEYS) + " |",
              "| --- | --- | --- | --- | " + " | ".join("---" for _ in KEYS) + " |"]
     base = None
     for label, j in LOADS:
-        r = solve("truck_telescope", 30.0, np.linspace(0.0, 30.0, 3001), parameters={"pendulum.J_hook": j}, rtol=1e-6)
+        r = solve("truck_telescope", span, np.linspace(0.0, span, int(round(100 * span)) + 1), parameters={"pendulum.J_hook": j}, rtol=1e-6)
         m = truck_telescope_metrics(r)
         scale = {"N_front_min": 1e-3, "N_rear_max": 1e-3, "elongation_max": 1e3}
         vals = [m[k] * scale.get(k, 1.0) for k, _, _ in KEYS]
@@ -55,8 +61,8 @@ def main() -> None:
         lines.append(f"| {label} | {j:.1f} | {ratio:.5f} | {100 * (1 / math.sqrt(1 + ratio) - 1):+.3f} % | "
                      + " | ".join(cells) + " |")
         print(lines[-1], flush=True)
-    save("truck_load_inertia", lines, t0)
+    save("truck_load_inertia_smoke" if smoke else "truck_load_inertia", lines, t0)
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:] == ["--smoke"])
