@@ -31,6 +31,7 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
                                            "benchmarks/results/boucwen_hoist_loop_smoke.csv"]),
     "cli_startup.py": (["--before", "HEAD", "--rounds", "1"], ["benchmarks/results/cli_startup.md"]),
     "command_cost.py": (["--smoke"], ["benchmarks/results/command_cost_smoke.md"]),
+    "compose_roundtrip.py": (["0.002"], ["benchmarks/results/compose_roundtrip.md"]),
     "energy_drift.py": ([H], ["benchmarks/results/energy_drift.txt"]),
     "exit_valgrind.py": (["--smoke"], ["benchmarks/results/exit_valgrind_smoke.md"]),
     "fmu_floor.py": (["--label", "smoke", "--scenes", "elastic_pendulum", "--rounds", "1", "--batch", "5"],
