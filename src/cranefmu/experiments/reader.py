@@ -180,7 +180,7 @@ def _case_fields(data: dict, lines: Lines, table: str) -> dict:
         scene = data["scene"]
         if isinstance(scene, dict):
             raise ExperimentError(f"{lines.at(table, 'scene')}: scene: a scene composed inline is not read yet: give "
-                                  "a shipped scene's name, an .ssp file or a scene directory (docs/experiments.md)")
+                                  "a shipped scene's name, an .ssp file, a scene directory or a scene source .toml (docs/experiments.md)")
         if not isinstance(scene, str) or not scene:
             raise ExperimentError(f"{lines.at(table, 'scene')}: scene = {scene!r} must be a name or a path")
         out["scene"] = _scene_reference(scene, lines.path)
@@ -210,8 +210,8 @@ def _case_fields(data: dict, lines: Lines, table: str) -> dict:
 
 
 def _scene_reference(scene: str, path: Path) -> str:
-    """A name as it is; a path (has a '/' or ends in .ssp) relative to the experiment file's folder."""
-    if "/" in scene or scene.endswith(".ssp"):
+    """A name as it is; a path (has a '/' or ends in .ssp or .toml) relative to the experiment file's folder."""
+    if "/" in scene or scene.endswith((".ssp", ".toml")):
         return str((path.parent / scene).resolve())
     return scene
 

@@ -54,10 +54,18 @@ _BUILT: list[tempfile.TemporaryDirectory] = []   # scene directories' .ssp files
 
 
 def scene_path(reference: str) -> Path:
-    """The .ssp of a scene name, an .ssp path or a scene directory (built into a temporary folder)."""
+    """The .ssp of a scene name, an .ssp path, a scene directory or a scene source (a composed scene's
+    .toml, docs/composition.md), the last two built into a temporary folder."""
     from ..master.scene_names import resolve_scene
 
     path = Path(reference)
+    if path.suffix == ".toml":
+        if not path.is_file():
+            raise CraneFmuError(f"scene source {path} does not exist")
+        from ..compose.command import pack
+
+        _BUILT.append(tempfile.TemporaryDirectory(prefix="cranefmu_scene_"))
+        return pack(path, Path(_BUILT[-1].name) / f"{path.stem}.ssp")
     if path.is_dir():
         if not (path / "SystemStructure.ssd").is_file():
             raise CraneFmuError(f"scene directory {path} has no SystemStructure.ssd")
