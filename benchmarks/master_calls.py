@@ -24,7 +24,11 @@ from pathlib import Path
 
 from master_overhead import HERE, REPO, _package_with_master_of, run_child
 
-CASES = [("elastic_pendulum", "jacobi", 1), ("hook_sway", "jacobi", 1), ("overhead_lift", "gauss-seidel", 1),
+# overhead_lift runs Gauss-Seidel without extrapolation (the scene's stored extrapolation, 0): with
+# extrapolation 1 at H = 1 ms its hook bond (rope - pendulum) grows unstable since the physics merge (the
+# instability alarm stops the 2 s run at t = 1.26 s; the SSD's settings note finds extrapolation 1 and 2
+# unstable at 2-5 ms through the drum and hook bonds); x0 at 1 ms runs the scene's 6 s (measured 2026-11-26)
+CASES = [("elastic_pendulum", "jacobi", 1), ("hook_sway", "jacobi", 1), ("overhead_lift", "gauss-seidel", 0),
          ("truck_telescope", "iterative", 1)]
 
 CHILD = """
