@@ -44,7 +44,9 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
     "integrators.py": (["--cases", "girder-elastic"], ["benchmarks/results/integrators.md"]),
     "interop_difference.py": (["--smoke"], ["benchmarks/results/interop_difference_smoke.md"]),
     "long_run_memory.py": (["--stop", "0.5", "--every", "0.1", "--results", "{tmp}/memory"], ["{tmp}/memory"]),
-    "master_calls.py": (["--before", "HEAD", "--rounds", "1", "--out", "{tmp}/calls.md"], ["{tmp}/calls.md"]),
+    # one case (the one whose setting had to change); all four took 118 s at load 7-9
+    "master_calls.py": (["--before", "HEAD", "--rounds", "1", "--scenes", "overhead_lift", "--out", "{tmp}/calls.md"],
+                        ["{tmp}/calls.md"]),
     "master_overhead.py": (["--before", "HEAD", "--rounds", "1", "--out", "{tmp}/overhead.md"],
                            ["{tmp}/overhead.md"]),
     "native_host_cost.py": (["--stop-time", "0.05", "--repeat", "1"], ["benchmarks/results/native_host_cost.md"]),
