@@ -71,14 +71,15 @@ def one_run(settings: dict, stop: float) -> dict:
     from cranefmu.errors import SimulationError
     from cranefmu.master.coupled import Coupling
     from cranefmu.master.implicit_group import ImplicitGroup
+    from cranefmu.master.newton import Newton
     from cranefmu.master.run import run
 
     totals: dict = {}
     # the group's own snapshots (of a subset of the FMUs: they keep no past values), not the loop's
     _timed(Coupling, "snapshot", totals, "_save", only=lambda members: members is not None)
     _timed(Coupling, "restore", totals, "_restore", only=lambda snap: snap[1] is None)
-    for name in ("_evaluate", "_estimate"):
-        _timed(ImplicitGroup, name, totals)
+    _timed(ImplicitGroup, "_evaluate", totals)
+    _timed(Newton, "_estimate", totals)   # the Jacobian estimates (the group's Newton solver, master/newton.py)
     out = {"totals": totals}
     settings = dict(settings)
     stop = settings.pop("_stop", stop)
