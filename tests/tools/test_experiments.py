@@ -229,6 +229,9 @@ def verdict(**kw) -> tuple[float, float]:
     (dict(metric="mean", equals=5.0, abs=0.01), None),
     (dict(metric="first_crossing", level=5.0, equals=1 / (4 * F * math.sqrt(1 - ZETA ** 2)), abs=1e-4), None),
     (dict(metric="dynamic_factor", equals=1.0, rel=1e-12), 1.0),            # max 6 over the first row, 6
+    # the decaying oscillation's smallest peak is its last one, 5 + exp(-zeta w t_k) at t_k = k / f_d
+    (dict(metric="smallest_peak", equals=5.0 + math.exp(-ZETA * 2 * math.pi * F * math.floor(
+        10.0 * F * math.sqrt(1 - ZETA ** 2)) / (F * math.sqrt(1 - ZETA ** 2))), abs=1e-4), None),
     (dict(metric="dynamic_factor", during=(5.0, 10.0), equals=float(Y[T >= 5.0].max() / 6.0), rel=1e-12), None),
     (dict(metric="dynamic_factor", static="p.v", equals=3.0, rel=1e-12), 3.0),
     (dict(metric="frequency", equals=F, rel=1e-6), None),

@@ -6,6 +6,8 @@ A ``metric`` turns the rows of ``always``/``during`` into one number:
 
 - ``max``, ``min``, ``max_abs``, ``mean`` of the column;
 - ``first_crossing``: the first time [s] the column crosses ``level`` (linear between rows);
+- ``smallest_peak``: the smallest local maximum of the column (a row >= the one before and > the one
+  after), e.g. the smallest swing peak of a sway (the beat of two pendulum modes);
 - ``dynamic_factor``: max / static, static = ``static`` (an expression) or the column's first row
   of the run (the scene starts at rest, so its first row is the static value);
 - ``frequency`` [Hz], ``damping`` [1]: of mode ``mode`` (lowest frequency first) among the
@@ -87,6 +89,11 @@ def metric(a: AssertionSpec, t: np.ndarray, y: np.ndarray, values: dict, first: 
             raise ValueError(f"{a.column} never crosses level {a.level:g}")
         i = int(hit[0])
         return float(t[i] + (t[i + 1] - t[i]) * (0 - d[i]) / (d[i + 1] - d[i]))
+    if m == "smallest_peak":
+        inner = np.flatnonzero((y[1:-1] >= y[:-2]) & (y[1:-1] > y[2:])) + 1
+        if not len(inner):
+            raise ValueError(f"{a.column or 'the value'} has no peak (no local maximum) in its rows")
+        return float(np.min(y[inner]))
     if m == "dynamic_factor":
         static = evaluate(a.static, values) if a.static is not None else first
         if static == 0:

@@ -29,7 +29,8 @@ class ExperimentError(CraneFmuError):
 
 
 WHEN = ("always", "finally", "at", "during")
-METRICS = ("max", "min", "max_abs", "mean", "first_crossing", "dynamic_factor", "frequency", "damping")
+METRICS = ("max", "min", "max_abs", "mean", "first_crossing", "smallest_peak", "dynamic_factor", "frequency",
+           "damping")
 COMMAND_KINDS = ("hoist", "lower", "telescope", "luff", "slew", "travel", "setpoint", "table")
 CASE_KEYS = {"description", "scene", "parameter_set", "set", "commands", "assert"}
 TOP_KEYS = CASE_KEYS | {"name", "cases"}
