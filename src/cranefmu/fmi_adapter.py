@@ -428,6 +428,8 @@ def advance(model: Model, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1:
     finite-state check).  ``solver = "exact"`` takes the model's own closed-form step
     (:meth:`Model.exact_step`) and integrates with rk4 at ``max_step`` where it does not apply."""
     moving = r1 is not None and r2 is not None and bool(r1.any() or r2.any())
+    if solver == AUTO:   # as the FMU resolves it at initialization (a caller may pass the parameter as set)
+        solver = EXACT if model.exact_applies() else "rk4"
     if x.size == 0 and solver != EXACT:   # no state (a stateless spring): nothing to integrate
         x1 = x
     elif model.frozen:  # derivatives identically 0: sub-stepping would only cost time

@@ -51,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .chassis import ChassisParams
-from .component import Model, Signal
+from .component import Model, Port, Signal
 from .params import ParameterError, param
 
 
@@ -101,6 +101,16 @@ class Chassis4Model(Model):
     Params = Chassis4Params
     description = ("Truck body and slewing platform on four elastic outrigger pads in 3-D (heave, pitch, roll) "
                    "with unilateral soil contact (seed 000 Tables 1-2, its four stays)")
+    ports = (
+        Port("foot_heave", "vertical motion under the force of the boom foot O2",
+             force=("Fy_base",), velocity=("vy_base",), position=("y_base",)),
+        Port("foot_pitch", "pitch of the chassis under the boom's moment about z (gamma turns opposite to Mz_base)",
+             force=("Mz_base",), velocity=("gamma_rate",), position=("gamma",), kind="angular", sign=-1),
+        Port("foot_roll", "roll of the chassis under the boom's moment about x (beta turns with Mx_base)",
+             force=("Mx_base",), velocity=("beta_rate",), position=("beta",), kind="angular"),
+        Port("foot_x", "x force of the boom at O2 (the chassis is rigid along x: no motion)", force=("Fx_base",)),
+        Port("foot_z", "z force of the boom at O2 (the chassis is rigid along z: no motion)", force=("Fz_base",)),
+    )
     inputs = (
         Signal("Fx_base", "N", "x force of the boom on the chassis at the boom foot O2", coupling=True),
         Signal("Fy_base", "N", "y (up) force of the boom on the chassis at O2", coupling=True),
