@@ -8,10 +8,6 @@ from pathlib import Path
 import pytest
 
 BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
-# still import test-only FMU sources from tests/ (late, foreign_ssp, c_fmu: C source; c_host: a C host):
-# listed so the check holds for every other script; remove a name when its helpers move into the package
-PENDING = {"foreign_fmus.py": "tests/late, tests/foreign_ssp.py, tests/c_fmu",
-           "native_host_cost.py": "tests/c_host"}
 PRIVATE = {
     "tests/ on sys.path": re.compile(r"sys\.path\.(insert|append)\([^\n]*\b(tests|TESTS)\b"),
     "master.run._loop": re.compile(r"\b_loop\b"),
@@ -35,7 +31,4 @@ def test_the_check_catches_each_reach():
 @pytest.mark.parametrize("script", sorted(p.name for p in BENCH.glob("*.py")))
 def test_benchmark_uses_public_api_only(script):
     found = offences((BENCH / script).read_text())
-    if script in PENDING:
-        assert found, f"{script} no longer reaches into tests/: remove it from PENDING"
-        pytest.xfail(f"{script} still imports {PENDING[script]}")
     assert not found, f"benchmarks/{script}: {', '.join(found)}"
