@@ -1,5 +1,5 @@
 """Energy drift of every coupling scheme on the undamped two-mass oscillator (the master's test
-problem, tests/oscillator): energy at the end / at the start, the largest excursion, the mean
+problem, cranefmu.studies.oscillator): energy at the end / at the start, the largest excursion, the mean
 log-energy change per step and the power-bond residual total.  Prints the table and saves it to
 benchmarks/results/energy_drift.txt.
 
@@ -14,7 +14,6 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
 
 SCHEMES = [("jacobi", 0), ("jacobi", 1), ("jacobi", 2), ("gauss-seidel", 0), ("gauss-seidel", 1),
            ("gauss-seidel", 2), ("iterative", 1), ("iterative", 2)]
@@ -23,8 +22,8 @@ SCHEMES = [("jacobi", 0), ("jacobi", 1), ("jacobi", 2), ("gauss-seidel", 0), ("g
 def main(steps: list[float]) -> None:
     from cranefmu.errors import SimulationError
     from cranefmu.master.run import run
-    from oscillator import build_oscillator
-    from oscillator.exact import Oscillator
+    from cranefmu.studies.oscillator import build_oscillator
+    from cranefmu.studies.oscillator.exact import Oscillator
 
     osc = Oscillator()
     lines = ["scheme               H [s]    E_end/E0   max|E-E0|/E0   dlogE/step   bond residual [J]"]

@@ -194,7 +194,7 @@ def configuration(row: dict, slave) -> str:
     cls = physics_class(row["fmu"])
     p = row["params"]
     switches = [f"{n}={p.get(n, d)}" for n, d, _ in cls.Params.field_specs() if isinstance(d, str)]
-    return " ".join([f"solver={slave._named('solver')} max_step={slave.max_step:g}"] + switches)
+    return " ".join([f"solver={slave.parameter_value('solver')} max_step={slave.max_step:g}"] + switches)
 
 
 def measure_fmi(rows: list[dict], trivial: dict[tuple[int, int], Path], workdir: Path, rounds: int, batch: int,
@@ -289,7 +289,7 @@ def breakdown(row: dict, n: int = 1500) -> None:
     s, vin, vout = _slave_with(cls, row, row["inputs"], row["u"])
     u, h = list(row["u"]), row["H"]
     row["py_set_us"], row["py_step_us"], row["py_get_us"] = _py_side(s, vin, vout, u, h, n)
-    model, x, t = s._model, s._x.copy(), s._t
+    model, x, t = s.physics_state()
     ua = np.array(u)
     calls = [0]
     # the right-hand side the integration calls: on lists where the model has one (rk4), else on arrays
@@ -301,7 +301,7 @@ def breakdown(row: dict, n: int = 1500) -> None:
         return deriv(ti, xi, ui)
 
     def step():
-        return advance(model, t, x, h, ua, None, None, s._named("solver"), s.rtol, s.max_step)
+        return advance(model, t, x, h, ua, None, None, s.solver_in_use(), s.rtol, s.max_step)
 
     setattr(model, name, counting)
     step()

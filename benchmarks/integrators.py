@@ -1,6 +1,6 @@
 """Cost and accuracy of the FMUs' internal solvers (cranefmu.integrators) on every physics model.
 
-For each model configuration of tests/model_cases.py (initialized at rest, then a step of its
+For each model configuration of cranefmu.studies.model_cases (initialized at rest, then a step of its
 inputs) and each solver setting: the model is stepped like an FMU does it (macro step H, constant
 inputs, ``integrate`` per step, ``after_step``), timed over the whole span, and compared with a
 tight Radau solve (rtol 1e-10).  Error: largest |x - x_ref| of each state over the trajectory,
@@ -21,10 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
+from cranefmu.studies.model_cases import CASES, trajectory
 
-from model_cases import CASES, trajectory  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 # (solver, max_step [s], rtol): explicit fixed steps at and above the stiff limit, the implicit
 # fixed-step TR-BDF2 at large steps, and the adaptive scipy methods at a working tolerance

@@ -23,11 +23,10 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
 
 
 def _worst(ours, theirs: dict, columns: list[str], shift: int = 1) -> str:
-    from interop_hosts import worst_relative
+    from cranefmu.studies.hosts import worst_relative
 
     found = [c for c in columns if c in theirs and len(theirs[c])]
     if not found:
@@ -43,9 +42,9 @@ def main(stop: float, smoke: bool = False) -> None:
     from cranefmu.master.extracted import extracted_scene
     from cranefmu.master.run import run
     from cranefmu.scenes import SCENES
-    from fmu_child import in_child
-    from interop_hosts import (agreement_step, ecos_run, fmpy_run, libcosim_timed, scene_file, scene_variants,
-                               split_feedthrough)
+    from cranefmu.studies.fmu_child import in_child
+    from cranefmu.studies.hosts import (agreement_step, ecos_run, fmpy_run, libcosim_timed, scene_file,
+                                        scene_variants, split_feedthrough)
 
     b.build(verbose=False)
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,

@@ -4,7 +4,7 @@ Every host makes the same FMI calls per step: 2 doStep, 9 getReal + 9 setReal al
 connections, and one getReal per recorded output (all Real outputs of both FMUs).  Hosts:
 
 - ``fmpy``: a Python loop over fmpy's ``FMU2Slave`` (ctypes), in a fresh child process;
-- ``C``: tests/c_host/host.c compiled with gcc, libpython preloaded;
+- ``C``: cranefmu/studies/c_host/host.c compiled with gcc, libpython preloaded;
 - ``C, hold_gil``: the same host holding one Python thread state for the whole run;
 each C host with the FMUs' own fix on (default) and off (``CRANEFMU_KEEP_THREAD_STATE=0``, every
 FMI call from the C thread then creates and destroys a Python thread state).
@@ -25,9 +25,9 @@ import tempfile
 import time
 from pathlib import Path
 
+from cranefmu.studies.c_host import native
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests" / "c_host"))
-import native  # noqa: E402
 
 H = 1e-3
 RESULTS = ROOT / "benchmarks" / "results"

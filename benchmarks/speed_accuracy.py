@@ -44,7 +44,6 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))   # interop_hosts: the libcosim runs shared with the interop tests
 RESULTS = ROOT / "benchmarks" / "results"
 LEVELS = (1e-2, 1e-3)  # error levels (fraction of the signal's range) for the equal-accuracy comparison
 MONO_RTOLS = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
@@ -289,28 +288,21 @@ class _LoopTimer:
 
 def fmi_split(scene: str, stop: float, h: float, algorithm: str, extrapolation: int, **options) -> dict:
     """Without a profiler: the stepping loop's wall time and the time inside the FMI C functions
-    (each ctypes function fmpy loads is wrapped with a timer, so the master's direct calls and fmpy's
-    wrappers are timed alike), per FMU instance and per function.  Master = loop - FMI."""
-    import fmpy.fmi1 as fmi1
-
+    (each FMI C function of every instance is wrapped with a timer through the master's public
+    :func:`cranefmu.master.fmu.wrap_fmi_calls`, so the master's direct calls and fmpy's wrappers are
+    timed alike), per FMU instance and per function.  Master = loop - FMI."""
+    from cranefmu.master.fmu import wrap_fmi_calls
     from cranefmu.master.run import run
 
     table: dict[tuple[str, str], list] = {}
-    load = fmi1._FMU._loadFunctions
 
-    def timed_load(fmu):
-        load(fmu)
-        for name in list(fmu._functions):
-            cell = table.setdefault((fmu.instanceName, name.replace("fmi2", "")), [0.0, 0])
-            fmu._functions[name] = _TimedCall(fmu._functions[name], cell)
+    def timed(instance: str, name: str, f):
+        return _TimedCall(f, table.setdefault((instance, name.replace("fmi2", "")), [0.0, 0]))
 
-    fmi1._FMU._loadFunctions = timed_load
     loop = _LoopTimer(table, stop)
-    try:
+    with wrap_fmi_calls(timed):
         res = run(scene, stop_time=stop, step_size=h, algorithm=algorithm, extrapolation=extrapolation,
                   keep=False, isolate=False, observers=(loop,), **{"implicit": [], **options})
-    finally:
-        fmi1._FMU._loadFunctions = load
     loop_box = {"wall": loop.wall, "fmi": loop.fmi}
     # the timer's own cost per call, to say how much of "inside FMI" it adds
     cell = [0.0, 0]
@@ -489,11 +481,11 @@ def _ecco_bounds(h0: float) -> dict:
 def libcosim_once(scene: str, keys, stop: float, h: float, abs_tolerance: float | None, start: dict | None = None):
     """One libcosim run in a guarded child: fixed step ``h`` from the .ssp, or ECCO from ``h`` with
     ``abs_tolerance`` [J]; ``start``: initial values of the connected inputs (our settled start,
-    :func:`settled_start`); returns (ConvergenceRun, result array or None)."""
+    :func:`cranefmu.studies.timing.settled_start`); returns (ConvergenceRun, result array or None)."""
     from cranefmu import build as b
     from cranefmu.converge import ConvergenceRun
     from cranefmu.master.run import resolve_scene
-    from interop_hosts import libcosim_timed
+    from cranefmu.studies.hosts import libcosim_timed
 
     row = ConvergenceRun(h, abs_tolerance)
     try:
@@ -515,23 +507,9 @@ def libcosim_once(scene: str, keys, stop: float, h: float, abs_tolerance: float 
     return row, _table(out["time"], {k: out[k] for k in keys})
 
 
-def settled_start(scene: str) -> dict:
-    """Our initialization's settled values of every connected input ("component.variable" -> value),
-    handed to libcosim as initial values: it exchanges nothing in initialization mode, so as loaded
-    a start derived through connections (the rope's hanging length, the payload's rest tension)
-    stays unsettled there (tests/tools/test_interop_libcosim.py measures that difference)."""
-    from cranefmu import build as b
-    from cranefmu.master.run import run
-    from cranefmu.master.scene import read_scene_folder
-    from interop_hosts import settled_inputs
-
-    first = run(scene, stop_time=1e-3, step_size=1e-3, isolate=False).result[0]
-    return settled_inputs(read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR).connections, first)
-
-
 def libcosim_series(scene: str, keys, stop: float, steps: list[float], say, start: dict | None) -> dict:
     """libcosim fixed step at every H, libcosim ECCO at every tolerance from the finest H, both from
-    ``start`` (:func:`settled_start`)."""
+    ``start`` (:func:`cranefmu.studies.timing.settled_start`)."""
     out = {}
     for name, settings in (("libcosim fixed", [(h, None) for h in steps]),
                            ("libcosim ecco", [(min(steps), tol) for tol in LIBCOSIM_ECCO_TOLERANCES])):
@@ -792,6 +770,8 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
         h0 = min(steps)
         series[("jacobi ecco", 1)] = master_runs(scene, [(h0, tol) for tol in ADAPTIVE_TOLERANCES], stop, "jacobi",
                                                  1, say, step_control="ecco", **_ecco_bounds(h0))
+        from cranefmu.studies.timing import settled_start
+
         start = in_child(settled_start, scene)
         lc = libcosim_series(scene, keys, stop, steps, say, start)
         notes = alarm_retries(scene, stop, series, h0, say)

@@ -1,7 +1,7 @@
 """Fixtures every layer shares: the FMUs and scenes are built once per test session (only what is stale).
 
-The helper modules beside this file (model_cases, scene_edit, fmu_child, interop_hosts, cli_process,
-pendulum_cases and the oscillator/faulty/c_host packages) are imported by plain name from every layer
+The helper modules beside this file (scene_edit, cli_process, pendulum_cases, the faulty package and the
+re-exports of cranefmu.studies' model_cases, fmu_child, interop_hosts, oscillator, ...) are imported by plain name from every layer
 folder: this directory is put on sys.path here, whatever pytest's import mode (README.md)."""
 from __future__ import annotations
 
@@ -26,7 +26,7 @@ def built():
 
 @pytest.fixture(scope="session")
 def oscillator_ssp(tmp_path_factory):
-    """The master's test problem (tests/oscillator): two FMUs built from test models, one .ssp."""
+    """The master's test problem (src/cranefmu/studies/oscillator): two FMUs built from test models, one .ssp."""
     from oscillator import build_oscillator
 
     return build_oscillator(tmp_path_factory.mktemp("oscillator"))

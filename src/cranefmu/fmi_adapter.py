@@ -171,6 +171,21 @@ class CraneSlave(Fmi2Slave):
                                  f"{enumeration_text(names)}")
         return names[value]
 
+    def parameter_value(self, name: str) -> Any:
+        """Parameter ``name`` as the physics takes it (a switch's name, not its integer code), for tools
+        that inspect an instance (benchmarks/fmu_floor.py)."""
+        return self._named(name)
+
+    def physics_state(self) -> tuple[Model | None, np.ndarray, float]:
+        """The instance's physics model (None before initialization), a copy of its state vector and its
+        time [s]: what :func:`advance` takes, for profiling one step outside the FMI calls."""
+        return self._model, self._x.copy(), self._t
+
+    def solver_in_use(self) -> str:
+        """The internal solver :meth:`do_step` integrates with: the ``solver`` parameter, ``auto`` resolved
+        for the built model (``exact`` where its closed-form step applies, else rk4)."""
+        return self._solver
+
     def _build_model(self) -> Model:
         """Validated parameters -> model; raises ParameterError naming the parameter."""
         for name in ("solver", "rtol", "max_step"):

@@ -1,5 +1,5 @@
 """Largest stable macro step of Jacobi with zero-order hold: measured by runs, against the spectral
-radius of the linear recurrence z_{n+1} = M(H) z_n of the scheme (tests/oscillator/exact.py)."""
+radius of the linear recurrence z_{n+1} = M(H) z_n of the scheme (src/cranefmu/studies/oscillator/exact.py)."""
 import numpy as np
 import pytest
 from scipy.optimize import brentq

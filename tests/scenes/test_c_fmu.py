@@ -1,4 +1,4 @@
-"""A non-Python FMU in every run of the suite: SpringSupport (tests/c_fmu/spring_support.c, FMI 2.0
+"""A non-Python FMU in every run of the suite: SpringSupport (src/cranefmu/studies/c_fmu/spring_support.c, FMI 2.0
 written in C, compiled with cc while the tests run) as the sprung suspension point of our Rope and
 Pendulum in a hand-written SSP (docs/foreign_fmus.md)."""
 from __future__ import annotations

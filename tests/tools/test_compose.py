@@ -221,7 +221,7 @@ def test_the_cli_reports_a_bad_scene_in_one_line(built, tmp_path, capsys):
 
 
 def test_a_foreign_fmu_joins_by_its_variables(built, tmp_path):
-    """SpringSupport (C, tests/c_fmu) as the rope's sprung top, connected variable by variable beside the
+    """SpringSupport (C, src/cranefmu/studies/c_fmu) as the rope's sprung top, connected variable by variable beside the
     rope's and hook's ports: settled at rest, the support sags m g / k and the tension is the weight."""
     from c_fmu import G, K, LOAD, M_SUPPORT
     from c_fmu.build import build, compiler

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import atexit
+import contextlib
 import ctypes
 import re
 from pathlib import Path
@@ -83,6 +84,22 @@ def _slave_class():
 
         _SLAVE = FMU2SlaveFatalAware
     return _SLAVE
+
+
+_CALL_WRAPPERS: list = []   # active wrap_fmi_calls wrappers, innermost last
+
+
+@contextlib.contextmanager
+def wrap_fmi_calls(wrap):
+    """While active, each FMU this process instantiates has every FMI C function ``f`` of its fmpy
+    object replaced by ``wrap(instance_name, function_name, f)`` before its first call (fmi2Instantiate
+    included), e.g. to time the calls without a profiler (benchmarks/speed_accuracy.py).  The wrapper
+    must forward ``argtypes``, ``restype`` and ``argnames``: fmpy's own wrappers read them."""
+    _CALL_WRAPPERS.append(wrap)
+    try:
+        yield
+    finally:
+        _CALL_WRAPPERS.remove(wrap)
 
 
 ENUMERATIONS_TOOL = "org.cranefmu.enumerations"   # written by cranefmu.fmi_adapter (bundled, cannot import this)
@@ -187,7 +204,10 @@ class FmuComponent:
             cls = _slave_class()
         self.fmu = cls(guid=self.md.guid, unzipDirectory=str(self.unzipdir),
                        modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=self.name)
-
+        if _CALL_WRAPPERS:
+            functions = self.fmu._functions
+            for fname, f in list(functions.items()):
+                functions[fname] = _CALL_WRAPPERS[-1](self.name, fname, f)
         _MESSAGES[self.name] = []
         try:
             self.fmu.instantiate(loggingOn=True, callbacks=_callbacks())

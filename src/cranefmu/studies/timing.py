@@ -6,7 +6,7 @@ the process), ``second`` [s] (warm: the same run again), and saves the second ru
 its output times to OUT (``.npz``).  Methods: ``ours`` (our master, in-process), ``monolith`` (the
 scene's equations in one ODE, Radau, rtol 1e-6, output at ``time`` of the matching ``ours`` run, or
 every STEP), ``libcosim`` (libcosimpy, fixed step from the .ssp, started from our settled inputs) and
-``ecos`` (ecospy, fixed step, the .ssp's bound set), both through the checkout's tests/interop_hosts.py.  Timings are wall clock (``time.perf_counter``); the machine may be shared.
+``ecos`` (ecospy, fixed step, the .ssp's bound set), both through :mod:`cranefmu.studies.hosts`.  Timings are wall clock (``time.perf_counter``); the machine may be shared.
 """
 from __future__ import annotations
 
@@ -26,16 +26,10 @@ def keys(scene: str) -> tuple[str, ...]:
     return key_outputs(scene)
 
 
-def checkout_tests() -> Path | None:
-    """The checkout's tests/ folder (interop_hosts.py), None for an installed package."""
-    here = Path(__file__).resolve().parents[3] / "tests"
-    return here if (here / "interop_hosts.py").is_file() else None
-
-
 def libcosim_available() -> bool:
     import importlib.util
 
-    return importlib.util.find_spec("libcosimpy") is not None and checkout_tests() is not None
+    return importlib.util.find_spec("libcosimpy") is not None
 
 
 def _ours(scene: str, stop: float, step: float):
@@ -54,17 +48,15 @@ def _monolith(scene: str, stop: float, step: float):
 
 
 def _ecos(scene: str, stop: float, step: float):
-    from interop_hosts import ecos_run
-
     from ..master.run import resolve_scene
+    from .hosts import ecos_run
 
     return ecos_run(str(resolve_scene(scene)), step, stop, list(keys(scene)))
 
 
 def _libcosim(scene: str, stop: float, step: float):
-    from interop_hosts import libcosim_timed
-
     from ..master.run import resolve_scene
+    from .hosts import libcosim_timed
 
     out = libcosim_timed(list(keys(scene)), stop, str(resolve_scene(scene)), step, initial_values=_START.get(scene))
     if "error" in out:
@@ -81,7 +73,7 @@ def settled_start(scene: str) -> dict:
     from .. import build as b
     from ..master.run import run
     from ..master.scene import read_scene_folder
-    from interop_hosts import settled_inputs
+    from ..settled_start import settled_inputs
 
     first = run(scene, stop_time=1e-3, step_size=1e-3, isolate=False, progress=False).result[0]
     return settled_inputs(read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR).connections, first)
@@ -101,10 +93,8 @@ def child(method: str, scene: str, stop: float, step: float, out: str) -> dict:
     elif method == "monolith":
         import cranefmu.reference  # noqa: F401
     elif method == "ecos":
-        sys.path.insert(0, str(checkout_tests()))
         import ecospy  # noqa: F401
     else:
-        sys.path.insert(0, str(checkout_tests()))
         import libcosimpy.CosimExecution  # noqa: F401
     t1 = clock.perf_counter()
     if method == "libcosim":   # not timed: our own run, to hand libcosim the same settled start

@@ -10,7 +10,7 @@
  * F is held (zero-order hold) and the state advanced by classical RK4 with substeps of at most
  * max_step.  State save/restore is supported (no serialization).
  *
- * Compiled against the FMI 2.0 headers fmpy ships (tests/c_fmu/build.py).
+ * Compiled against the FMI 2.0 headers fmpy ships (build.py beside it).
  */
 #include <math.h>
 #include <stdlib.h>
