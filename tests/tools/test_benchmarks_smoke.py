@@ -79,7 +79,8 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
     "validation_report.py": (["--quick"], ["docs/validation.md"]),
     "warm_run.py": (["--smoke"], ["benchmarks/results/warm_run_smoke.md"]),
 }
-# the smallest size takes minutes on a loaded machine: left to `pytest -m slow` (measured at load 17-24 on 2
+# the smallest size takes minutes on a loaded machine: out of the default run, run by .ci/run's own step
+# `pytest -m slow tests/tools/test_benchmarks_smoke.py` (5 passed in 99 s at load 6, 2026-11-26 06:35 UTC) (measured at load 17-24 on 2
 # cores, 2026-11-26: validation_report.py --quick 600+ s, hook_sway_levers.py --smoke 147 s, foreign_fmus.py
 # 131 s, master_overhead.py 98 s, scene_defaults.py 82 s; the others 0.3-66 s, about 460 s together); measured at
 # load 2-4, 2026-11-26 06:00 UTC, with their --smoke: overhead_modes.py 21 s, exit_valgrind.py 14 s, warm_run.py 13 s
