@@ -55,6 +55,20 @@ from .component import Model, Port, Signal
 from .params import ParameterError, param
 
 
+def foot_ports(heave: str) -> tuple[Port, ...]:
+    """The five ports of the boom foot O2 between SlewingBoom and Chassis4 (the same variables on both sides;
+    ``heave`` describes the vertical one from the declaring side)."""
+    return (
+        Port("foot_heave", heave, force=("Fy_base",), velocity=("vy_base",), position=("y_base",)),
+        Port("foot_pitch", "pitch of the chassis under the boom's moment about z (gamma turns opposite to Mz_base)",
+             force=("Mz_base",), velocity=("gamma_rate",), position=("gamma",), kind="angular", sign=-1),
+        Port("foot_roll", "roll of the chassis under the boom's moment about x (beta turns with Mx_base)",
+             force=("Mx_base",), velocity=("beta_rate",), position=("beta",), kind="angular"),
+        Port("foot_x", "x force of the boom at O2 (the chassis is rigid along x: no motion)", force=("Fx_base",)),
+        Port("foot_z", "z force of the boom at O2 (the chassis is rigid along z: no motion)", force=("Fz_base",)),
+    )
+
+
 @dataclass(frozen=True)
 class Chassis4Params(ChassisParams):
     component = "chassis"
@@ -101,16 +115,7 @@ class Chassis4Model(Model):
     Params = Chassis4Params
     description = ("Truck body and slewing platform on four elastic outrigger pads in 3-D (heave, pitch, roll) "
                    "with unilateral soil contact (seed 000 Tables 1-2, its four stays)")
-    ports = (
-        Port("foot_heave", "vertical motion under the force of the boom foot O2",
-             force=("Fy_base",), velocity=("vy_base",), position=("y_base",)),
-        Port("foot_pitch", "pitch of the chassis under the boom's moment about z (gamma turns opposite to Mz_base)",
-             force=("Mz_base",), velocity=("gamma_rate",), position=("gamma",), kind="angular", sign=-1),
-        Port("foot_roll", "roll of the chassis under the boom's moment about x (beta turns with Mx_base)",
-             force=("Mx_base",), velocity=("beta_rate",), position=("beta",), kind="angular"),
-        Port("foot_x", "x force of the boom at O2 (the chassis is rigid along x: no motion)", force=("Fx_base",)),
-        Port("foot_z", "z force of the boom at O2 (the chassis is rigid along z: no motion)", force=("Fz_base",)),
-    )
+    ports = foot_ports("vertical motion of the boom foot O2 under the force")
     inputs = (
         Signal("Fx_base", "N", "x force of the boom on the chassis at the boom foot O2", coupling=True),
         Signal("Fy_base", "N", "y (up) force of the boom on the chassis at O2", coupling=True),

@@ -43,6 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .boom import BoomParams, base_reactions, cylinder_geometry, luff_law, mass_state
+from .chassis4 import foot_ports
 from .component import Model, Port, Signal
 from .motion_laws import trapezoid_motion
 from .params import ParameterError, param
@@ -88,14 +89,7 @@ class SlewingBoomModel(Model):
         Port("tip", "boom tip motion under the rope force",
              force=("Fx_tip", "Fy_tip", "Fz_tip"), velocity=("vx_tip", "vy_tip", "vz_tip"),
              position=("x_tip", "y_tip", "z_tip")),
-        Port("foot_heave", "vertical force of the boom on the chassis and the motion of the boom foot O2",
-             force=("Fy_base",), velocity=("vy_base",), position=("y_base",)),
-        Port("foot_pitch", "pitch of the chassis under the boom's moment about z (gamma turns opposite to Mz_base)",
-             force=("Mz_base",), velocity=("gamma_rate",), position=("gamma",), kind="angular", sign=-1),
-        Port("foot_roll", "roll of the chassis under the boom's moment about x (beta turns with Mx_base)",
-             force=("Mx_base",), velocity=("beta_rate",), position=("beta",), kind="angular"),
-        Port("foot_x", "x force of the boom at O2 (the chassis is rigid along x: no motion)", force=("Fx_base",)),
-        Port("foot_z", "z force of the boom at O2 (the chassis is rigid along z: no motion)", force=("Fz_base",)),
+        *foot_ports("vertical force of the boom on the chassis and the motion of the boom foot O2"),
     )
     inputs = (
         Signal("y_base", "m", "vertical displacement of the boom foot O2 (up positive), from the chassis",
