@@ -11,7 +11,9 @@ A ``metric`` turns the rows of ``always``/``during`` into one number:
 - ``dynamic_factor``: max / static, static = ``static`` (an expression) or the column's first row
   of the run (the scene starts at rest, so its first row is the static value);
 - ``frequency`` [Hz], ``damping`` [1]: of mode ``mode`` (lowest frequency first) among the
-  ``n_modes`` strongest of the column, fitted by :func:`cranefmu.modal.fit_modes` (matrix pencil).
+  ``n_modes`` strongest of the column, fitted by :func:`cranefmu.modal.fit_modes` (matrix pencil);
+- the metrics registered in :mod:`.metrics` (``envelope_first_minimum``, ``envelope_min_ratio``,
+  ``envelope_fall_rate``: the Hilbert envelope of a released sway).
 
 Limits: ``min`` and/or ``max``, or ``equals`` with ``rel`` and/or ``abs`` (the larger tolerance
 counts); each a number or an expression (:mod:`.expressions`).  The margin is how far inside the
@@ -26,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .expressions import evaluate
+from .metrics import REGISTRY
 from .reader import AssertionSpec
 
 
@@ -99,6 +102,8 @@ def metric(a: AssertionSpec, t: np.ndarray, y: np.ndarray, values: dict, first: 
         if static == 0:
             raise ValueError("the static value is 0: no dynamic factor")
         return float(np.max(y) / static)
+    if m in REGISTRY:
+        return float(REGISTRY[m](t, y))
     from ..modal import fit_modes
 
     modes = fit_modes(t, y, a.n_modes)

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from ..errors import CraneFmuError
 from .lines import Lines
+from .metrics import REGISTRY
 
 try:
     import tomllib
@@ -30,7 +31,7 @@ class ExperimentError(CraneFmuError):
 
 WHEN = ("always", "finally", "at", "during")
 METRICS = ("max", "min", "max_abs", "mean", "first_crossing", "smallest_peak", "dynamic_factor", "frequency",
-           "damping")
+           "damping", *REGISTRY)
 COMMAND_KINDS = ("hoist", "lower", "telescope", "luff", "slew", "travel", "setpoint", "table")
 CASE_KEYS = {"description", "scene", "parameter_set", "set", "commands", "assert"}
 TOP_KEYS = CASE_KEYS | {"name", "cases"}
