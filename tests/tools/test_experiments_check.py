@@ -158,7 +158,9 @@ def test_shipped_experiments_pass(built, tmp_path):
     for key in [("truck_tipping_statics", "load2500_30deg_short", "front_loaded"),
                 ("truck_slewing_statics", "slew90", "N3"), ("truck_slewing_statics", "tipping90", "N1_unloaded"),
                 ("overhead_lift_table7", "kv_tight", "phi2_HC4"), ("overhead_lift_table7", "kv_loose", "take_up_speed"),
-                ("hook_sway_seed002", "m5_L040", "smallest_swing"), ("hook_sway_air_drag", "drag", "reduction")]:
+                ("hook_sway_seed002", "m5_L040", "smallest_swing"), ("hook_sway_air_drag", "drag", "reduction"),
+                ("hook_sway_envelope", "m5_L050", "fall_rate"), ("hook_sway_air_drag", "drag", "quadratic_estimate"),
+                ("truck_slewing_statics", "tipping45_short", "N3_loaded")]:
         assert key in names, key
 
 
