@@ -3,11 +3,13 @@
 docs/experiments.md's claims table maps each column of each validation.md table (a table is named by its
 first and last column header) to the experiment files that assert it, or gives the reason it has none.
 A number counts as asserted when an assertion of a named file quotes it in its ``source`` and carries it
-in its limit: the number (as written, or in N/m/s against the doc's kN/mm/...: times 10^k, k = -6..6 in
-steps of 3, or in % against 1), rounded as the doc writes it, overlaps the limit's tolerance band or holds a
-number written in its limit expression or its case's ``set``.  Cells the table excuses by name ("not asserted: ...") are skipped.  The text (prose) of
-validation.md is not parsed: its numbers are listed in the second table, whose rows are checked the same
-way.  No FMU runs here: tests/tools/test_experiments_check.py runs experiments/ (CI).
+in its limit: the number (as written, or in SI against the doc's kN / mm / %: times 10^k, k = -6..6 in
+steps of 3, or -2), rounded as the doc writes it, overlaps the limit's tolerance band or holds a number
+written in its limit expression or its case's ``set``.  A number is matched against every assertion of
+the row's files, not one case (a cell cannot be tied to a case without parsing the row's labels).
+Numbers the row excuses by name ("not asserted: ...") are skipped.  The text (prose) of validation.md
+is not parsed: its numbers are listed in the second table, whose rows are checked the same way.  No FMU
+runs here: tests/tools/test_experiments_check.py runs experiments/ (CI).
 """
 from __future__ import annotations
 
