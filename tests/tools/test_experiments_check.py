@@ -171,3 +171,17 @@ def test_scene_by_directory(built, tmp_path):
     r = cranefmu("check", str(exp))
     assert r.returncode == 0, r.stdout + r.stderr
     assert "2 assertions in 1 cases: 2 passed, 0 failed" in r.stdout
+
+
+def test_long_experiments_are_well_formed(built):
+    """experiments/long is run by hand (minutes), but every file there is read and checked against its
+    scene here (columns, parameters, expressions, settings: nothing runs), so a renamed variable or a
+    typo in a long file fails CI."""
+    from cranefmu.experiments.runner import prepare
+
+    planned = prepare([ROOT / "experiments" / "long"])
+    names = {(p.case.experiment, p.case.name) for p in planned}
+    assert len(planned) >= 40 and sum(len(p.case.assertions) for p in planned) >= 150
+    for key in [("hook_sway_same_point", "m5_L050_pin2"), ("hook_sway_pin_decay", "m3_L045"),
+                ("overhead_lift_sensitivity", "zeta0_loose"), ("truck_telescope_seed000", "luff45")]:
+        assert key in names, key
