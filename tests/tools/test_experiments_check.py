@@ -159,7 +159,8 @@ def test_shipped_experiments_pass(built, tmp_path):
                 ("truck_slewing_statics", "slew90", "N3"), ("truck_slewing_statics", "tipping90", "N1_unloaded"),
                 ("overhead_lift_table7", "kv_tight", "phi2_HC4"), ("overhead_lift_table7", "kv_loose", "take_up_speed"),
                 ("hook_sway_seed002", "m5_L040", "smallest_swing"), ("hook_sway_air_drag", "drag", "reduction"),
-                ("luff_up_and_hold", "base", "N_front"), ("slew_and_stop", "base", "residual_x")]:
+                ("luff_up_and_hold", "base", "N_front"), ("slew_and_stop", "base", "residual_x"),
+                ("telescope_and_hold", "base", "N_rear")]:
         assert key in names, key
 
 

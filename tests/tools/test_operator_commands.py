@@ -69,7 +69,9 @@ def test_commanded_telescope_and_luff_are_exact_at_a_coarse_step(built):
 def test_commanded_law_equals_the_parameter_law_bit_for_bit(built, scene, stop, switch, target, source, parameters,
                                                           monkeypatch):
     """The scene run with its motion law, and run with the law's values fed as a command into the input (the
-    source switched to input): every column equal to the last bit."""
+    source switched to input): every column equal to the last bit.  truck_telescope's implicit groups read
+    the boom's outputs inside the step: without the feed right after each step (CommandFeed.after_step)
+    they saw the command of the step's start and both truck_telescope cases differed (regression test)."""
     import os
 
     import cranefmu
