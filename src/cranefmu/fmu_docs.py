@@ -88,8 +88,11 @@ def render(fmu: Path) -> str:
     switches = [v for v in params if v.type in ("String", "Integer")]
     inputs = [v for v in variables if v.causality == "input"]
     outputs = [v for v in variables if v.causality == "output"]
-    coupling = [v for v in inputs if not v.name.endswith(("_dt", "_dt2"))]
-    extrapolation = [v for v in inputs if v.name.endswith(("_dt", "_dt2"))]
+    # the adapter's extrapolation inputs of the coupling inputs (a model's own rate inputs, e.g. a commanded
+    # motion's extension_command_dt, are inputs of their own)
+    extrapolation = [v for v in inputs if v.name.endswith(("_dt", "_dt2"))
+                     and "for input extrapolation" in (v.description or "")]
+    coupling = [v for v in inputs if v not in extrapolation]
     feedthrough = {u.variable.name: [d.name for d in (u.dependencies or [])] for u in md.outputs}
     cs = md.coSimulation
     de = md.defaultExperiment

@@ -160,7 +160,9 @@ def test_shipped_experiments_pass(built, tmp_path):
                 ("overhead_lift_table7", "kv_tight", "phi2_HC4"), ("overhead_lift_table7", "kv_loose", "take_up_speed"),
                 ("hook_sway_seed002", "m5_L040", "smallest_swing"), ("hook_sway_air_drag", "drag", "reduction"),
                 ("hook_sway_envelope", "m5_L050", "fall_rate"), ("hook_sway_air_drag", "drag", "quadratic_estimate"),
-                ("truck_slewing_statics", "tipping45_short", "N3_loaded")]:
+                ("truck_slewing_statics", "tipping45_short", "N3_loaded"),
+                ("luff_up_and_hold", "base", "N_front"), ("slew_and_stop", "base", "residual_x"),
+                ("telescope_and_hold", "base", "N_rear")]:
         assert key in names, key
 
 

@@ -3,5 +3,6 @@
 
 :mod:`.reader` (the file format), :mod:`.scene_check` (against the scene), :mod:`.profiles` (command
 profiles, input shapers), :mod:`.expressions` (the safe evaluator), :mod:`.assertions`, :mod:`.runner`,
+:mod:`.crane_commands` (the boom's telescope / luff / slew commands bound to its command inputs),
 :mod:`.command` (the command line).
 """

@@ -61,6 +61,11 @@ class Profile:
         return self.starts[-1] if self.starts else -math.inf
 
 
+def shifted(profile: Profile, by: float) -> Profile:
+    """``profile`` + ``by`` (a constant): the value of every piece moved, its rates as they were."""
+    return Profile(profile.before + by, profile.starts, tuple((v + by, d1, d2, d3) for v, d1, d2, d3 in profile.coefs))
+
+
 def combine(parts: list[tuple[float, float, Profile]]) -> Profile:
     """sum A_i p_i(t - tau_i) over ``parts`` = [(A_i, tau_i, p_i)]: exact, the pieces merged."""
     starts = sorted({s + tau for _, tau, p in parts for s in p.starts})

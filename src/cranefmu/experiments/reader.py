@@ -33,6 +33,7 @@ WHEN = ("always", "finally", "at", "during")
 METRICS = ("max", "min", "max_abs", "mean", "first_crossing", "smallest_peak", "dynamic_factor", "frequency",
            "damping", *REGISTRY)
 COMMAND_KINDS = ("hoist", "lower", "telescope", "luff", "slew", "travel", "setpoint", "table")
+BOOM_MOTIONS = ("telescope", "luff", "slew")   # kinds bound to a boom's command input when no inputs are given
 CASE_KEYS = {"description", "scene", "parameter_set", "set", "commands", "assert"}
 TOP_KEYS = CASE_KEYS | {"name", "cases"}
 ASSERT_KEYS = {"name", "column", "value", "always", "finally", "at", "during", "metric", "level", "static", "mode",
@@ -59,6 +60,7 @@ class CommandSpec:
     shaper: str | None = None
     frequency: str | float | None = None         # Hz, a number or an expression of parameters
     damping: str | float = 0.0
+    offset: float = 0.0                          # subtracted from the profile (a boom motion's start, .crane_commands)
 
 
 @dataclass(frozen=True)
@@ -269,16 +271,19 @@ def _item(d: dict, allowed: set[str], what: str, lines: Lines, table: str, k: in
 def _command(c: dict, lines: Lines, table: str, k: int) -> CommandSpec:
     kw = _item(c, COMMAND_KEYS, "a command", lines, table, k)
     where = kw["where"]
-    if "inputs" not in c:
-        raise ExperimentError(f"{where}: inputs: missing (the \"component.variable\" the command feeds)")
-    kw["inputs"] = _names(c["inputs"], lines, table, "inputs", k)
-    if "rate_inputs" in c:
-        kw["rate_inputs"] = _names(c["rate_inputs"], lines, table, "rate_inputs", k)
     kind = c.get("kind", "table" if "table" in c else "setpoint")
     if kind not in COMMAND_KINDS:
         raise ExperimentError(f"{lines.at(table, 'kind', k)}: kind = {kind!r} is not allowed: one of "
                               f"{', '.join(COMMAND_KINDS)}")
     kw["kind"] = kind
+    if "inputs" in c:
+        kw["inputs"] = _names(c["inputs"], lines, table, "inputs", k)
+    elif kind in BOOM_MOTIONS:   # bound to the boom's command input (.crane_commands)
+        kw["inputs"] = ()
+    else:
+        raise ExperimentError(f"{where}: inputs: missing (the \"component.variable\" the command feeds)")
+    if "rate_inputs" in c:
+        kw["rate_inputs"] = _names(c["rate_inputs"], lines, table, "rate_inputs", k)
     if ("moves" in c) == ("table" in c):
         raise ExperimentError(f"{where}: a command needs moves = [...] or table = ... (one of them)")
     if "moves" in c:

@@ -66,7 +66,7 @@ def prepare(paths: list[str | Path], overrides: dict | None = None) -> list[Plan
 def commands_of(specs: tuple[CommandSpec, ...], values: dict) -> list:
     """The master's :class:`~cranefmu.master.commands.Command` objects of a case's commands."""
     from ..master.commands import Command
-    from .profiles import ProfileError, moves, shaped, table
+    from .profiles import ProfileError, moves, shaped, shifted, table
 
     out = []
     for c in specs:
@@ -77,6 +77,8 @@ def commands_of(specs: tuple[CommandSpec, ...], values: dict) -> list:
                 profile = table(list(c.table), c.interpolation)
             if c.shaper:
                 profile = shaped(profile, c.shaper, evaluate(c.frequency, values), evaluate(c.damping, values))
+            if c.offset:   # a boom motion: its input is the change from the start value
+                profile = shifted(profile, -c.offset)
         except (ProfileError, CraneFmuError) as err:
             raise ExperimentError(f"{c.where}: {err}") from None
         out += [Command(target, profile) for target in c.inputs]
@@ -194,6 +196,9 @@ def prepare_case(case: Case, results: set[str], overrides: dict) -> Planned:
     its experiment; ``overrides``: run settings over the case's (no progress bar unless asked)."""
     from ..master.runspec import resolve
 
+    from .crane_commands import bind
+
+    case = bind(case)
     scene = check(case, results)
     values = scene.parameter_values(case.parameter_set, case.parameters)
     settings = {"progress": False, **case.settings, **overrides}

@@ -100,13 +100,18 @@ def interface(reference: str) -> SceneInterface:
     return found
 
 
+def scene_of(case: Case) -> SceneInterface:
+    """The :class:`SceneInterface` of ``case``'s scene; a scene that cannot be read in one line."""
+    try:
+        return interface(case.scene)
+    except CraneFmuError as err:
+        raise ExperimentError(f"{case.where}: scene: {err}") from None
+
+
 def check(case: Case, results: set[str]) -> SceneInterface:
     """Refuse, in one line naming file, line and key, what of ``case`` its scene does not have.
     ``results``: the names ``case.assertion`` of the same experiment (usable in expressions)."""
-    try:
-        scene = interface(case.scene)
-    except CraneFmuError as err:
-        raise ExperimentError(f"{case.where}: scene: {err}") from None
+    scene = scene_of(case)
     if case.parameter_set not in (None, "default") and case.parameter_set not in scene.sets:
         raise ExperimentError(f"{case.where}: parameter_set = {case.parameter_set!r} is not in scene {scene.name}: "
                               f"one of {', '.join(['default', *scene.sets])}")

@@ -7,8 +7,11 @@ master knows nothing of what it commands.  At every communication point t (each 
 t and, where the FMU offers them, ``<input>_dt`` and ``<input>_dt2`` to its exact rate and curvature,
 so that over the coming step the FMU follows value + s rate + s^2/2 curvature: a profile that is a
 polynomial of degree <= 2 between its breakpoints is followed exactly between communication points
-that do not straddle a breakpoint, and every communication point gets the exact value.  At the start
-the value joins the start values, so the initialization settles with it.
+that do not straddle a breakpoint, and every communication point gets the exact value.  A component
+just stepped to t + h gets its commanded values at t + h at once (:meth:`CommandFeed.after_step`), so
+outputs read inside a macro step's iterations (implicit groups, iterative, Gauss-Seidel) see the
+command where the FMU is.  At the start the value joins the start values, so the initialization
+settles with it.
 """
 from __future__ import annotations
 
@@ -60,6 +63,7 @@ class CommandFeed:
             n = sum(len(vrs) for vrs, _ in mine)
             self._writes.append((comp, (ctypes.c_uint * n)(*[vr for vrs, _ in mine for vr in vrs]),
                                  (ctypes.c_double * n)(), n, [(len(vrs), source) for vrs, source in mine]))
+        self._of = {w[0]: w for w in self._writes}
 
     def start_values(self, t: float) -> dict[tuple[str, str], float]:
         """(component, variable) -> the commanded value at t, for the start values."""
@@ -67,13 +71,27 @@ class CommandFeed:
 
     def feed(self, t: float) -> None:
         """Set every commanded input (and its rates, where offered) to its source's values at t."""
-        for comp, vrs, values, n, sources in self._writes:
-            at = 0
-            for count, source in sources:
-                values[at:at + count] = [float(x) for x in source.at(t)][:count]
-                at += count
-            comp.write(vrs, n, values)
-            comp.fresh = False
+        for write in self._writes:
+            _write(write, t)
+
+    def after_step(self, comp, t: float) -> None:
+        """Set the commanded inputs of ``comp``, just stepped to t, to their values at t: an output read
+        before the next exchange (an implicit group's or an iteration's image, Gauss-Seidel's pass-on)
+        is then the one at t, as a motion law inside the FMU gives it, not one of the step's start."""
+        write = self._of.get(comp)
+        if write is not None:
+            _write(write, t)
+
+
+def _write(write, t: float) -> None:
+    """One component's commanded inputs set to their sources' values at t (one fmi2SetReal)."""
+    comp, vrs, values, n, sources = write
+    at = 0
+    for count, source in sources:
+        values[at:at + count] = [float(x) for x in source.at(t)][:count]
+        at += count
+    comp.write(vrs, n, values)
+    comp.fresh = False
 
 
 def _split(target: str, system):

@@ -621,6 +621,8 @@ class CoSystem:
             status = comp._do_step(comp._c, t, h, 1)
             if status > 1:
                 comp._failed("fmi2DoStep", status)
+            if self.commands is not None:   # outputs read before the next exchange see the command at t + h
+                self.commands.after_step(comp, t + h)
         except Exception:
             raise SimulationError(f"component {comp.name} failed in the step from t = {t:.9g} s (H = {h:.3g} s): "
                                   f"{comp.last_error()}. Try a smaller --step, --adaptive, or --algorithm "

@@ -21,6 +21,14 @@ be l6, so we read l7 = 3.08 m as O2D.  alpha is not given (figure only): -60 deg
 ahead of the pivot) is our choice.  Minimal coordinates: phi1 is the only coordinate, s3(phi1) and
 phi2(phi1) follow in closed form, eq. 1 holds to round-off; ``constraint_residual`` reports |f|.
 
+Sources of the motions.  ``telescope_source`` and ``luff_source`` = ``law`` (the default) take the
+trapezoid laws below from the parameters; ``input`` takes them from the inputs ``extension_command``
+(s1 + s2 [m], split s1 = e / (1 + V20/V10), s2 = e - s1 as the law splits them) and ``luff_command``
+(phi1 - luff_angle [rad]), each with ``_dt`` and ``_dt2`` (rate, acceleration), which an operator's
+command (cranefmu.master.commands) sets exactly at every communication point.  The outputs use them at
+the communication points; inside a step the elastic cylinder's ODE holds them (value and rate of the
+step's start).  Unconnected and uncommanded they stay 0: the boom holds boom_length_start and luff_angle.
+
 Modes.
 ``tip = "dynamic"``, ``cylinder = "prescribed"``: the cylinder holds phi1 = phi_cmd(t) rigidly (the
 seed's locked-angle case); the boom moves with the chassis.  ``cylinder = "spring_damper"``: the
@@ -61,6 +69,10 @@ from .component import Model, Port, Signal
 from .params import Params, ParameterError, param
 
 
+#: a motion's source: its parameter law, or an input (with ``_dt``/``_dt2``) that a command feeds
+SOURCES = ("law", "input")
+
+
 @dataclass(frozen=True)
 class BoomParams(Params):
     component = "boom"
@@ -68,6 +80,16 @@ class BoomParams(Params):
                      "from a fixed foot (no base motion, no dynamics)", choices=("dynamic", "kinematic"))
     cylinder: str = param("prescribed", "", "luffing cylinder: rigid (holds the commanded angle) or a "
                           "spring-damper oil column (boom luffs elastically)", choices=("prescribed", "spring_damper"))
+    # --- where telescoping and luffing come from: the laws below, or inputs an operator's command feeds
+    telescope_source: str = param("law", "", "where the telescoped length s1 + s2 comes from: the telescoping law "
+                                  "(boom_length_end, telescope_speed, t_acc, telescope_start), or the input "
+                                  "extension_command with its rates (an operator command; unconnected and "
+                                  "uncommanded it holds its start 0: the boom stays at boom_length_start)",
+                                  choices=SOURCES)
+    luff_source: str = param("law", "", "where the luffing angle phi1 comes from: the luffing law (luff_delta, "
+                             "luff_rate, luff_t_acc, luff_start), or luff_angle + the input luff_command with its "
+                             "rates (an operator command; unconnected and uncommanded it holds its start 0: the "
+                             "boom stays at luff_angle)", choices=SOURCES)
     # --- luffing law (seed 000: phi1 = 60 deg locked; the trapezoid of the telescoping law is reused)
     luff_angle: float = param(math.radians(60.0), "rad", "commanded luffing angle phi1 of the boom relative to "
                               "the slewing platform at the start (seed 000: 60 deg)",
@@ -200,6 +222,40 @@ def luff_law(t: float, p: BoomParams) -> tuple[float, float, float]:
     return p.luff_angle + d, dd, ddd
 
 
+def commanded_telescope(command: tuple[float, float, float], p: BoomParams) -> tuple[tuple[float, float], ...]:
+    """:func:`telescope_law`'s (s1, s2), rates and accelerations from a commanded telescoped length
+    e = s1 + s2 [m] with its rate and acceleration ``command``, split as the law splits them (its
+    speeds stand in the ratio V20 / V10 at every instant): s1 = e / (1 + V20 / V10), s2 = e - s1."""
+    share = 1.0 / (1.0 + p.telescope_speed_ratio)
+    e, ed, edd = command
+    s1, sd1, sdd1 = e * share, ed * share, edd * share
+    return (s1, e - s1), (sd1, ed - sd1), (sdd1, edd - sdd1)
+
+
+def telescope_at(t: float, p: BoomParams, command: tuple[float, float, float]) -> tuple[tuple[float, float], ...]:
+    """(s1, s2), rates, accelerations at t [s] from the source ``telescope_source`` names: the law, or
+    ``command`` (the input extension_command, its _dt and _dt2)."""
+    return commanded_telescope(command, p) if p.telescope_source == "input" else _telescope_floats(t, p)
+
+
+def luff_at(t: float, p: BoomParams, command: tuple[float, float, float]) -> tuple[float, float, float]:
+    """phi1 [rad], its rate and acceleration at t [s] from the source ``luff_source`` names: the law,
+    or luff_angle + ``command`` (the input luff_command, its _dt and _dt2)."""
+    if p.luff_source == "input":
+        return p.luff_angle + command[0], command[1], command[2]
+    return luff_law(t, p)
+
+
+def command_inputs(name: str, unit: str, what: str, source: str) -> tuple[Signal, Signal, Signal]:
+    """The input ``name`` an operator's command feeds (read with ``source = input``) and its
+    ``name_dt``, ``name_dt2``: the motion's value, rate and acceleration (cranefmu.master.commands
+    sets all three at every communication point; read at the communication points, held inside a step)."""
+    rate = f"{unit}/s"
+    return (Signal(name, unit, f"{what} (read with {source} = 'input'; an operator command)"),
+            Signal(name + "_dt", rate, f"rate of {name} (read with {source} = 'input')"),
+            Signal(name + "_dt2", f"{rate}2", f"acceleration of {name} (read with {source} = 'input')"))
+
+
 # --- geometry and mass --------------------------------------------------------------------------
 def cylinder_geometry(phi1: float, p: BoomParams) -> tuple[float, float, float]:
     """Cylinder length s3 [m], its lever ds3/dphi1 [m] and direction phi2 [rad] for the luffing angle phi1.
@@ -237,9 +293,10 @@ class MassState(NamedTuple):
     J_rate: float
 
 
-def mass_state(t: float, p: BoomParams) -> MassState:
-    """Mass properties for the telescoping law at time t."""
-    return _mass_state_at(_telescope_floats(t, p), p)
+def mass_state(t: float, p: BoomParams, command: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> MassState:
+    """Mass properties at time t for the telescoping from :func:`telescope_at` (the law, or ``command``:
+    extension_command and its rates, with ``telescope_source = input``)."""
+    return _mass_state_at(telescope_at(t, p, command), p)
 
 
 def _mass_state_at(telescope: tuple[tuple[float, float], ...], p: BoomParams) -> MassState:
@@ -303,7 +360,12 @@ def crane_motion_tip(t: float, p: BoomParams, beta: float, beta_rate: float, len
 _BASE = ("y_base", "gamma", "vy_base", "gamma_rate")
 _TIP_F = ("Fx_tip", "Fy_tip", "Fz_tip")
 _Y, _G, _VY, _GR, _FX, _FY, _FZ, _XT, _VXT = range(9)
-_REACT_DEPS = ("gamma", "gamma_rate", "Fx_tip", "Fy_tip")
+_EC, _LC = 9, 12   # extension_command, luff_command (each followed by its _dt and _dt2)
+_COMMANDED = ("extension_command", "extension_command_dt", "extension_command_dt2", "luff_command",
+              "luff_command_dt", "luff_command_dt2")
+_REACT_DEPS = ("gamma", "gamma_rate", "Fx_tip", "Fy_tip", *_COMMANDED)
+_MOVING = ("extension_command", "extension_command_dt", "luff_command", "luff_command_dt")   # tip velocity, x0
+_MOMENT_DEPS = tuple(n for n in _REACT_DEPS if n != "extension_command_dt2")   # M has no S''
 
 
 class BoomModel(Model):
@@ -326,8 +388,13 @@ class BoomModel(Model):
                "operator command; 0: none; ignored with the dynamic tip)", coupling=True),
         Signal("vx_travel", "m/s", "tip = 'kinematic': travel speed along x added to the tip velocity (the rate of "
                "x_travel; ignored with the dynamic tip)", coupling=True),
+        *command_inputs("extension_command", "m", "commanded telescoped length s1 + s2 = boom length - "
+                        "boom_length_start", "telescope_source"),
+        *command_inputs("luff_command", "rad", "commanded change of the luffing angle phi1 from luff_angle",
+                        "luff_source"),
     )
-    initial_state_inputs = ("gamma", "gamma_rate", "Fx_tip", "Fy_tip")  # angle on the tilted chassis, preload
+    # angle on the tilted chassis, preload; the commanded angle and length
+    initial_state_inputs = ("gamma", "gamma_rate", "Fx_tip", "Fy_tip", *_MOVING)
     # the mechanical ports a scene connects as one (docs/composition.md)
     ports = (
         Port("tip", "boom tip motion under the rope force",
@@ -341,30 +408,35 @@ class BoomModel(Model):
              force=("Fx_base",)),
     )
     outputs = (
-        Signal("x_tip", "m", "x of the boom tip B", depends_on=("gamma", "x_travel")),
-        Signal("y_tip", "m", "y of the boom tip B", depends_on=("y_base", "gamma")),
+        Signal("x_tip", "m", "x of the boom tip B", depends_on=("gamma", "x_travel", "extension_command",
+                                                                "luff_command")),
+        Signal("y_tip", "m", "y of the boom tip B", depends_on=("y_base", "gamma", "extension_command",
+                                                                "luff_command")),
         Signal("z_tip", "m", "z of the boom tip B (0: working plane; a steered kinematic tip leaves it)"),
-        Signal("vx_tip", "m/s", "x velocity of the boom tip", depends_on=("gamma", "gamma_rate", "vx_travel")),
-        Signal("vy_tip", "m/s", "y velocity of the boom tip", depends_on=("gamma", "vy_base", "gamma_rate")),
+        Signal("vx_tip", "m/s", "x velocity of the boom tip", depends_on=("gamma", "gamma_rate", "vx_travel",
+                                                                         *_MOVING)),
+        Signal("vy_tip", "m/s", "y velocity of the boom tip", depends_on=("gamma", "vy_base", "gamma_rate",
+                                                                         *_MOVING)),
         Signal("vz_tip", "m/s", "z velocity of the boom tip (0: working plane; a steered kinematic tip leaves it)"),
         Signal("Fx_base", "N", "x force the boom (pivot and cylinder) exerts on the chassis", depends_on=_REACT_DEPS),
         Signal("Fy_base", "N", "y force the boom (pivot and cylinder) exerts on the chassis", depends_on=_REACT_DEPS),
         Signal("M_base", "N.m", "moment about z at the boom foot O2 that the boom exerts on the chassis "
-               "(negative tips toward the boom)", depends_on=_REACT_DEPS),
-        Signal("boom_length", "m", "distance foot O2 - tip B"),
+               "(negative tips toward the boom)", depends_on=_MOMENT_DEPS),
+        Signal("boom_length", "m", "distance foot O2 - tip B", depends_on=("extension_command",)),
         Signal("luff_angle_out", "rad", "luffing angle phi1 of the boom relative to the slewing platform "
-               "(elevation above horizontal = phi1 - gamma)", depends_on=("gamma",)),
-        Signal("cylinder_force", "N", "push force of the luffing cylinder", depends_on=_REACT_DEPS),
-        Signal("cylinder_length", "m", "length s3 of the luffing cylinder O1-D (eq. 1)", depends_on=("gamma",)),
-        Signal("constraint_residual", "m", "|f| of the loop constraint eq. 1", depends_on=("gamma",)),
+               "(elevation above horizontal = phi1 - gamma)", depends_on=("gamma", "luff_command")),
+        Signal("cylinder_force", "N", "push force of the luffing cylinder", depends_on=_MOMENT_DEPS),
+        Signal("cylinder_length", "m", "length s3 of the luffing cylinder O1-D (eq. 1)",
+               depends_on=("gamma", "luff_command")),
+        Signal("constraint_residual", "m", "|f| of the loop constraint eq. 1", depends_on=("gamma", "luff_command")),
         Signal("extension", "m", "telescoped length s1 + s2 = boom_length - boom_length_start (grows the rope "
-               "run along the boom, seed 000 eq. 26)"),
+               "run along the boom, seed 000 eq. 26)", depends_on=("extension_command",)),
         Signal("m_carried", "kg", "boom mass the foot O2 carries along (for the chassis' mass matrix; 0 with "
                "a kinematic tip)"),
         Signal("Sx_carried", "kg.m", "first moment S cos psi about O2 of the boom turning with the chassis "
-               "(rigid cylinder; 0 otherwise)", depends_on=("gamma",)),
+               "(rigid cylinder; 0 otherwise)", depends_on=("gamma", "extension_command", "luff_command")),
         Signal("J_carried", "kg.m2", "moment of inertia about O2 of the boom turning with the chassis (rigid "
-               "cylinder; 0 otherwise)"),
+               "cylinder; 0 otherwise)", depends_on=("extension_command",)),
     )
 
     def __init__(self, params: BoomParams):
@@ -381,16 +453,26 @@ class BoomModel(Model):
     def elastic(self) -> bool:
         return self.p.tip == "dynamic" and self.p.cylinder == "spring_damper"
 
-    def _mass_state(self, t: float) -> MassState:
-        """:func:`mass_state` at ``t`` [s], remembered for the last ``t`` (the outputs and rk4's two
-        middle stages ask for the same instant) and for the last state of the telescoping law (the
-        same mass properties while the boom does not telescope)."""
+    def _mass_state(self, t: float, u: np.ndarray) -> MassState:
+        """:func:`mass_state` at ``t`` [s] (the telescoping from :func:`telescope_at`), remembered for
+        the last ``t`` of the law (the outputs and rk4's two middle stages ask for the same instant)
+        and for the last telescoping state (the same mass properties while the boom does not telescope)."""
         cached = getattr(self, "_ms_cache", None)
-        if cached is None or cached[0] != t:
+        if self.p.telescope_source == "input":
+            telescope = commanded_telescope(tuple(u[_EC:_EC + 3].tolist()), self.p)
+        elif cached is not None and cached[0] == t:
+            return cached[2]
+        else:
             telescope = _telescope_floats(t, self.p)
-            ms = cached[2] if cached is not None and cached[1] == telescope else _mass_state_at(telescope, self.p)
-            cached = self._ms_cache = (t, telescope, ms)
-        return cached[2]
+        ms = cached[2] if cached is not None and cached[1] == telescope else _mass_state_at(telescope, self.p)
+        self._ms_cache = (t, telescope, ms)
+        return ms
+
+    def _luff(self, t: float, u: np.ndarray) -> tuple[float, float, float]:
+        """phi1 [rad], rate, acceleration from the law or the input (:func:`luff_at`)."""
+        if self.p.luff_source == "input":
+            return luff_at(t, self.p, tuple(u[_LC:_LC + 3].tolist()))
+        return luff_law(t, self.p)
 
     def _cylinder_at(self, phi1: float) -> tuple[float, float, float, float]:
         """Cylinder length, lever, direction (:func:`cylinder_geometry`) and the loop residual at the
@@ -411,11 +493,12 @@ class BoomModel(Model):
         y, gamma, vy, rate = u[:4].tolist()
         return y, gamma, vy, rate
 
-    def _cylinder_force(self, t: float, psi: float, psi_rate: float, offset: float, gamma: float,
-                        gamma_rate: float) -> tuple[float, float]:
+    def _cylinder_force(self, t: float, psi: float, psi_rate: float, offset: float, u: np.ndarray
+                        ) -> tuple[float, float]:
         """Push force [N] of the spring-damper cylinder and its lever ds3/dphi1 [m]."""
         p = self.p
-        phi_c, phi_c_rate, _ = luff_law(t, p)
+        gamma, gamma_rate = float(u[_G]), float(u[_GR])
+        phi_c, phi_c_rate, _ = self._luff(t, u)
         s3c, lever_c, _ = cylinder_geometry(phi_c, p)
         s3, lever, _ = cylinder_geometry(psi + gamma, p)
         force = (p.cylinder_stiffness * (s3c + offset - s3)
@@ -425,7 +508,7 @@ class BoomModel(Model):
     def _psi_acc(self, t: float, x: np.ndarray, u: np.ndarray, ms: MassState) -> float:
         p = self.p
         psi, psi_rate, offset = x
-        force, lever = self._cylinder_force(t, psi, psi_rate, offset, u[_G], u[_GR])
+        force, lever = self._cylinder_force(t, psi, psi_rate, offset, u)
         c, s = math.cos(psi), math.sin(psi)
         moment = -p.g * ms.S * c + ms.length * (c * u[_FY] - s * u[_FX]) + force * lever
         return (moment - ms.J_rate * psi_rate) / ms.J
@@ -435,8 +518,8 @@ class BoomModel(Model):
         _, gamma, _, gamma_rate = self._base(u)
         if self.elastic:
             psi, psi_rate = float(x[0]), float(x[1])
-            return psi, psi_rate, self._psi_acc(t, x, u, self._mass_state(t)), psi + gamma
-        phi, phi_rate, phi_acc = luff_law(t, self.p)
+            return psi, psi_rate, self._psi_acc(t, x, u, self._mass_state(t, u)), psi + gamma
+        phi, phi_rate, phi_acc = self._luff(t, u)
         # rigid cylinder: the boom turns with the chassis; the chassis' angular acceleration is unknown here
         return phi - gamma, phi_rate - gamma_rate, phi_acc, phi
 
@@ -445,11 +528,11 @@ class BoomModel(Model):
         weight), at rest: static equilibrium.  The motion laws are evaluated at t = 0."""
         p = self.p
         _, gamma, _, gamma_rate = self._base(u)
-        phi, phi_rate, _ = luff_law(0.0, p)
+        phi, phi_rate, _ = self._luff(0.0, u)
         psi, psi_rate = phi - gamma, phi_rate - gamma_rate
         if not self.elastic:
             return np.array([psi, psi_rate, 0.0])
-        ms = mass_state(0.0, p)
+        ms = mass_state(0.0, p, tuple(u[_EC:_EC + 3].tolist()))
         c, s = math.cos(psi), math.sin(psi)
         moment = -p.g * ms.S * c + ms.length * (c * u[_FY] - s * u[_FX]) - ms.J_rate * psi_rate
         _, lever, _ = cylinder_geometry(phi, p)
@@ -458,14 +541,14 @@ class BoomModel(Model):
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         if not self.elastic:
             return np.zeros(3)
-        ms = self._mass_state(t)
+        ms = self._mass_state(t, u)
         return np.array([x[1], self._psi_acc(t, x, u, ms), 0.0])
 
     def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
         y_base, _, vy_base, _ = self._base(u)
         psi, psi_rate, psi_acc, phi1 = self._angles(t, x, u)
-        ms = self._mass_state(t)
+        ms = self._mass_state(t, u)
         c, s = math.cos(psi), math.sin(psi)
         L, Ld = ms.length, ms.length_rate
         tip = (p.x_foot + L * c, p.y_foot + y_base + L * s)
@@ -481,7 +564,7 @@ class BoomModel(Model):
         fbx, fby, mb = base_reactions(ms, psi, psi_rate, psi_acc, fx, fy, p.g)
         s3, lever, _, residual = self._cylinder_at(phi1)
         if self.elastic:
-            force, _ = self._cylinder_force(t, psi, psi_rate, float(x[2]), float(u[_G]), float(u[_GR]))
+            force, _ = self._cylinder_force(t, psi, psi_rate, float(x[2]), u)
         else:
             force = -mb / lever   # the cylinder carries the whole moment about the pivot O2
         if p.tip == "kinematic":
@@ -497,8 +580,8 @@ class BoomModel(Model):
         telescoping and base motion)."""
         p = self.p
         psi, psi_rate, offset = x
-        ms = mass_state(t, p)
-        phi_c, _, _ = luff_law(t, p)
+        ms = mass_state(t, p, tuple(u[_EC:_EC + 3].tolist()))
+        phi_c, _, _ = self._luff(t, u)
         s3c, _, _ = cylinder_geometry(phi_c, p)
         s3, _, _ = cylinder_geometry(psi + u[_G], p)
         tip_work = ms.length * (u[_FX] * math.cos(psi) + u[_FY] * math.sin(psi))

@@ -3,8 +3,10 @@
 The boom plane (seed 000's working plane) turns by the slewing angle sigma(t) about the vertical axis
 through the boom foot O2: sigma = 0 over the rear (+x, seed 000's working plane), +90 deg over the side
 (+z).  Motion law (as the telescoping law of seed 000): sigma = slew_angle_start + a trapezoid of speed
-slew_speed with acceleration time slew_t_acc, turning by slew_angle from slew_start.  Telescoping and
-luffing are the Boom's laws (rigid cylinder only: ``cylinder = "prescribed"``, ``tip = "dynamic"``).
+slew_speed with acceleration time slew_t_acc, turning by slew_angle from slew_start; with ``slew_source =
+input`` sigma = slew_angle_start + the input ``slew_command`` (with ``_dt``, ``_dt2``: an operator's command,
+0 when uncommanded).  Telescoping and luffing are the Boom's laws or its command inputs (:mod:`.boom`,
+``telescope_source``, ``luff_source``; rigid cylinder only: ``cylinder = "prescribed"``, ``tip = "dynamic"``).
 
 Kinematics (derived; e_r = (cos sigma, 0, sin sigma), e_y up, e_n = e_r x e_y = (-sin sigma, 0, cos sigma)):
 the chassis' pitch gamma and roll beta (:mod:`.chassis4`) tilt the boom plane by gamma_e = gamma cos sigma +
@@ -42,7 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .boom import BoomParams, base_reactions, cylinder_geometry, luff_law, mass_state
+from .boom import SOURCES, BoomParams, base_reactions, command_inputs, cylinder_geometry, luff_at, mass_state
 from .chassis4 import foot_ports
 from .component import Model, Port, Signal
 from .motion_laws import trapezoid_motion
@@ -59,6 +61,10 @@ class SlewingBoomParams(BoomParams):
     slew_speed: float = param(0.1, "rad/s", "steady slewing speed (0.1 rad/s: about 1 rpm)", min=0, min_open=True)
     slew_t_acc: float = param(2.0, "s", "acceleration (and deceleration) time of the slewing manoeuvre", min=0)
     slew_start: float = param(0.0, "s", "time the slewing manoeuvre starts", min=0)
+    slew_source: str = param("law", "", "where the slewing angle sigma comes from: the slewing law (slew_angle, "
+                             "slew_speed, slew_t_acc, slew_start), or slew_angle_start + the input slew_command with "
+                             "its rates (an operator command; unconnected and uncommanded it holds its start 0: "
+                             "the boom stays at slew_angle_start)", choices=SOURCES)
 
     def check(self) -> None:
         super().check()
@@ -76,9 +82,25 @@ def slew_law(t: float, p: SlewingBoomParams) -> tuple[float, float, float]:
     return p.slew_angle_start + d, dd, ddd
 
 
+def slew_at(t: float, p: SlewingBoomParams, command: tuple[float, float, float]) -> tuple[float, float, float]:
+    """sigma [rad], its rate and acceleration at t [s] from the source ``slew_source`` names: the law, or
+    slew_angle_start + ``command`` (the input slew_command, its _dt and _dt2)."""
+    if p.slew_source == "input":
+        return p.slew_angle_start + command[0], command[1], command[2]
+    return slew_law(t, p)
+
+
 _TILT = ("gamma", "beta")
 _RATES = ("gamma", "beta", "gamma_rate", "beta_rate")
-_LOADS = ("gamma", "beta", "gamma_rate", "beta_rate", "Fx_tip", "Fy_tip", "Fz_tip")
+_COMMANDS = ("extension_command", "luff_command", "slew_command")   # each followed by its _dt and _dt2
+_COMMANDED = tuple(n + s for n in _COMMANDS for s in ("", "_dt", "_dt2"))
+_TILT = (*_TILT, *_COMMANDS)   # the tip and the inertia also follow the commanded motions
+_RATES = (*_RATES, *_COMMANDS, *(n + "_dt" for n in _COMMANDS))
+# the slewing acceleration is not in the loads (module doc: the boom's slewing inertia is neglected)
+_LOADS = ("gamma", "beta", "gamma_rate", "beta_rate", "Fx_tip", "Fy_tip", "Fz_tip",
+          *(n for n in _COMMANDED if n != "slew_command_dt2"))
+_MOMENTS = tuple(n for n in _LOADS if n != "extension_command_dt2")   # the in-plane moment has no S''
+
 
 
 class SlewingBoomModel(Model):
@@ -102,6 +124,12 @@ class SlewingBoomModel(Model):
         Signal("Fx_tip", "N", "x component of the rope force on the boom tip", coupling=True),
         Signal("Fy_tip", "N", "y component of the rope force on the boom tip", coupling=True),
         Signal("Fz_tip", "N", "z component of the rope force on the boom tip", coupling=True),
+        *command_inputs("extension_command", "m", "commanded telescoped length s1 + s2 = boom length - "
+                        "boom_length_start", "telescope_source"),
+        *command_inputs("luff_command", "rad", "commanded change of the luffing angle phi1 from luff_angle",
+                        "luff_source"),
+        *command_inputs("slew_command", "rad", "commanded change of the slewing angle sigma from slew_angle_start",
+                        "slew_source"),
     )
     outputs = (
         Signal("x_tip", "m", "x of the boom tip B", depends_on=_TILT),
@@ -114,15 +142,17 @@ class SlewingBoomModel(Model):
         Signal("Fy_base", "N", "y force the boom exerts on the chassis at O2", depends_on=_LOADS),
         Signal("Fz_base", "N", "z force the boom exerts on the chassis at O2", depends_on=_LOADS),
         Signal("Mx_base", "N.m", "moment about x at O2 of the boom on the chassis (positive presses the +z side)",
-               depends_on=_LOADS),
+               depends_on=_MOMENTS),
         Signal("Mz_base", "N.m", "moment about z at O2 of the boom on the chassis (negative presses the +x side)",
-               depends_on=_LOADS),
-        Signal("boom_length", "m", "distance foot O2 - tip B"),
-        Signal("slew_angle_out", "rad", "slewing angle sigma (0: over the rear, pi/2: over the +z side)"),
-        Signal("slew_rate", "rad/s", "slewing speed sigma'"),
+               depends_on=_MOMENTS),
+        Signal("boom_length", "m", "distance foot O2 - tip B", depends_on=("extension_command",)),
+        Signal("slew_angle_out", "rad", "slewing angle sigma (0: over the rear, pi/2: over the +z side)",
+               depends_on=("slew_command",)),
+        Signal("slew_rate", "rad/s", "slewing speed sigma'", depends_on=("slew_command_dt",)),
         Signal("radius", "m", "horizontal distance slewing axis - tip (the load chart's radius)", depends_on=_TILT),
-        Signal("cylinder_force", "N", "push force of the luffing cylinder", depends_on=_LOADS),
-        Signal("extension", "m", "telescoped length s1 + s2 (the rope run along the boom grows by it)"),
+        Signal("cylinder_force", "N", "push force of the luffing cylinder", depends_on=_MOMENTS),
+        Signal("extension", "m", "telescoped length s1 + s2 (the rope run along the boom grows by it)",
+               depends_on=("extension_command",)),
         Signal("m_carried", "kg", "boom mass the foot carries (chassis mass matrix)"),
         Signal("Sx_carried", "kg.m", "first moment S cos psi cos sigma toward +x", depends_on=_TILT),
         Signal("Sz_carried", "kg.m", "first moment S cos psi sin sigma toward +z", depends_on=_TILT),
@@ -133,14 +163,14 @@ class SlewingBoomModel(Model):
 
     def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p
-        yb, gamma, beta, vyb, gr, br, fx, fy, fz = u.tolist()
-        sig, sig_rate, _ = slew_law(t, p)
+        yb, gamma, beta, vyb, gr, br, fx, fy, fz, *commanded = u.tolist()
+        sig, sig_rate, _ = slew_at(t, p, commanded[6:9])
         cs, ss = math.cos(sig), math.sin(sig)
         tilt = gamma * cs + beta * ss
         tilt_rate = gr * cs + br * ss + (beta * cs - gamma * ss) * sig_rate
-        phi, phi_rate, phi_acc = luff_law(t, p)
+        phi, phi_rate, phi_acc = luff_at(t, p, commanded[3:6])
         psi, psi_rate = phi - tilt, phi_rate - tilt_rate
-        ms = mass_state(t, p)
+        ms = mass_state(t, p, commanded[0:3])
         cp, sp = math.cos(psi), math.sin(psi)
         L, Ld = ms.length, ms.length_rate
         r, r_rate = L * cp, Ld * cp - L * sp * psi_rate

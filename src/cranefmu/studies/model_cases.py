@@ -85,6 +85,18 @@ CASES = [
          dict(Fx_tip=200.0, Fy_tip=-2e4, y_base=-0.01, gamma=0.01, vy_base=0.001, gamma_rate=0.002), 1.0),
     Case("boom-kinematic-travel", BoomModel, dict(tip="kinematic"),   # an operator's travel command on the tip
          dict(x_travel=0.2, vx_travel=0.1), 0.5),
+    # operator commands (telescope_source / luff_source = input) beside the other motion's law
+    Case("boom-commanded-telescope", BoomModel, dict(telescope_source="input", luff_delta=0.1),
+         dict(Fx_tip=200.0, Fy_tip=-2e4, y_base=-0.01, gamma=0.01, vy_base=0.001, gamma_rate=0.002,
+              extension_command=2.0, extension_command_dt=0.3, extension_command_dt2=0.1), 1.0),
+    Case("boom-commanded-elastic", BoomModel, dict(cylinder="spring_damper", telescope_source="input",
+                                                    luff_source="input"),
+         dict(Fx_tip=200.0, Fy_tip=-2e4, y_base=-0.01, gamma=0.01, vy_base=0.001, gamma_rate=0.002,
+              extension_command=2.0, extension_command_dt=0.3, extension_command_dt2=0.1, luff_command=0.1,
+              luff_command_dt=0.05, luff_command_dt2=0.02), 1.0),
+    Case("boom-commanded-luff", BoomModel, dict(luff_source="input"),
+         dict(Fx_tip=200.0, Fy_tip=-2e4, y_base=-0.01, gamma=0.01, vy_base=0.001, gamma_rate=0.002,
+              luff_command=0.1, luff_command_dt=0.05, luff_command_dt2=0.02), 1.0),
     Case("chassis", ChassisModel, dict(h_foot=0.8), dict(Fx_base=1e3, Fy_base=-4e4, M_base=-8e4), 0.3),
 ]
 
