@@ -524,13 +524,9 @@ def main(argv: list[str] | None = None) -> int:
         write_docs_ladders()
         return 0
     OPTIONS.update(rtol=args.rtol, series=set(args.series.split(",")) if args.series else None, stop=args.stop, steps=tuple(float(h) for h in args.steps.split(",")) if args.steps else None)
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                            cwd=Path(__file__).parent).stdout.strip()
-    lines = ["# Scene defaults: the cheapest settings within 1 % of range that keep every listed mode", "",
-             f"- date: {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, commit {commit}",
-             f"- machine: {platform.platform()}, python {platform.python_version()}; shared 2 cores: walls are noisy",
-             f"- command: `{' '.join(['nice', '.venv/bin/python', 'benchmarks/scene_defaults.py', *(argv or sys.argv[1:])])}`",
-             "", f"Passes: worst error <= {MARGIN:g} of range, no instability alarm, every bond's residual <= "
+    commit, head = results_head("Scene defaults: the cheapest settings within 1 % of range that keep every listed mode",
+                                "walls", argv)
+    lines = head + ["", f"Passes: worst error <= {MARGIN:g} of range, no instability alarm, every bond's residual <= "
              f"{RESIDUAL_WARNING:g} of the energy it carried (hook_sway also: sway ratio <= the reference's + "
              f"{SWAY_GROWTH:g}), every listed mode within {modal.FREQ_LIMIT:g} in frequency and {modal.DAMP_LIMIT:g} in "
              f"damping ratio (relative to max(zeta_ref, {modal.ZETA_FLOOR:g})) of the monolith's over its probe run "
@@ -558,18 +554,23 @@ def main(argv: list[str] | None = None) -> int:
     return publish(lines, Path(args.output), args.scenes.split(","))
 
 
+def results_head(title: str, noisy: str, argv: list[str] | None) -> tuple[str, list[str]]:
+    """(the commit, the head lines of a results file: title, date and commit, machine, command)."""
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                            cwd=Path(__file__).parent).stdout.strip()
+    return commit, [f"# {title}", "", f"- date: {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, commit {commit}",
+                    f"- machine: {platform.platform()}, python {platform.python_version()}; shared 2 cores: {noisy} "
+                    "are noisy",
+                    f"- command: `{' '.join(['nice', '.venv/bin/python', 'benchmarks/scene_defaults.py', *(argv or sys.argv[1:])])}`"]
+
+
 def sets_main(args, argv: list[str] | None) -> int:
     """--sets: every scene's parameter sets at its stored setting (:func:`sets_study`), one table per scene."""
     # the sets' probes too: hook_sway's pin damper makes its monolith slow (38 s per simulated second at 1e-10)
     OPTIONS.update(rtol=args.rtol, stop=args.stop, modal_rtol=args.rtol)
     output = SETS_RESULTS if args.output == str(RESULTS) else Path(args.output)
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                            cwd=Path(__file__).parent).stdout.strip()
-    lines = ["# Every parameter set at its scene's stored setting (issue 24)", "",
-             f"- date: {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, commit {commit}",
-             f"- machine: {platform.platform()}, python {platform.python_version()}; shared 2 cores: RTFs are noisy",
-             f"- command: `{' '.join(['nice', '.venv/bin/python', 'benchmarks/scene_defaults.py', *(argv or sys.argv[1:])])}`",
-             f"- reference: the monolith of each set and of its probes, rtol {args.rtol or 1e-10:g}", "",
+    _, head = results_head("Every parameter set at its scene's stored setting (issue 24)", "RTFs", argv)
+    lines = head + [f"- reference: the monolith of each set and of its probes, rtol {args.rtol or 1e-10:g}", "",
              f"Limits: range error <= {2 * MARGIN:g} of range (the search's own margin is {MARGIN:g}), every listed "
              f"mode within {modal.FREQ_LIMIT:g} in frequency and {modal.DAMP_LIMIT:g} in damping ratio of the set's "
              f"monolith over its probe run, every bond's residual <= {RESIDUAL_WARNING:g} of the energy it carried, "
