@@ -580,7 +580,7 @@ def sets_main(args, argv: list[str] | None) -> int:
     for scene in args.scenes.split(","):
         print(f"{scene}:", flush=True)
         lines += sets_table(scene, sets_study(scene))
-    return publish(lines, output)
+    return publish(lines, output, args.scenes.split(","))
 
 
 def write_modes_csv(rows: list[dict], path: Path) -> None:
