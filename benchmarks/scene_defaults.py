@@ -405,6 +405,8 @@ SET_VARIANTS: dict[str, tuple[dict, ...]] = {"overhead_lift": ({"rope.model": "b
 SET_FALLBACKS: dict[str, tuple[tuple[str, str, int, float, dict], ...]] = {
     "overhead_lift": (("jacobi x1 H 1 ms", "jacobi", 1, 1e-3, {"implicit": []}),
                       ("jacobi x0 H 0.25 ms", "jacobi", 0, 2.5e-4, {"implicit": []}),
+                      ("jacobi x1 implicit hook+drum+trolley H 2 ms", "jacobi", 1, 2e-3,   # stored + --implicit
+                       {"implicit": ["hook", "drum", "trolley"]}),
                       ("jacobi x0 implicit hook+drum+trolley H 1 ms", "jacobi", 0, 1e-3,
                        {"implicit": ["hook", "drum", "trolley"]}),
                       ("jacobi x0 implicit hook+drum+trolley H 0.5 ms", "jacobi", 0, 5e-4,
@@ -444,34 +446,47 @@ def sets_study(scene: str) -> list[dict]:
     stop, keys = min(STOP[scene], OPTIONS.get("stop") or math.inf), key_outputs(scene)
     rows = []
     for parameter_set, parameters in scene_sets(scene):
+        name, rtol = set_label(parameter_set, parameters), OPTIONS.get("rtol") or 1e-10
         try:
-            ref = reference(scene, stop, OPTIONS.get("rtol") or 1e-10, parameter_set, parameters)
-        except (CraneFmuError, ValueError) as err:   # a model's parameter check inside the solve
-            rows.append(dict(set=set_label(parameter_set, parameters), stop=stop, label="(no setting run)",
-                             failure=f"the monolithic reference failed: {str(err).splitlines()[0][:160]}"))
-            print(f"  {rows[-1]['set']:<34} {rows[-1]['failure']}", flush=True)
-            continue
+            ref = reference(scene, stop, rtol, parameter_set, parameters)
+        except (CraneFmuError, ValueError) as err:   # a model's parameter check inside the solve: once 10x looser
+            print(f"  {name:<34} the monolithic reference failed at rtol {rtol:g}: {err}; trying {10 * rtol:g}")
+            rtol *= 10
+            try:
+                ref = reference(scene, stop, rtol, parameter_set, parameters)
+            except (CraneFmuError, ValueError) as err2:
+                rows.append(dict(set=name, stop=stop, label="(no setting run)",
+                                 failure=f"the monolithic reference failed: {str(err2).splitlines()[0][:160]}"))
+                continue
+        if rtol != (OPTIONS.get("rtol") or 1e-10):
+            name += f" (reference rtol {rtol:g}: failed at {OPTIONS.get('rtol') or 1e-10:g})"
         sway_ref = None
         if scene == "hook_sway":
             # a sway that grows in the exact solution is driven (crane_motion): no free decay to compare
             ratio = hook_sway_metrics(ref)["sway_ratio"]
             sway_ref = ratio if ratio <= 1.0 else None
-        for k, (label, algorithm, x, h, settings) in enumerate([stored_setting(scene), *SET_FALLBACKS.get(scene, ())]):
+        for label, algorithm, x, h, settings in [stored_setting(scene), *SET_FALLBACKS.get(scene, ())]:
             row = candidate(scene, stop, ref, keys, algorithm, x, h, None, sway_ref, parameters=parameters,
                             settings=settings, label=label, parameter_set=parameter_set)
-            row.update(set=set_label(parameter_set, parameters), stop=stop)
+            row.update(set=name, stop=stop)
             rows.append(row)
             print(f"  {row['set']:<34} " + line(row), flush=True)
-            if row["ok"]:
+            if meets_limits(row):
                 break
     return rows
+
+
+def meets_limits(r: dict) -> bool:
+    """Issue 24's limits (not the search's margin): range <= 1 %, every listed mode, every bond, no alarm."""
+    return not r.get("failure") and not r["stopped"] and not r["adds_energy"] and r["worst"] <= 2 * MARGIN \
+        and r["modes_ok"]
 
 
 def sets_table(scene: str, rows: list[dict]) -> list[str]:
     """One row per (set, setting): range error, worst mode errors, bond residual, RTF, what fails by how much."""
     out = [f"## {scene} ({rows[0]['stop']:g} s; key outputs {', '.join(key_outputs(scene))})", "",
            "| parameter set | setting | range err (key) | worst f err | worst zeta err | bond residual / carried | "
-           "RTF | passes | fails by |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+           "RTF | meets the limits | fails by |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for r in rows:
         if r.get("failure"):
             out.append(f"| {r['set']} | {r['label']} | failed: {r['failure']} | | | | | no | stopped |")
@@ -484,10 +499,9 @@ def sets_table(scene: str, rows: list[dict]) -> list[str]:
             over.append(r["modal_failure"])
         if r["adds_energy"] and r["bond_ratio"] <= RESIDUAL_WARNING:
             over.append(f"sway ratio {r['sway_ratio']:.4f}")
-        if r["worst"] > MARGIN and not over:
-            over.append(f"range {r['worst']:.3g} > margin {MARGIN:g}")
         out.append(f"| {r['set']} | {r['label']} | {r['worst']:.3g} ({r['worst_key']}) | {r['freq_err']:.3g} | "
-                   f"{r['damp_err']:.3g} | {r['bond_ratio']:.3g} | {r['rtf']:.1f} | {'yes' if r['ok'] else 'no'} | "
+                   f"{r['damp_err']:.3g} | {r['bond_ratio']:.3g} | {r['rtf']:.1f} | "
+                   f"{'yes' if meets_limits(r) else 'no'} | "
                    f"{'; '.join(over)} |")
     return out + [""]
 
@@ -574,8 +588,8 @@ def sets_main(args, argv: list[str] | None) -> int:
              f"Limits: range error <= {2 * MARGIN:g} of range (the search's own margin is {MARGIN:g}), every listed "
              f"mode within {modal.FREQ_LIMIT:g} in frequency and {modal.DAMP_LIMIT:g} in damping ratio of the set's "
              f"monolith over its probe run, every bond's residual <= {RESIDUAL_WARNING:g} of the energy it carried, "
-             "no instability alarm. 'passes' is the search's test (range within the margin); 'fails by' names each "
-             "limit exceeded. Where the stored setting fails a set, the fallbacks follow it (first passing one last).",
+             "no instability alarm; 'fails by' names each limit exceeded. Where the stored setting fails a set, the "
+             "fallbacks follow it, cheapest first as expected, up to the first that meets every limit.",
              ""]
     for scene in args.scenes.split(","):
         print(f"{scene}:", flush=True)
