@@ -189,21 +189,25 @@ def chain_modes(masses: list[float], springs: list[float], dampers: list[float])
         raise SettingsError(f"a chain needs as many springs and dampers as masses: {n}, {len(springs)}, "
                             f"{len(dampers)}")
 
-    def matrix(coefficients: list[float]) -> np.ndarray:
-        k = np.zeros((n, n))
-        for i, ki in enumerate(coefficients):
-            k[i, i] += ki
-            if i > 0:
-                k[i - 1, i - 1] += ki
-                k[i - 1, i] -= ki
-                k[i, i - 1] -= ki
-        return k
-
     inv_m = np.diag(1.0 / np.asarray(masses, dtype=float))
-    a = np.block([[np.zeros((n, n)), np.eye(n)], [-inv_m @ matrix(springs), -inv_m @ matrix(dampers)]])
+    a = np.block([[np.zeros((n, n)), np.eye(n)], [-inv_m @ _chain_matrix(springs), -inv_m @ _chain_matrix(dampers)]])
     s = np.linalg.eigvals(a)
     s = s[s.imag > 0]
     return sorted((float(abs(si) / (2 * math.pi)), float(-si.real / abs(si))) for si in s)
+
+
+def _chain_matrix(coefficients: list[float]) -> np.ndarray:
+    """The stiffness (or damping) matrix of a chain hung from a fixed point: element i joins mass i to mass
+    i - 1 (element 0 to the fixed point)."""
+    n = len(coefficients)
+    k = np.zeros((n, n))
+    for i, ki in enumerate(coefficients):
+        k[i, i] += ki
+        if i > 0:
+            k[i - 1, i - 1] += ki
+            k[i - 1, i] -= ki
+            k[i, i - 1] -= ki
+    return k
 
 
 def overhead_hoist(values: dict) -> list[tuple[float, float]]:
@@ -230,6 +234,30 @@ def overhead_hoist(values: dict) -> list[tuple[float, float]]:
                        [girder.c1, girder.c3, c_rope, pend.c_sling],
                        [girder_damping(girder), girder.b3, damping(rope, c_rope, l_u, m_h + m_p),
                         2.0 * pend.zeta_sling * math.sqrt(pend.c_sling * mu)])
+
+
+def drivetrain_torsion(values: dict) -> list[tuple[float, float]]:
+    """Torsional modes of overhead_lift's drivetrain (seed 001 eq. 5, Table 5) with the brake holding the
+    motor shaft: clutch J_sp (c_1n, b_1n to the held rotor) -> gear node J_g = J_p1 + J_p2 / i_p^2 (c_2n, b_2n)
+    -> drum J_3 / i_p^2 (c_3n / i_p^2, b_3n / i_p^2), all reduced to the motor shaft.  Returns (f, zeta) per
+    mode, lowest first: f = omega / (2 pi) of the undamped chain (K phi = omega^2 M phi) and the modal damping
+    ratio zeta = phi^T B phi / (2 omega phi^T M phi) (exact for Table 5's b = 0.005 s c: zeta = 0.0025 s omega,
+    so every mode above 64 Hz is overdamped).  The rope's stiffness at the drum, (n_drum R_3 / n_lines)^2 c_rope,
+    is left out: about 1 % of c_3n at the defaults (both reduced alike)."""
+    from .physics.drive import DriveParams, gear_inertia
+    from .reference import build_params
+
+    p = build_params(DriveParams, "drive", values)
+    reduced = p.i_p ** 2
+    masses = np.array([p.J_sp, gear_inertia(p), p.J_3 / reduced])
+    stiff = _chain_matrix([p.c_1n, p.c_2n, p.c_3n / reduced])
+    damp = _chain_matrix([p.b_1n, p.b_2n, p.b_3n / reduced])
+    omega2, shapes = np.linalg.eig(np.diag(1.0 / masses) @ stiff)
+    out = []
+    for w2, phi in zip(omega2.real, shapes.T.real):
+        omega = math.sqrt(w2)
+        out.append((omega / (2 * math.pi), float(phi @ damp @ phi) / (2 * omega * float(phi @ (masses * phi)))))
+    return sorted(out)
 
 
 def linearised_modes(scene: str, values: dict) -> list[tuple[float, float]]:

@@ -103,13 +103,17 @@ def test_a_bad_stored_setting_is_a_scene_error_naming_it(built, tmp_path, attrs,
 
 def test_hook_sway_defaults_add_no_energy_and_the_old_default_is_flagged(built):
     """Released from an offset, nothing excites the swing: its amplitude must not grow.  The scene's
-    settings keep the payload sway (last 2 s against the first 2 s of 10 s) below 1 and the bond's
-    residual far below the energy it carried; jacobi x0 at 1 ms (the old global default) pumps
+    settings keep the payload sway's decay (last 2 s against the first 2 s of 10 s) the monolith's to 0.002
+    (measured 0.9961 against 0.9962; the study's own criterion, scene_defaults.SWAY_GROWTH) and the hook
+    bond's residual within issue 24's limit, 10 % of the energy it carried (measured 1.2 %, 0.084 J: it goes
+    into the rope's damped axial mode, not the swing); jacobi x0 at 1 ms (the old global default) pumps
     energy in, and the run says so."""
     res = run("hook_sway", stop_time=10.0, progress=False)
-    assert hook_sway_metrics(res.result)["sway_ratio"] < 1.0
-    # jacobi x1 at 2 ms (issue 24, for the rope's axial mode): 1.2 % of the energy carried; jacobi x2 at 4 ms had 0.67 %
-    assert res.stats.bond_energy["hook"] < 0.2 * RESIDUAL_WARNING * res.stats.bond_carried["hook"]
+    ref = monolithic_reference("hook_sway", 10.0, res.result["time"], rtol=REF_RTOL)
+    ratio = hook_sway_metrics(res.result)["sway_ratio"]
+    assert ratio < 1.0
+    assert ratio == pytest.approx(hook_sway_metrics(ref)["sway_ratio"], abs=2e-3)
+    assert abs(res.stats.bond_energy["hook"]) <= RESIDUAL_WARNING * res.stats.bond_carried["hook"]
     assert not res.warnings
     old = run("hook_sway", stop_time=10.0, step_size=1e-3, algorithm="jacobi", extrapolation=0, progress=False)
     assert hook_sway_metrics(old.result)["sway_ratio"] > 1.0

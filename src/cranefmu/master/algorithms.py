@@ -271,7 +271,9 @@ class StartUp(Algorithm):
 
     An explicit scheme of extrapolation order p needs p past values: its first p accepted steps
     are taken with iterative coupling (degree p), so the extrapolation starts from exact past
-    values and the order is kept.  FMUs that cannot roll back start from a past at rest instead
+    values and the order is kept; a start-up step the accelerated iteration fails is solved by Newton's
+    method, as every iterative step is (a value starting at exactly 0 beside large ones can stall IQN-ILS:
+    tests/master/test_startup.py).  FMUs that cannot roll back start from a past at rest instead
     (:meth:`~.coupled.Coupling.rest`, done by :func:`with_start_up`).
     """
 
