@@ -72,8 +72,8 @@ def add_parser(sub) -> None:
     p.add_argument("paths", nargs="+", metavar="FILE|DIR", help="experiment files, or directories of *.toml")
     p.add_argument("--report", default=None, metavar="FILE.json", help="also write the verdicts as JSON")
     p.add_argument("--jobs", type=int, default=1, metavar="N", help="run the cases on N worker processes "
-                   "(default 1: one after the other in this process); with N > 1, fewer than 8 cases run on a "
-                   "process pool, 8 or more on a local Dask cluster of N workers (see --engine)")
+                   "(default 1: one after the other in this process); with N > 1, fewer than 32 cases run on a "
+                   "process pool, 32 or more on a local Dask cluster of N workers (see --engine)")
     p.add_argument("--engine", default="auto", choices=("auto", "inline", "pool", "dask"),
                    help="what runs the cases: inline (this process), pool (--jobs processes), dask (the sweep "
                    "engine: a local cluster of --jobs workers, or --scheduler); auto (default): as --jobs says")

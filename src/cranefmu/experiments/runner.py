@@ -106,7 +106,10 @@ def _run_one(spec, columns: list[str]) -> tuple[dict, str, float]:
 
 
 ENGINES = ("auto", "inline", "pool", "dask")
-DASK_FROM = 8   # cases: from this many (with jobs > 1) ``auto`` runs them on a local Dask cluster
+# cases: from this many (with jobs > 1) ``auto`` runs them on a local Dask cluster, whose start costs 0.9-2.7 s
+# more than a pool's (benchmarks/results/check_engines.md): worth it beside many runs, where a lost worker
+# then fails one case instead of breaking the pool
+DASK_FROM = 32
 
 
 def choose_engine(engine: str, cases: int, jobs: int, scheduler: str | None) -> str:
