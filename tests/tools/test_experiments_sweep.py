@@ -109,3 +109,18 @@ def test_the_cli_names_an_unreachable_scheduler_in_one_line_and_runs_nothing(bui
     lines = out.stderr.strip().splitlines()
     assert len(lines) == 1 and "scheduler 'tcp://127.0.0.1:9': cannot reach the Dask scheduler there" in lines[0]
     assert not (tmp_path / "r.json").exists()
+
+
+def test_the_cli_on_dask_reports_as_inline_and_names_the_engine(built, tmp_path):
+    import json
+
+    path = _files(tmp_path)[0]
+    reports = {}
+    for engine in ("inline", "dask"):
+        out = cranefmu("check", str(path), "--engine", engine, "--jobs", "2", "--quiet", "--report",
+                       str(tmp_path / f"{engine}.json"))
+        assert out.returncode == 1, out.stderr   # the refused case fails
+        assert "6 assertions in 3 cases: 4 passed, 2 failed" in out.stdout and f"engine {engine})" in out.stdout
+        reports[engine] = json.loads((tmp_path / f"{engine}.json").read_text())
+    assert reports["dask"]["engine"] == "dask" and reports["inline"]["engine"] == "inline"
+    assert reports["dask"]["verdicts"] == reports["inline"]["verdicts"]
