@@ -2,12 +2,12 @@
 
 Two forms (docs/composition.md):
 
-- ``"a.port = b.port"`` (``as NAME`` optional): two ports, one that takes motion and gives force (the
-  rope at the hook) and one that takes force and gives motion (the hook).  Expands, axis by axis, to
-  position and velocity from the motion side and force back, in that order; a part one port lacks is
-  left out.  Where both have force and velocity the pair is a power bond, named ``NAME`` or after the
-  motion side's port, its force side first.  An input that an earlier line already drives keeps
-  that source (a scene may route a part elsewhere, e.g. a position passed on through another FMU).
+- ``"a.port = b.port"`` (``as NAME`` or ``no bond`` optional): two ports, one that takes motion and
+  gives force (the rope at the hook) and one that takes force and gives motion (the hook).  Expands,
+  axis by axis, to position and velocity from the motion side and force back, in that order; a part
+  one port lacks is left out.  Where both have force and velocity the pair is a power bond, named
+  ``NAME`` or after the motion side's port, its force side first; ``no bond`` leaves it undeclared
+  (the scene's comment says why).  An input that an earlier line already drives keeps that source (a scene may route a part elsewhere, e.g. a position passed on through another FMU).
 - ``"a.x -> b.y"``: output to input, one variable or a part of a port on each end
   (``a.port.position``, ``velocity``, ``force`` or ``motion`` = position and velocity).
 
@@ -23,7 +23,7 @@ from ..units import parse as parse_unit
 from .interface import PARTS, Interface, PortSpec
 from .source import SceneSource
 
-_PORT_PAIR = re.compile(r"^\s*(\S+)\s*=\s*(\S+?)(?:\s+as\s+(\w+))?\s*$")
+_PORT_PAIR = re.compile(r"^\s*(\S+)\s*=\s*(\S+?)(?:\s+as\s+(\w+))?(\s+no\s+bond)?\s*$")
 _FLOW = re.compile(r"^\s*(\S+)\s*->\s*(\S+)\s*$")
 
 
@@ -70,7 +70,7 @@ def expand(src: SceneSource, interfaces: dict[str, Interface]) -> Expanded:
     for line in src.connect:
         pair, flow = _PORT_PAIR.match(line), _FLOW.match(line)
         if pair:
-            new, bond, ends = _port_pair(src, interfaces, line, *pair.groups())
+            new, bond, ends = _port_pair(src, interfaces, line, *pair.groups()[:3], declare=not pair.group(4))
             kept = [k for k in new if (k.dst, k.dst_var) not in driven]
             if kept == new and new:
                 pairs.append(PortPair(*ends, len(links), len(new)))
@@ -138,7 +138,7 @@ def _flow(src: SceneSource, interfaces: dict[str, Interface], line: str, a: str,
 
 
 def _port_pair(src: SceneSource, interfaces: dict[str, Interface], line: str, a: str, b: str,
-               name: str | None) -> tuple[list[Link], Bond | None, tuple]:
+               name: str | None, declare: bool = True) -> tuple[list[Link], Bond | None, tuple]:
     ends = [_end(src, interfaces, line, text, port_first=True) for text in (a, b)]
     for end, text in zip(ends, (a, b)):
         if len(end) == 2 or end[2] is not None:
@@ -163,12 +163,16 @@ def _port_pair(src: SceneSource, interfaces: dict[str, Interface], line: str, a:
         pairs = zip(vf, vm)
         links += [_checked(src, interfaces, line, Link(cf, f, cm, m) if part == "force" else Link(cm, m, cf, f))
                   for f, m in pairs]
-    bond = None
-    if pf.parts["force"] and pf.parts["velocity"] and pm.parts["force"] and pm.parts["velocity"]:
-        bond = Bond(name or pm.name, pf.description, ((cf, pf), (cm, pm)))
-    elif name:
-        raise src.fail(line, f"connect {line!r}: 'as {name}' names a power bond, and these ports do not form one "
-                             "(each needs force and velocity)")
+    powered = bool(pf.parts["force"] and pf.parts["velocity"] and pm.parts["force"] and pm.parts["velocity"])
+    if name and not (powered and declare):
+        raise src.fail(line, f"connect {line!r}: 'as {name}' names a power bond, and " + (
+            "'no bond' declares none" if powered else "these ports do not form one (each needs force and velocity)"))
+    if powered and not declare:   # joined, but the bond left out of the SSD on purpose (the scene says why)
+        return links, None, ((ca, pa), (cb, pb))
+    if not powered and not declare:
+        raise src.fail(line, f"connect {line!r}: 'no bond' is not needed: {ca}.{pa.name} and {cb}.{pb.name} form "
+                             "no power bond (each would need force and velocity)")
+    bond = Bond(name or pm.name, pf.description, ((cf, pf), (cm, pm))) if powered else None
     return links, bond, ((ca, pa), (cb, pb))
 
 

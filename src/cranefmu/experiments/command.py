@@ -33,37 +33,34 @@ def table(verdicts: list[Verdict]) -> list[str]:
     return ["  ".join(c.ljust(w) for c, w in zip(r[:-1], widths)) + "  " + r[-1] for r in [head, *rows]]
 
 
-def write_json(path: Path, verdicts: list[Verdict], planned, wall: float) -> None:
+def write_json(path: Path, verdicts: list[Verdict], planned, wall: float, engine: str = "inline") -> None:
     cases = [{"experiment": p.case.experiment, "case": p.case.name, "file": str(p.case.file),
               "scene": p.scene.name, "error": p.error, "wall_s": round(p.wall, 3)} for p in planned]
     data = {"passed": all(v.passed for v in verdicts), "assertions": len(verdicts),
-            "failed": sum(not v.passed for v in verdicts), "wall_s": round(wall, 3), "cases": cases,
+            "failed": sum(not v.passed for v in verdicts), "wall_s": round(wall, 3), "engine": engine, "cases": cases,
             "verdicts": [v.as_dict() for v in verdicts]}
     Path(path).write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
     from ..master.output_file import check_directory
-    from .runner import judge_all, prepare, run_cases
+    from .runner import choose_engine, judge_all, prepare, run_cases
 
     if args.report:
         check_directory(Path(args.report).resolve().parent, "--report", args.report)
     wall = clock.perf_counter()
     planned = prepare(args.paths)
-    if args.jobs < 1:
-        from .reader import ExperimentError
-
-        raise ExperimentError(f"--jobs {args.jobs} is not allowed: 1 or more")
+    choose_engine(args.engine, len(planned), args.jobs, args.scheduler)   # bad options: before anything runs
     say = (lambda line: print(line, file=sys.stderr, flush=True)) if not args.quiet else None
-    run_cases(planned, args.jobs, say)
+    engine = run_cases(planned, args.jobs, say, args.engine, args.scheduler)
     verdicts = judge_all(planned)
     print("\n".join(table(verdicts)))
     failed = sum(not v.passed for v in verdicts)
     wall = clock.perf_counter() - wall
     print(f"{len(verdicts)} assertions in {len(planned)} cases: {len(verdicts) - failed} passed, {failed} failed "
-          f"({wall:.1f} s)")
+          f"({wall:.1f} s, engine {engine})")
     if args.report:
-        write_json(Path(args.report), verdicts, planned, wall)
+        write_json(Path(args.report), verdicts, planned, wall, engine)
         print(f"report: {args.report}")
     return 1 if failed else 0
 
@@ -75,7 +72,13 @@ def add_parser(sub) -> None:
     p.add_argument("paths", nargs="+", metavar="FILE|DIR", help="experiment files, or directories of *.toml")
     p.add_argument("--report", default=None, metavar="FILE.json", help="also write the verdicts as JSON")
     p.add_argument("--jobs", type=int, default=1, metavar="N", help="run the cases on N worker processes "
-                   "(default 1: one after the other in this process)")
+                   "(default 1: one after the other in this process); with N > 1, fewer than 32 cases run on a "
+                   "process pool, 32 or more on a local Dask cluster of N workers (see --engine)")
+    p.add_argument("--engine", default="auto", choices=("auto", "inline", "pool", "dask"),
+                   help="what runs the cases: inline (this process), pool (--jobs processes), dask (the sweep "
+                   "engine: a local cluster of --jobs workers, or --scheduler); auto (default): as --jobs says")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="run the cases on the Dask cluster at "
+                   "this address (e.g. tcp://10.0.0.5:8786; cranefmu installed on its workers)")
     p.add_argument("--quiet", action="store_true", help="no line per case on stderr while they run")
     p.set_defaults(func=_cmd_check)
 

@@ -2,9 +2,9 @@
 
 :func:`prepare` reads and checks every file (nothing runs if one is bad: :class:`ExperimentError`),
 resolving each case into a :class:`~cranefmu.master.runspec.RunSpec` with its commands;
-:func:`run_cases` runs them (in this process, or on a process pool with ``jobs`` > 1) keeping only
-the columns the assertions read; :func:`judge_all` gives one :class:`~.assertions.Verdict` per
-assertion, after every case of an experiment ran (a limit may name another case's result
+:func:`run_cases` runs them (in this process, on a process pool, or on the sweep engine's Dask
+cluster: :func:`choose_engine`) keeping only the columns the assertions read; :func:`judge_all`
+gives one :class:`~.assertions.Verdict` per assertion, after every case of an experiment ran (a limit may name another case's result
 ``case.assertion``).
 """
 from __future__ import annotations
@@ -107,22 +107,95 @@ def _run_one(spec, columns: list[str]) -> tuple[dict, str, float]:
     return kept, error, clock.perf_counter() - wall
 
 
-def run_cases(planned: list[Planned], jobs: int = 1, say=None) -> None:
-    """Run every case (``jobs`` > 1: that many worker processes), filling ``rows``/``error``/``wall``."""
-    if jobs > 1 and len(planned) > 1:
-        from concurrent.futures import ProcessPoolExecutor
+ENGINES = ("auto", "inline", "pool", "dask")
+# cases: from this many (with jobs > 1) ``auto`` runs them on a local Dask cluster, whose start costs 0.9-2.7 s
+# more than a pool's (benchmarks/results/check_engines.md): worth it beside many runs, where a lost worker
+# then fails one case instead of breaking the pool
+DASK_FROM = 32
 
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            futures = [pool.submit(_run_one, p.spec, p.columns) for p in planned]
-            for p, f in zip(planned, futures):
-                p.rows, p.error, p.wall = f.result()
-                if say:
-                    say(_ran(p))
-        return
-    for p in planned:
-        p.rows, p.error, p.wall = _run_one(p.spec, p.columns)
+
+def choose_engine(engine: str, cases: int, jobs: int, scheduler: str | None) -> str:
+    """The engine that runs ``cases`` cases: ``engine`` unless it is ``auto``, which takes the Dask cluster
+    at ``scheduler`` if given, else this process for one case or one job, else a process pool for fewer
+    than :data:`DASK_FROM` cases (it starts in a fraction of a second), else a local Dask cluster
+    (``cranefmu sweep``'s engine: a lost worker fails its case only, after one more attempt)."""
+    if engine not in ENGINES:
+        raise ExperimentError(f"--engine {engine!r} is not allowed: one of {', '.join(ENGINES)}")
+    if not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 1:
+        raise ExperimentError(f"--jobs {jobs!r} is not allowed: 1 or more")
+    if scheduler is not None and engine not in ("auto", "dask"):
+        raise ExperimentError(f"--engine {engine} is not allowed with --scheduler {scheduler}: the cluster "
+                              "runs the cases on Dask (--engine dask or auto)")
+    if engine != "auto":
+        return engine
+    if scheduler is not None:
+        return "dask"
+    if jobs == 1 or cases <= 1:
+        return "inline"
+    return "dask" if cases >= DASK_FROM else "pool"
+
+
+def run_cases(planned: list[Planned], jobs: int = 1, say=None, engine: str = "auto",
+              scheduler: str | None = None) -> str:
+    """Run every case, filling ``rows``/``error``/``wall``; returns the engine that ran them
+    (:func:`choose_engine`: ``inline`` in this process, ``pool`` on ``jobs`` worker processes, ``dask``
+    on a local Dask cluster of ``jobs`` workers or the cluster at ``scheduler``).  A case whose run
+    fails, or whose worker is lost, gets its reason in ``error``; the others still run."""
+    chosen = choose_engine(engine, len(planned), jobs, scheduler)
+    if not planned:
+        return chosen
+
+    def finished(i: int, got) -> None:
+        p = planned[i]
+        p.rows, p.error, p.wall = got
         if say:
             say(_ran(p))
+
+    if chosen == "inline":
+        for i, p in enumerate(planned):
+            finished(i, _run_one(p.spec, p.columns))
+    elif chosen == "pool":
+        _on_pool(planned, jobs, finished)
+    else:
+        _on_dask(planned, None if scheduler else jobs, scheduler, finished)
+    return chosen
+
+
+def _on_pool(planned: list[Planned], jobs: int, finished) -> None:
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        futures = [pool.submit(_run_one, p.spec, p.columns) for p in planned]
+        for i, f in enumerate(futures):
+            try:
+                got = f.result()
+            except Exception as err:  # noqa: BLE001 - a worker process died (the pool is broken): the case
+                text = " ".join(f"{type(err).__name__}: {err}".split())   # fails, not the report
+                got = {}, f"the run was lost with its worker process: {text}", 0.0
+            finished(i, got)
+
+
+def _run_shipped(ssp, spec, columns: list[str]) -> tuple[dict, str, float]:
+    """:func:`_run_one` on a Dask worker, the scene file found where :func:`~cranefmu.sweep.tasks.ship_ssp`
+    put it on this worker."""
+    return _run_one(replace(spec, ssp=ssp.local()), columns)
+
+
+def _on_dask(planned: list[Planned], workers: int | None, scheduler: str | None, finished) -> None:
+    from ..sweep.tasks import TaskLost, run_tasks, ship_ssp
+
+    def ship(client) -> list[tuple]:
+        shipped = {}
+        for p in planned:   # a scene file once, however many cases run it
+            if p.spec.ssp not in shipped:
+                shipped[p.spec.ssp] = ship_ssp(client, Path(p.spec.ssp), p.scene.name)
+        return [(shipped[p.spec.ssp], p.spec, p.columns) for p in planned]
+
+    def done(i: int, got) -> None:
+        finished(i, ({}, f"the run was {got.reason}", 0.0) if isinstance(got, TaskLost) else got)
+
+    run_tasks(_run_shipped, [()] * len(planned), workers=workers, scheduler=scheduler, prepare=ship, done=done,
+              name="cranefmu-check")
 
 
 def _ran(p: Planned) -> str:

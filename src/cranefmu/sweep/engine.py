@@ -31,7 +31,7 @@ from . import table as tables
 from .metrics import Custom, Metric, check, parse_metric
 from .request import digest as request_digest
 from .spec import Run, design as make_design
-from .worker import SspFile, execute
+from .worker import execute
 
 MAX_ATTEMPTS = 2   # a run is retried at most once
 
@@ -180,13 +180,10 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
     level = quiet.level
     quiet.setLevel(logging.CRITICAL)
     try:
-        local = cluster is not None or _is_local(client)
-        ssp = SspFile.of(facts.ssp, facts.name, with_data=not local)
-        if not local:   # every worker, also one that joins later, gets the bytes once through a plugin
-            from .plugin import PluginSsp, SspPlugin
+        from .tasks import ship_ssp
 
-            client.register_plugin(SspPlugin(ssp), name=f"cranefmu-ssp-{ssp.sha256[:16]}")
-            ssp = PluginSsp(ssp.name, ssp.sha256, ssp.path)
+        # every remote worker, also one that joins later, gets the bytes once through a plugin
+        ssp = ship_ssp(client, facts.ssp, facts.name, local=cluster is not None or _is_local(client))
         out.workers = len(client.scheduler_info().get("workers", {}))
 
         def submit(run: Run, attempt: int):
@@ -248,7 +245,11 @@ def connect(workers: int | None = None, scheduler: str | None = None):
         if workers is not None:
             raise SettingsError(f"workers = {workers!r} is not allowed with a scheduler address: the cluster "
                                 "at the address has its own workers")
-        return Client(scheduler), None
+        try:
+            return Client(scheduler), None
+        except OSError as err:   # unreachable, refused, timed out: one line, not a traceback
+            raise SettingsError(f"scheduler {scheduler!r}: cannot reach the Dask scheduler there: "
+                                + " ".join(str(err).split())) from None
     n = workers if workers is not None else (os.cpu_count() or 1)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise SettingsError(f"workers = {n!r} is not allowed: an integer >= 1")
