@@ -11,10 +11,11 @@ from pathlib import Path
 STEP = 1e-3
 
 
-def cranefmu(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
-    """``cranefmu *args`` in a child process of this interpreter, its output captured."""
+def cranefmu(*args: str, cwd: Path | None = None, timeout: float = 300) -> subprocess.CompletedProcess:
+    """``cranefmu *args`` in a child process of this interpreter, its output captured (``timeout`` [s]
+    guards against a hung child, not a speed claim)."""
     return subprocess.run([sys.executable, "-m", "cranefmu.cli", *args], capture_output=True, text=True, cwd=cwd,
-                          timeout=300)
+                          timeout=timeout)
 
 
 def start(tmp_path: Path, *extra: str) -> tuple[subprocess.Popen, Path, Path]:
