@@ -5,8 +5,8 @@ For each scene: its key outputs (``cranefmu.converge.key_outputs``) against the 
 (``cranefmu.converge.monolithic_reference``, rtol 1e-10, cached in /tmp) over the scene's default stop
 time (at most 10 s; truck_telescope 30 s).  Candidates: jacobi x0/x1/x2 and gauss-seidel x1 at
 H = 50, 20, 10, 5, 4, 3, 2, 1 ms (each series from coarse to fine, stopping at the first H that passes,
-since a finer one costs more), jacobi x1 with the hook bond implicit (elastic_pendulum, hook_sway) on the
-same steps, and jacobi x1 adaptive.  A candidate passes when
+since a finer one costs more), jacobi x1 with the hook bond implicit (elastic_pendulum, hook_sway; the
+truck: every bond, x1 and x2) on the same steps, and jacobi x1 adaptive.  A candidate passes when
 
 - every listed mode (:data:`cranefmu.modal.MODES`, fitted from its probe run against the monolith's)
   is within 0.5 % in frequency and 5 % in damping ratio (:func:`cranefmu.modal.check_setting`),
@@ -59,6 +59,9 @@ SERIES = (("jacobi", 0), ("jacobi", 1), ("jacobi", 2), ("gauss-seidel", 1))
 IMPLICIT = {"elastic_pendulum": {"implicit": ["hook"]}, "hook_sway": {"implicit": ["hook"]},
             "truck_telescope": {"implicit": ["foot_heave", "foot_tilt", "tip", "hook", "drum"],
                                 "coupling_tolerance": 1e-3}}
+# the implicit group's extrapolation degrees (series "implicit" is x1, "implicit-x2" x2): the truck's group
+# interpolates its inputs quadratically with x2, which keeps its modes at twice x1's step (truck_modes.md)
+IMPLICIT_DEGREES = {"truck_telescope": (1, 2)}
 FIDELITY = Path(__file__).parents[1] / "src" / "cranefmu" / "fidelity.json"   # chosen + ladder, read by info
 STEPS = (0.05, 0.02, 0.01, 0.005, 0.004, 0.003, 0.002, 0.001)
 ADAPTIVE = ((0.01, 1e-3),)      # (first step, tolerance), jacobi x1
@@ -190,11 +193,13 @@ def study(scene: str) -> tuple[list[dict], dict]:
             print("  " + line(row), flush=True)
             if row["ok"]:
                 break
-    if scene in IMPLICIT and (not wanted or "implicit" in wanted):
+    for x in IMPLICIT_DEGREES.get(scene, (1,)) if scene in IMPLICIT else ():
+        if wanted and ("implicit" if x == 1 else f"implicit-x{x}") not in wanted:
+            continue
         for h in steps:
             bonds = IMPLICIT[scene]["implicit"]
-            row = candidate(scene, stop, ref, keys, "jacobi", 1, h, None, sway_ref, settings=IMPLICIT[scene],
-                            label=f"jacobi x1 implicit {'+'.join(bonds) if len(bonds) < 3 else 'all bonds'} "
+            row = candidate(scene, stop, ref, keys, "jacobi", x, h, None, sway_ref, settings=IMPLICIT[scene],
+                            label=f"jacobi x{x} implicit {'+'.join(bonds) if len(bonds) < 3 else 'all bonds'} "
                                   f"H {h * 1e3:g} ms")
             rows.append(row)
             print("  " + line(row), flush=True)
@@ -400,7 +405,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--rtol", type=float, default=None, help="the monolithic reference's rtol (default 1e-10; "
                     "overhead_lift's takes minutes there, 1e-8 agrees to 3 digits in the range errors)")
     ap.add_argument("--series", default=None, help="only these candidate series, comma-separated: "
-                    + ", ".join(f"{a}-x{x}" for a, x in SERIES) + ", implicit, adaptive (default: all); a "
+                    + ", ".join(f"{a}-x{x}" for a, x in SERIES) + ", implicit, implicit-x2, adaptive (default: all); a "
                     "restricted study chooses among what it ran")
     ap.add_argument("--from-table", default=None, metavar="FILE.md", help="no runs: re-derive the choice and "
                     "the ladders of the scenes in a results file this script wrote, into fidelity.json and docs")
