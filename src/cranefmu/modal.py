@@ -343,12 +343,9 @@ MODES: dict[str, tuple[ModeSpec, ...]] = {
 
 
 # listed modes that the scene's stored setting is measured NOT to keep (benchmarks/results/scene_defaults.md;
-# docs/scenes_catalog.md says why and what would): the truck's implicit group at 20 ms keeps the swing, but
-# raises the axial damping ratio by 57 % and lowers the chassis modes' by 11-29 %; at 5 ms still 15 % (no measured
-# setting meets every limit)
-NOT_KEPT: dict[str, tuple[str, ...]] = {
-    "truck_telescope": ("load on the rope (axial)", "chassis on the front pads", "chassis on the rear pads"),
-}
+# docs/scenes_catalog.md says why and what would): none since the truck's chassis takes the boom's forces
+# interpolated over the step (benchmarks/results/truck_modes.md) and the truck stores jacobi x2 at 5 ms
+NOT_KEPT: dict[str, tuple[str, ...]] = {}
 
 
 def specs(scene: str) -> tuple[ModeSpec, ...]:
