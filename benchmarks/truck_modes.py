@@ -128,17 +128,20 @@ def header(title: str, argv: list[str] | None) -> list[str]:
             f"- command: `nice -n 10 .venv/bin/python benchmarks/truck_modes.py {' '.join(argv or sys.argv[1:])}`", ""]
 
 
-def parameter_sets(argv: list[str] | None, output: Path) -> int:
-    """Each parameter set of the scene at its stored setting: the listed modes (cranefmu.modal.check_setting,
-    the probes of cranefmu.modal.MODES) and the monolith's linearised modes beside them."""
+def parameter_sets(argv: list[str] | None, output: Path, settings: dict | None = None,
+                   only: list[str] | None = None) -> int:
+    """Each parameter set of the scene (``only`` these) at its stored setting (or ``settings``): the listed
+    modes (cranefmu.modal.check_setting, the probes of cranefmu.modal.MODES) and the monolith's linearised
+    modes beside them."""
     from cranefmu.master.run import preview
 
-    stored = preview(SCENE).settings
-    lines = header("Truck crane: every parameter set's listed modes at the stored setting", argv)
-    lines += [f"Stored setting: {stored}. Probes as cranefmu.modal.MODES (telescope and winch held at 10.5 m; "
+    stored = settings or preview(SCENE).settings
+    lines = header("Truck crane: every parameter set's listed modes at the " + ("given" if settings else "stored")
+                   + " setting", argv)
+    lines += [f"{'Given' if settings else 'Stored'} setting: {stored}. Probes as cranefmu.modal.MODES (telescope and winch held at 10.5 m; "
               f"the luffing set also holds its luffing angle: {HOLD['luffing']}); errors against the monolith's fit "
               "over the same probe; limits 0.5 % in frequency, 5 % in damping ratio.", ""]
-    names = sorted(p.stem for p in SETS.glob("*.ssv"))
+    names = only or sorted(p.stem for p in SETS.glob("*.ssv"))
     for name in names:
         values = {**modal.scene_values(SCENE, name, HOLD.get(name)), **modal.TRUCK_HELD}
         linear = modal.linearised_modes(SCENE, values)
@@ -151,7 +154,7 @@ def parameter_sets(argv: list[str] | None, output: Path) -> int:
                          f"{linear[1][0]:.4g} Hz (zeta {linear[1][1]:.3g}): the listed 'axial' slot (the second lowest "
                          "mode) is that mode here.")
         t0 = time.perf_counter()
-        check = modal.check_setting(SCENE, {}, parameter_set=name, parameters=HOLD.get(name), isolate=False)
+        check = modal.check_setting(SCENE, dict(settings or {}), parameter_set=name, parameters=HOLD.get(name), isolate=False)
         lines += ["", "```", *modal.report({f"{name}": check}), "```",
                   f"{'meets every limit' if check.meets else 'does NOT meet every limit'} "
                   f"({time.perf_counter() - t0:.0f} s of wall)", ""]
@@ -170,9 +173,14 @@ def main(argv: list[str] | None = None) -> int:
                     "and interpolated, no rope-alone or solver sections (CI)")
     ap.add_argument("--sets", action="store_true", help="instead: every parameter set of the scene at its stored "
                     "setting against the listed modes")
+    ap.add_argument("--settings", default=None, help="with --sets: these run settings (JSON) instead of the stored")
+    ap.add_argument("--only", default=None, help="with --sets: only these sets, comma-separated")
     args = ap.parse_args(argv)
     if args.sets:
-        return parameter_sets(argv, Path(args.output or SETS_RESULTS))
+        import json
+
+        return parameter_sets(argv, Path(args.output or SETS_RESULTS), json.loads(args.settings or "null"),
+                              args.only.split(",") if args.only else None)
     args.output = args.output or str(RESULTS)
     steps = [float(h) for h in args.steps.split(",")]
     names = [s.name for s in SPECS]
