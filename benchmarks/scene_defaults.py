@@ -5,8 +5,8 @@ For each scene: its key outputs (``cranefmu.converge.key_outputs``) against the 
 (``cranefmu.converge.monolithic_reference``, rtol 1e-10, cached in /tmp) over the scene's default stop
 time (at most 10 s; truck_telescope 30 s).  Candidates: jacobi x0/x1/x2 and gauss-seidel x1 at
 H = 50, 20, 10, 5, 4, 3, 2, 1 ms (each series from coarse to fine, stopping at the first H that passes,
-since a finer one costs more), jacobi x1 with the hook bond implicit (elastic_pendulum, hook_sway) on the
-same steps, and jacobi x1 adaptive.  A candidate passes when
+since a finer one costs more), jacobi x1 with the hook bond implicit (elastic_pendulum, hook_sway; the
+truck: every bond, x1 and x2) on the same steps, and jacobi x1 adaptive.  A candidate passes when
 
 - every listed mode (:data:`cranefmu.modal.MODES`, fitted from its probe run against the monolith's)
   is within 0.5 % in frequency and 5 % in damping ratio (:func:`cranefmu.modal.check_setting`),
@@ -59,6 +59,9 @@ SERIES = (("jacobi", 0), ("jacobi", 1), ("jacobi", 2), ("gauss-seidel", 1))
 IMPLICIT = {"elastic_pendulum": {"implicit": ["hook"]}, "hook_sway": {"implicit": ["hook"]},
             "truck_telescope": {"implicit": ["foot_heave", "foot_tilt", "tip", "hook", "drum"],
                                 "coupling_tolerance": 1e-3}}
+# the implicit group's extrapolation degrees (series "implicit" is x1, "implicit-x2" x2): the truck's group
+# interpolates its inputs quadratically with x2, which keeps its modes at twice x1's step (truck_modes.md)
+IMPLICIT_DEGREES = {"truck_telescope": (1, 2)}
 FIDELITY = Path(__file__).parents[1] / "src" / "cranefmu" / "fidelity.json"   # chosen + ladder, read by info
 STEPS = (0.05, 0.02, 0.01, 0.005, 0.004, 0.003, 0.002, 0.001)
 ADAPTIVE = ((0.01, 1e-3),)      # (first step, tolerance), jacobi x1
@@ -197,11 +200,13 @@ def study(scene: str) -> tuple[list[dict], dict]:
             print("  " + line(row), flush=True)
             if row["ok"]:
                 break
-    if scene in IMPLICIT and (not wanted or "implicit" in wanted):
+    for x in IMPLICIT_DEGREES.get(scene, (1,)) if scene in IMPLICIT else ():
+        if wanted and ("implicit" if x == 1 else f"implicit-x{x}") not in wanted:
+            continue
         for h in steps:
             bonds = IMPLICIT[scene]["implicit"]
-            row = candidate(scene, stop, ref, keys, "jacobi", 1, h, None, sway_ref, settings=IMPLICIT[scene],
-                            label=f"jacobi x1 implicit {'+'.join(bonds) if len(bonds) < 3 else 'all bonds'} "
+            row = candidate(scene, stop, ref, keys, "jacobi", x, h, None, sway_ref, settings=IMPLICIT[scene],
+                            label=f"jacobi x{x} implicit {'+'.join(bonds) if len(bonds) < 3 else 'all bonds'} "
                                   f"H {h * 1e3:g} ms")
             rows.append(row)
             print("  " + line(row), flush=True)
@@ -379,7 +384,7 @@ def rows_from_table(path: Path) -> dict[str, tuple[list[dict], dict]]:
         if len(cells) == 12:   # a table written before the modal columns: no mode was checked
             cells[3:3] = ["nan", "nan"]
         label = cells[0].replace(" **chosen**", "")
-        m = re.match(r"(jacobi|gauss-seidel) x(\d)( implicit (\S+))? (H ([\d.]+) ms|adaptive tol (\S+))", label)
+        m = re.match(r"(jacobi|gauss-seidel) x(\d)( implicit (.+?))? (H ([\d.]+) ms|adaptive tol (\S+))", label)
         if not m:
             continue
         bonds = None if not m.group(4) else IMPLICIT[scene]["implicit"]
@@ -516,13 +521,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--rtol", type=float, default=None, help="the monolithic reference's rtol (default 1e-10; "
                     "overhead_lift's takes minutes there, 1e-8 agrees to 3 digits in the range errors)")
     ap.add_argument("--series", default=None, help="only these candidate series, comma-separated: "
-                    + ", ".join(f"{a}-x{x}" for a, x in SERIES) + ", implicit, adaptive (default: all); a "
+                    + ", ".join(f"{a}-x{x}" for a, x in SERIES) + ", implicit, implicit-x2, adaptive (default: all); a "
                     "restricted study chooses among what it ran")
     ap.add_argument("--from-table", default=None, metavar="FILE.md", help="no runs: re-derive the choice and "
                     "the ladders of the scenes in a results file this script wrote, into fidelity.json and docs")
     ap.add_argument("--sets", action="store_true", help="no search: the stored setting on every parameter set of "
                     "each scene (and rope.model=bouc_wen on overhead_lift's), against that set's monolith; where it "
                     "fails a set, the settings of SET_FALLBACKS; writes benchmarks/results/scene_sets.md (or --output)")
+    ap.add_argument("--rounds", type=int, default=0, help="with --from-table: time the candidates again, "
+                    "this many rounds alternating in one process, and take each one's least wall (the walls of a "
+                    "study minutes apart on a shared machine are not comparable); with --output, write their table")
     args = ap.parse_args(argv)
     if args.sets:
         return sets_main(args, argv)
@@ -531,8 +539,13 @@ def main(argv: list[str] | None = None) -> int:
             if scene not in args.scenes.split(","):
                 continue
             measured = re.search(r"date: (.*) UTC, commit (\w+)", Path(args.from_table).read_text())
-            write_fidelity(scene, rows, facts, measured.group(2), f"benchmarks/scene_defaults.py --scenes {scene}",
-                           when=measured.group(1))
+            command = f"benchmarks/scene_defaults.py --scenes {scene}"
+            if args.rounds:
+                retime(scene, rows, facts["stop"], args.rounds)
+                command += f" (every wall re-timed: --from-table --rounds {args.rounds})"
+                if args.output != str(RESULTS):
+                    publish(table(scene, rows, facts), Path(args.output))
+            write_fidelity(scene, rows, facts, measured.group(2), command, when=measured.group(1))
             print(f"{scene}: chosen {chosen(rows)['label'] if chosen(rows) else 'none'}; ladder "
                   + " -> ".join(r["label"] for r in fidelity_ladder(rows, chosen(rows))))
         write_docs_ladders()
@@ -595,6 +608,28 @@ def sets_main(args, argv: list[str] | None) -> int:
         print(f"{scene}:", flush=True)
         lines += sets_table(scene, sets_study(scene))
     return publish(lines, output, args.scenes.split(","))
+
+
+def retime(scene: str, rows: list[dict], stop: float, rounds: int) -> None:
+    """Replace the wall (and RTF) of every row that ran to the end by its least over ``rounds`` runs, the rows
+    alternating in each round (one process, the same load for all: the choice and the ladder compare them)."""
+    timed = [r for r in rows if not r.get("failure") and not r.get("stopped")]
+    walls: dict[str, list[float]] = {r["label"]: [] for r in timed}
+    for k in range(rounds):
+        for r in timed:
+            if r["implicit"]:
+                settings = dict(IMPLICIT[scene])
+            else:
+                settings = {"implicit": []} if r["algorithm"] == "jacobi" else {}
+            if r["tolerance"]:
+                settings.update(adaptive=True, tolerance=r["tolerance"])
+            res = run(scene, stop_time=stop, step_size=r["step_size"], algorithm=r["algorithm"],
+                      extrapolation=r["extrapolation"], progress=False, **settings)
+            walls[r["label"]].append(res.stats.wall_time)
+            print(f"  round {k + 1}: {r['label']} wall {res.stats.wall_time:.2f} s", flush=True)
+    for r in timed:
+        r["wall"] = min(walls[r["label"]])
+        r["rtf"] = stop / r["wall"]
 
 
 def write_modes_csv(rows: list[dict], path: Path) -> None:

@@ -288,6 +288,24 @@ def _linearised(scene: str, items: tuple) -> tuple[tuple[float, float], ...]:
                         for si in s if si.imag > 1e-9 * abs(si)))
 
 
+def luffing_cylinder(values: dict) -> tuple[float, float]:
+    """The boom on its elastic luffing cylinder (boom.cylinder = spring_damper), foot fixed and tip unloaded:
+    psi's equation (:mod:`cranefmu.physics.boom`) linearised about the commanded angle phi1 gives
+    J_O psi'' + b r^2 psi' + k r^2 psi = 0, r = ds3/dphi1 the cylinder's lever, J_O the boom's inertia about
+    its foot O2 (seed 000 eq. 15-18), k, b the oil column's stiffness and damping; f = sqrt(k r^2 / J_O)/(2 pi),
+    zeta = b r^2 / (2 sqrt(k r^2 J_O)).  Left out: the gravity and tip-load terms (g S + L T) sin psi and the
+    cylinder force's change of lever (together 0.05 % in frequency for the retracted boom at 60 deg)."""
+    from .physics.boom import BoomParams, cylinder_geometry, mass_state
+    from .reference import build_params
+
+    boom = build_params(BoomParams, "boom", values)
+    inertia = mass_state(0.0, boom).J
+    _, lever, _ = cylinder_geometry(boom.luff_angle, boom)
+    stiffness = boom.cylinder_stiffness * lever ** 2
+    return (math.sqrt(stiffness / inertia) / (2 * math.pi),
+            boom.cylinder_damping * lever ** 2 / (2 * math.sqrt(stiffness * inertia)))
+
+
 def truck_mode(index: int) -> Callable[[dict], tuple[float, float]]:
     """The ``index``-th (lowest first) mode of the truck crane linearised about its rest
     (:func:`linearised_modes` without the probe's kick)."""
@@ -353,12 +371,9 @@ MODES: dict[str, tuple[ModeSpec, ...]] = {
 
 
 # listed modes that the scene's stored setting is measured NOT to keep (benchmarks/results/scene_defaults.md;
-# docs/scenes_catalog.md says why and what would): the truck's implicit group at 20 ms keeps the swing, but
-# raises the axial damping ratio by 57 % and lowers the chassis modes' by 11-29 %; at 5 ms still 15 % (no measured
-# setting meets every limit)
-NOT_KEPT: dict[str, tuple[str, ...]] = {
-    "truck_telescope": ("load on the rope (axial)", "chassis on the front pads", "chassis on the rear pads"),
-}
+# docs/scenes_catalog.md says why and what would): none since the truck's chassis takes the boom's forces
+# interpolated over the step (benchmarks/results/truck_modes.md) and the truck stores jacobi x2 at 5 ms
+NOT_KEPT: dict[str, tuple[str, ...]] = {}
 
 
 def specs(scene: str) -> tuple[ModeSpec, ...]:

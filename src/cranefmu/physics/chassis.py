@@ -117,10 +117,14 @@ class ChassisModel(Model):
         Signal("Fy_base", "N", "y force of the boom on the chassis at the boom foot O2", coupling=True),
         Signal("M_base", "N.m", "moment about z at O2 of the boom on the chassis (negative tips toward the boom)",
                coupling=True),
-        Signal("m_boom", "kg", "mass the foot O2 carries along (Boom m_carried; boom_inertia = 'carried')"),
-        Signal("Sx_boom", "kg.m", "its first moment about O2 toward the boom side (Boom Sx_carried)"),
-        Signal("J_boom", "kg.m2", "its moment of inertia about O2 turning with the chassis (Boom J_carried)"),
-    )
+        Signal("m_boom", "kg", "mass the foot O2 carries along (Boom m_carried; boom_inertia = 'carried')",
+               coupling=True),
+        Signal("Sx_boom", "kg.m", "its first moment about O2 toward the boom side (Boom Sx_carried)", coupling=True),
+        Signal("J_boom", "kg.m2", "its moment of inertia about O2 turning with the chassis (Boom J_carried)",
+               coupling=True),
+    )   # the carried inertia is coupling too: a master feeds rates to a connection group only if every input in
+        # it takes them, and these share the group boom -> chassis with the forces; without rates the forces were
+        # held over each step, a first-order hold (benchmarks/results/truck_modes.md)
     initial_state_inputs = ("Fx_base", "Fy_base", "M_base")  # static settlements under the boom loads
     # the mechanical ports a scene connects as one (docs/composition.md)
     ports = (
