@@ -435,11 +435,12 @@ def scene_sets(scene: str) -> list[tuple[str | None, dict | None]]:
     return [(ps, None) for ps in sets] + [(ps, dict(v)) for v in SET_VARIANTS.get(scene, ()) for ps in sets]
 
 
-def stored_setting(scene: str) -> tuple[str, str, int, float, dict]:
-    """The scene's stored setting as a candidate: (label, algorithm, extrapolation, H, further settings)."""
+def stored_setting(scene: str, parameter_set: str | None = None) -> tuple[str, str, int, float, dict]:
+    """The scene's stored setting (the named set's over it) as a candidate: (label, algorithm,
+    extrapolation, H, further settings)."""
     from cranefmu.master.runspec import resolve
 
-    st = resolve(scene).settings
+    st = resolve(scene, parameter_set=parameter_set).settings
     bonds = list(st.implicit or [])
     label = (f"stored: {st.algorithm} x{st.extrapolation}" + (f" implicit {'+'.join(bonds)}" if bonds else "")
              + f" H {st.step_size * 1e3:g} ms")
@@ -470,7 +471,7 @@ def sets_study(scene: str) -> list[dict]:
             # a sway that grows in the exact solution is driven (crane_motion): no free decay to compare
             ratio = hook_sway_metrics(ref)["sway_ratio"]
             sway_ref = ratio if ratio <= 1.0 else None
-        for label, algorithm, x, h, settings in [stored_setting(scene), *SET_FALLBACKS.get(scene, ())]:
+        for label, algorithm, x, h, settings in [stored_setting(scene, parameter_set), *SET_FALLBACKS.get(scene, ())]:
             row = candidate(scene, stop, ref, keys, algorithm, x, h, None, sway_ref, parameters=parameters,
                             settings=settings, label=label, parameter_set=parameter_set)
             row.update(set=name, stop=stop)

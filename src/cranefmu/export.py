@@ -44,11 +44,33 @@ def export_scene(scene: str, output: str | Path, parameter_set: str | None = Non
     with tempfile.TemporaryDirectory(prefix="cranefmu_export_") as tmp:
         variant = Path(tmp) / scene
         variant.mkdir()
-        shutil.copy2(folder / "SystemStructure.ssd", variant / "SystemStructure.ssd")
+        (variant / "SystemStructure.ssd").write_bytes(variant_ssd(folder / "SystemStructure.ssd", parameter_set))
         (variant / bound.pop()).write_bytes(b.ssv_of(values, label))
         written = b.build_ssp(variant, dest=Path(tmp) / output.name)
         shutil.move(str(written), str(output))
     return output
+
+
+def variant_ssd(ssd: Path, parameter_set: str | None) -> bytes:
+    """The SSD of the variant: the run settings ``parameter_set`` stores (a ``cf:ParameterSet`` in the
+    settings annotation) become the variant's own, and every set's are dropped (it has no named sets)."""
+    from lxml import etree
+
+    from .master.scene import SETTINGS_ANNOTATION
+    from .master.untrusted import parse_xml
+
+    root = parse_xml(ssd)
+    per_set = [(settings, el) for ann in root.iter("{*}Annotation") if ann.get("type") == SETTINGS_ANNOTATION
+               for settings in ann for el in settings if etree.QName(el).localname == "ParameterSet"]
+    if not per_set:
+        return ssd.read_bytes()
+    for settings, el in per_set:
+        if el.get("name") == parameter_set:
+            for key, value in el.attrib.items():
+                if key != "name":
+                    settings.set(key, value)
+        settings.remove(el)
+    return etree.tostring(root.getroottree(), xml_declaration=True, encoding="UTF-8")
 
 
 def variant_values(scene: Scene, parameter_set: str | None, parameters: dict[str, object]) -> dict[str, Parameter]:

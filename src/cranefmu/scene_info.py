@@ -43,7 +43,9 @@ def _settings_lines(scene: Scene) -> list[str]:
     chosen = ", ".join(f"{k} = {values[k]!r} ({sources[k]})" for k in values if sources[k] != "default")
     return [f"  run settings stored in the scene (used where a run gives none; measured for {stored_for}: a run "
             f"naming another algorithm takes that algorithm's defaults instead): {stored or 'none'}",
-            f"  a run given no settings: {chosen or 'all defaults'}"]
+            f"  a run given no settings: {chosen or 'all defaults'}"] + [
+        f"  run settings stored for parameter set {name} (over the scene's when it is chosen): "
+        + ", ".join(f"{k} = {v!r}" for k, v in own.items()) for name, own in scene.set_settings.items()]
 
 
 def describe(scene: Scene) -> list[str]:

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from cranefmu.master.divergence import GrowthAlarm, ImbalanceAlarm
+from cranefmu.master.power_bonds import ROUNDOFF_SPEED
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
 from cranefmu.scenes import SCENES
@@ -68,6 +69,19 @@ def test_stable_scene_at_its_default_step_raises_no_alarm(built, scene):
     r = run(scene, stop_time=2.0, progress=False)   # the scene's stored settings
     assert r.stats.steps == round(2.0 / r.settings.step_size)
     assert all(math.isfinite(e) for e in r.stats.bond_energy.values()) and r.stats.bond_energy
+
+
+def test_scene_at_rest_at_a_fine_step_raises_no_alarm(built):
+    """overhead_lift at rest (its motor starts at 0.2 s) with its stored jacobi x1 at H = 0.25 ms: the
+    hook bond's residuals are round-off, 1e-17 to 1e-14 J, and jumped 84 times in 3 steps, which
+    stopped the run at t = 0.01225 s before the growth test had a round-off floor.  They stay three
+    orders below the floor ROUNDOFF_SPEED |f| h (7e-11 J at the 294 N static tension)."""
+    h = 2.5e-4
+    r = run("overhead_lift", stop_time=0.05, step_size=h, progress=False)
+    assert r.settings.extrapolation == 1 and r.stats.steps == 200
+    res = r.result
+    assert np.ptp(res["rope.tension"]) < 1e-6 * res["rope.tension"][0]          # at rest
+    assert np.all(res["bond.hook.dE"] < 1e-3 * ROUNDOFF_SPEED * res["rope.tension"] * h)
 
 
 def test_saturating_instability_is_stopped(built):
@@ -182,3 +196,26 @@ def test_growth_alarm_on_synthetic_residuals():
     # residual rises linearly to 1e-7 J, then 3.5e-6 and 3.5e-2 J); tripped the one-sided test at step 2003
     jump = np.concatenate([np.full(1990, 5e-9), 1.26e-8 * np.arange(1, 10), [3.5e-6], 3.5e-2 * 0.7 ** np.arange(60)])
     assert first_trip(jump) is None
+
+
+def test_growth_alarm_waits_for_the_roundoff_floor():
+    """A residual below the bond's round-off floor is not judged: round-off that jumps 84 times in 3
+    steps (overhead_lift at rest, H = 0.25 ms: 2e-17 J, then 3e-16, 1.6e-15, 6.4e-15 J) trips the test
+    without the floor and not with it (7e-11 J); geometric growth of 1.05 per step from round-off trips
+    it soon after the residual has passed the floor (within 48 steps: a block's maximum must pass it)."""
+    def first_trip(values, roundoff):
+        alarm = GrowthAlarm(1)
+        for n, v in enumerate(values):
+            hit = alarm.update([v], [v], None if roundoff is None else [roundoff])
+            if hit is not None:
+                return n, hit
+        return None
+
+    rest = np.concatenate([np.full(46, 2.3e-17), [7.6e-17, 3.0e-16, 1.64e-15, 6.36e-15, 2.0e-15, 2.2e-16]])
+    assert first_trip(rest, None) is not None
+    assert first_trip(rest, 7e-11) is None
+    n = np.arange(1, 3001)
+    growth = 1e-17 * 1.05 ** n
+    trip = first_trip(growth, 7e-11)
+    assert trip is not None and 7e-11 < growth[trip[0]] < 10 * 7e-11     # measured 4.1 x the floor
+    assert trip[1].per_step() == pytest.approx(1.05, rel=1e-9)

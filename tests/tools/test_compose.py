@@ -190,6 +190,28 @@ def test_bad_settings_and_component_names_name_the_line(built, tmp_path):
         compose(folder, built)
 
 
+def test_a_parameter_sets_stored_settings_are_written_and_checked(built, tmp_path):
+    """[settings.sets.NAME] goes into the settings annotation as a cf:ParameterSet the reader gives back
+    per set; a set the folder has no .ssv for, or a bad value, is refused naming the line."""
+    folder = tmp_path / "sets"
+    folder.mkdir()
+    (folder / "loose.ssv").write_text((b.SSP_SOURCES / "overhead_lift" / "loose.ssv").read_text())
+    head = 'components = {rope = "Rope"}\nconnect = []\n[settings]\nstep_size = 0.002\n'
+    (folder / "scene.toml").write_text(head + '[settings.sets.loose]\nstep_size = 0.001\nextrapolation = 1\n')
+    (folder / "SystemStructure.ssd").write_bytes(compose(folder, built).ssd)
+    scene = read_ssd(folder / "SystemStructure.ssd", folder, built)
+    assert scene.settings == {"step_size": 0.002}
+    assert scene.set_settings == {"loose": {"step_size": 0.001, "extrapolation": 1}}
+    (folder / "scene.toml").write_text(head + '[settings.sets.tight]\nstep_size = 0.001\n')
+    with pytest.raises(CompositionError, match=r"scene.toml:5: settings.sets.tight: 'tight' is not a parameter "
+                                               r"set of the scene: one of loose"):
+        compose(folder, built)
+    (folder / "scene.toml").write_text(head + '[settings.sets.loose]\nextrapolation = 3\n')
+    with pytest.raises(CompositionError, match=r"scene.toml:5: stored run settings of parameter set loose: "
+                                               r"extrapolation = 3 is not allowed: 0, 1 or 2"):
+        compose(folder, built)
+
+
 def test_the_build_keeps_an_ssd_edited_after_its_scene_toml(built, tmp_path):
     """An SSD changed by hand (or merged in) after scene.toml is not overwritten: the build says so and
     leaves it for a person to carry into scene.toml; an edit of scene.toml writes the SSD again."""

@@ -36,6 +36,16 @@ def test_export_holds_one_bound_set_with_the_changes_and_its_settled_start(built
         np.testing.assert_array_equal(mine[name], ours[name], err_msg=name)
 
 
+def test_export_of_a_set_takes_the_settings_it_stores(built, tmp_path):
+    """overhead_lift's loose set stores every bond implicit over the scene's settings: its export has
+    them as its own (and no settings of sets it does not hold); the default set's export has the scene's."""
+    loose = extracted_scene(export_scene("overhead_lift", tmp_path / "loose.ssp", "loose"))[1]
+    assert loose.settings["implicit"] == ["hook", "drum", "trolley"] and not loose.set_settings
+    plain = extracted_scene(export_scene("overhead_lift", tmp_path / "default.ssp"))[1]
+    assert "implicit" not in plain.settings and not plain.set_settings
+    assert {k: v for k, v in loose.settings.items() if k != "implicit"} == plain.settings
+
+
 @pytest.mark.parametrize("scene,parameter_set,changes,error,match", [
     ("nowhere", None, {}, SceneError, "scene 'nowhere' is not allowed: one of"),
     ("elastic_pendulum", "heavy", {}, ParameterSetError, "parameter set 'heavy' is not in scene"),

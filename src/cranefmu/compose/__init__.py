@@ -58,6 +58,15 @@ def _check_settings(src: SceneSource) -> None:
         stored_settings({k: setting_text(v) for k, v in src.settings.items()}, src.stop_time)
     except SettingsError as err:
         raise src.fail("settings", f"stored run settings: {err}") from None
+    named = sorted(p.stem for p in src.path.parent.glob("*.ssv") if p.name != src.parameters)   # the named sets
+    for name, table in src.set_settings.items():
+        if name not in named:
+            raise src.fail(f"sets.{name}", f"settings.sets.{name}: {name!r} is not a parameter set of the scene: "
+                                           f"one of {', '.join(named) or '(none)'}")
+        try:
+            stored_settings({k: setting_text(v) for k, v in {**src.settings, **table}.items()}, src.stop_time)
+        except SettingsError as err:
+            raise src.fail(f"sets.{name}", f"stored run settings of parameter set {name}: {err}") from None
 
 
 def write_ssd(folder: Path, fmu_dir: Path) -> str:

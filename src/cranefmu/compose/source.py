@@ -50,6 +50,7 @@ class SceneSource:
     stop_time: float | None = None
     settings: dict[str, object] = field(default_factory=dict)
     stop_when: dict[str, str] = field(default_factory=dict)
+    set_settings: dict[str, dict[str, object]] = field(default_factory=dict)   # [settings.sets.NAME]: per set
 
     def where(self, quoted: str) -> str:
         """``file:line`` of the first line (not a comment) holding ``quoted`` in quotes (a connect line),
@@ -118,9 +119,16 @@ def parse_source(text: str, path: Path) -> SceneSource:
         if key in data and not isinstance(data[key], str):
             raise src.fail(key, f"{key} = {data[key]!r}: give a string")
     default_name = path.parent.name if path.name == FILE else path.stem
+    settings = dict(_table(src, data, "settings"))
+    set_settings = _table(src, settings, "sets")
+    settings.pop("sets", None)
+    for name, table in set_settings.items():
+        if not isinstance(table, dict):
+            raise src.fail(name, f"settings.sets.{name} = {table!r}: give a table of run settings for parameter "
+                                 f"set {name!r}")
     return SceneSource(path, text, data.get("name") or default_name, data.get("description", ""), components,
                        connect, expose, data.get("parameters"), times["start_time"] or 0.0, times["stop_time"],
-                       _table(src, data, "settings"), stop_when)
+                       settings, stop_when, set_settings)
 
 
 def _table(src: SceneSource, data: dict, key: str) -> dict:

@@ -116,7 +116,7 @@ def _elements(system, src: SceneSource, interfaces: dict[str, Interface], expand
 def _annotations(system, src: SceneSource, expanded: Expanded) -> None:
     from lxml import etree
 
-    if not (expanded.bonds or src.stop_when or src.settings):
+    if not (expanded.bonds or src.stop_when or src.settings or src.set_settings):
         return
     holder = etree.SubElement(system, _q("Annotations"))
 
@@ -138,10 +138,14 @@ def _annotations(system, src: SceneSource, expanded: Expanded) -> None:
         stop, ns = annotation("org.cranefmu.stopwhen", "StopWhen")
         for variable, reason in src.stop_when.items():
             etree.SubElement(stop, f"{{{ns}}}Output", variable=variable, reason=reason)
-    if src.settings:
+    if src.settings or src.set_settings:
         settings, ns = annotation("org.cranefmu.settings", "Settings")
         for key, value in src.settings.items():
             settings.set(key, setting_text(value))
+        for name, table in src.set_settings.items():   # a parameter set's own, over the scene's when it is chosen
+            one = etree.SubElement(settings, f"{{{ns}}}ParameterSet", name=name)
+            for key, value in table.items():
+                one.set(key, setting_text(value))
 
 
 def setting_text(value) -> str:

@@ -18,8 +18,14 @@ value is not enough.  Three detectors, chosen by :class:`Watch` for the run:
    3.5e-2 J in two steps, then decaying; ratios 3.6, 52, 1e4).  ``per_step`` =
    1.01 leaves alone a slow energy gain such as an undamped Jacobi oscillator at omega H < 0.14
    (energy factor 1 + (omega H)^2 / 2 per step, see docs/limitations.md, "Stability of explicit
-   coupling").  A residual at round-off level (below
-   ``floor`` times the largest energy the bond carried in a step so far) is not growth.
+   coupling").  A residual at round-off level is not growth: the test starts only from a block whose
+   maximum exceeds ``floor`` times the largest energy the bond carried in a step so far, and it
+   trips only on a newest block above the bond's round-off floor ROUNDOFF_SPEED |f| h [J]
+   (:mod:`.power_bonds`: the larger side's force times 1e-9 m/s, the speed by which the two sides of
+   a bond at rest differ from round-off; the same floor as the bond warning's).  A scene at rest
+   carries round-off energy too, so the first floor alone does not hold there: overhead_lift at
+   rest with jacobi x1 at H = 0.25 ms has hook residuals of 1e-17 to 1e-14 J that jump 84 times in
+   3 steps, against a round-off floor of 7e-11 J (294 N, tests/master/test_instability_alarm.py).
 
 2. Imbalance (power bonds, fixed or adaptive step): an instability that saturates (the rope goes
    slack, the load bounces) grows only a few times before it stops growing, too few blocks for
@@ -91,7 +97,10 @@ class GrowthAlarm:
         self.scale: list[list[list[float]]] = [[] for _ in range(LEVELS)]
         self.least = [max(factor, per_step ** (1 << j)) for j in range(LEVELS)]   # least ratio per level
 
-    def update(self, residual: Sequence[float], carried: Sequence[float]) -> Growth | None:
+    def update(self, residual: Sequence[float], carried: Sequence[float],
+               roundoff: Sequence[float] | None = None) -> Growth | None:
+        """``roundoff``: per bond, the residual [J] below which this step's is round-off (None: no such
+        floor); a block whose maximum is below it is not judged."""
         self.count += 1
         self.carried = [max(a, b) for a, b in zip(self.carried, carried)]
         hit = None
@@ -108,7 +117,8 @@ class GrowthAlarm:
                 least = self.least[j]
                 # cheap test first (the newest ratio): it fails on almost every step of a sound run
                 for k, (a, b) in enumerate(zip(done[-2], block)):
-                    if b >= least * a and self._grown(done, scale[0], k, least):
+                    if (b >= least * a and (roundoff is None or b > roundoff[k])
+                            and self._grown(done, scale[0], k, least)):
                         hit = Growth(k, self.blocks << j, block[k] / done[0][k])
                         break
         return hit
@@ -229,8 +239,9 @@ class Watch:
     def update(self, t: float, h: float) -> str | None:
         b, w = self.bonds, self.watched
         if self.growth is not None:
-            g = (self.growth.update(b.residual_list, b.carried_list) if w is None else
-                 self.growth.update([b.residual_list[k] for k in w], [b.carried_list[k] for k in w]))
+            g = (self.growth.update(b.residual_list, b.carried_list, b.roundoff_list) if w is None else
+                 self.growth.update([b.residual_list[k] for k in w], [b.carried_list[k] for k in w],
+                                    [b.roundoff_list[k] for k in w]))
             if g is not None:
                 g.bond = g.bond if w is None else w[g.bond]
                 return (f"power bond {b.names[g.bond]} (between {b.between(g.bond)}): its energy residual grew "

@@ -145,6 +145,7 @@ class BondMonitor:
         self.imbalance = [0.0] * len(bonds)   # signed P_a - P_b times h of the last step [J]
         self.residual_list = [0.0] * len(bonds)   # residual and carried of the last step as lists
         self.carried_list = [0.0] * len(bonds)
+        self.roundoff_list = [0.0] * len(bonds)   # ROUNDOFF_SPEED x the larger side's |force| h of the last step [J]
         self.capacity = [0.0] * len(bonds)    # largest |force| |velocity| of the two sides times h [J]
         self._plan()
 
@@ -192,17 +193,20 @@ class BondMonitor:
             power.append(sign * p)
             capacity.append(math.sqrt(ff * uu) if ff * uu >= 0.0 else math.nan)
             force.append(ff)
-        residual, carried = [], []
+        residual, carried, roundoff = [], [], []
         for k in range(len(self.bonds)):
             pa, pb = power[2 * k], power[2 * k + 1]
             residual.append(abs(pa - pb) * h)
             carried.append(max(abs(pa), abs(pb)) * h)
             self.imbalance[k] = (pa - pb) * h
             self.capacity[k] = max(capacity[2 * k], capacity[2 * k + 1]) * h
-            self.impulse[k] += math.sqrt(max(force[2 * k], force[2 * k + 1])) * h
+            impulse = math.sqrt(max(force[2 * k], force[2 * k + 1])) * h
+            self.impulse[k] += impulse
+            roundoff.append(ROUNDOFF_SPEED * impulse)
         self.residual[:] = residual
         self.carried[:] = carried
         self.residual_list, self.carried_list = residual, carried   # the same, as floats (for the alarm)
+        self.roundoff_list = roundoff
         self.total += self.residual
         self.carried_total += self.carried
         self.row[0::2] = self.residual

@@ -9,14 +9,16 @@ Where each setting comes from (:attr:`RunSpec.sources`), first match wins:
 1. ``given``: the caller named it (a keyword, a ``--`` option, a sweep input; ``None`` counts as not
    given).  Text is converted through the setting's own field type (:func:`.settings.convert`); a
    list setting takes a list here (its comma-separated text is read by the CLI, a sweep and a scene).
-2. ``scene``: the scene stores it (``org.cranefmu.settings``; ``stop_time`` from its DefaultExperiment),
+2. ``parameter set``: the chosen named parameter set stores it (``[settings.sets.NAME]`` of the scene
+   source, a ``cf:ParameterSet`` in the annotation), unless the stored-settings rule sets it aside.
+   ``scene``: the scene stores it (``org.cranefmu.settings``; ``stop_time`` from its DefaultExperiment),
    unless the stored-settings rule sets it aside.
 3. ``algorithm default``: the run's algorithm has its own default (:data:`.settings.ALGORITHM_DEFAULTS`).
 4. ``default``: the field's default in :class:`.settings.Settings` (``stop_time``:
    :data:`.settings.DEFAULT_STOP_TIME`).
 
 The stored-settings rule: a scene's stored settings were measured for its stored algorithm (the
-stored ``algorithm``, else the default one).  A caller who names another algorithm gets, for every
+stored ``algorithm``, the chosen set's over the scene's, else the default one).  A caller who names another algorithm gets, for every
 numerical setting (:data:`.settings.NUMERICAL`) not given, that algorithm's defaults; the stored values
 not taken are kept in :attr:`RunSpec.set_aside` and shown by the run's header and ``cranefmu info``.
 """
@@ -28,7 +30,7 @@ from pathlib import Path
 from ..errors import ParameterSetError, SettingsError
 from .settings import ALGORITHM_DEFAULTS, DEFAULT_STOP_TIME, NUMERICAL, Settings, convert, is_list
 
-SOURCES = ("given", "scene", "algorithm default", "default")
+SOURCES = ("given", "parameter set", "scene", "algorithm default", "default")
 
 
 @dataclass(frozen=True)
@@ -79,13 +81,15 @@ def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None 
     given = {k: v if is_list(k) else convert(k, v) for k, v in options.items() if v is not None}
     ssp = resolve_scene(scene)
     _, loaded = extracted_scene(ssp)
-    values, sources, set_aside, stored_for = choose(given, loaded.settings, loaded.stop_time)
+    own = loaded.set_settings.get(parameter_set, {}) if parameter_set else {}
+    values, sources, set_aside, stored_for = choose(given, {**loaded.settings, **own}, loaded.stop_time)
+    sources.update({k: "parameter set" for k in own if sources[k] == "scene"})
     settings = Settings(**values)
     try:
         settings.check()
     except SettingsError as err:
         name = str(err).partition(" ")[0]
-        if sources.get(name) != "scene":
+        if sources.get(name) not in ("scene", "parameter set"):
             raise
         raise SettingsError(f"{err} ({name} is the scene's stored setting, see cranefmu info: give "
                             f"{name} explicitly)") from None

@@ -15,7 +15,8 @@ file goes through the guarded parser of :mod:`.untrusted`.  What is read (SSP 1.
   (:mod:`.stop_conditions`) from their annotations;
 - the scene's stored run settings (``org.cranefmu.settings``: the attributes of one
   ``cf:Settings`` element, named as the fields of :class:`.settings.Settings`), typed and
-  validated by :func:`.settings.stored_settings`.
+  validated by :func:`.settings.stored_settings`; a ``cf:ParameterSet name="SET"`` element inside it
+  holds the settings stored for that named parameter set, over the scene's when the set is chosen;
 
 fmpy's ``read_ssd`` is not used: it extracts the archive a second time, parses without the guard
 and reports problems as bare exceptions.  The SSP schema is checked on the built files by the
@@ -102,6 +103,7 @@ class Scene:
     stop_conditions: dict[str, str] = field(default_factory=dict)
     settings: dict[str, object] = field(default_factory=dict)   # stored run settings (name -> typed value)
     bonds_declared: bool = False   # the SSD has a power-bond annotation (an empty one: no bonds, none inferred)
+    set_settings: dict[str, dict[str, object]] = field(default_factory=dict)   # a named set's own stored settings
     # whether ``bonds`` were inferred from the FMUs' units: decided once the FMUs were read
     # (:func:`.extracted.extracted_scene`); None before (a scene read from its SSD alone)
     bonds_inferred: bool | None = None
@@ -316,24 +318,47 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
             sets[ssv.stem] = read_parameter_set(parse_xml(ssv), f"{label}: parameter set {ssv.name}")
     name = root.get("name") or system.get("name") or ssd.parent.name
     declared = any(ann.get("type") == BONDS_ANNOTATION for ann in system.iter("{*}Annotation"))
+    settings, set_settings = read_settings(system, label, stop, set(sets))
     return Scene(name, ssd, components, connections, bound, sets, start, stop, read_bonds(system, label),
-                 read_stop_conditions(system, label), read_settings(system, label, stop), declared)
+                 read_stop_conditions(system, label), settings, declared, set_settings)
 
 
-def read_settings(system, label: str, stop_time: float | None) -> dict[str, object]:
+def read_settings(system, label: str, stop_time: float | None,
+                  sets: set[str] = frozenset()) -> tuple[dict[str, object], dict[str, dict[str, object]]]:
     """The run settings a scene stores (``org.cranefmu.settings`` annotation of the System; empty if
-    absent): what ``cranefmu run SCENE`` uses for every setting not given.  A bad one is a
-    :class:`SceneError` naming the scene, the setting, its value and what is allowed."""
+    absent): what ``cranefmu run SCENE`` uses for every setting not given; and per named parameter set
+    (of ``sets``) those it stores over them.  A bad one is a :class:`SceneError` naming the scene, the
+    setting, its value and what is allowed."""
     found = [el for ann in system.iter("{*}Annotation") if ann.get("type") == SETTINGS_ANNOTATION
              for el in ann if _local(el) == "Settings"]
     if len(found) > 1:
         raise SceneError(f"{label}: {len(found)} stored settings ({SETTINGS_ANNOTATION}): give one cf:Settings")
     if not found:
-        return {}
+        return {}, {}
+
+    def attributes(el) -> dict[str, str]:
+        return {str(k).rpartition("}")[2]: v for k, v in el.attrib.items()}
+
     try:
-        return stored_settings({str(k).rpartition("}")[2]: v for k, v in found[0].attrib.items()}, stop_time)
+        settings = stored_settings(attributes(found[0]), stop_time)
     except SettingsError as err:
         raise SceneError(f"{label}: stored run settings ({SETTINGS_ANNOTATION}): {err}") from None
+    per_set = {}
+    for el in found[0]:
+        if _local(el) != "ParameterSet":
+            continue
+        own = attributes(el)
+        name = own.pop("name", "")
+        if name not in sets:
+            raise SceneError(f"{label}: stored run settings ({SETTINGS_ANNOTATION}): parameter set {name!r} is not "
+                             f"a parameter set of the scene: one of {', '.join(sorted(sets)) or '(none)'}")
+        try:
+            merged = stored_settings({**attributes(found[0]), **own}, stop_time)
+        except SettingsError as err:
+            raise SceneError(f"{label}: stored run settings of parameter set {name} ({SETTINGS_ANNOTATION}): "
+                             f"{err}") from None
+        per_set[name] = {k: merged[k] for k in own}
+    return settings, per_set
 
 
 def load_scene(ssp: Path, workdir: Path) -> Scene:

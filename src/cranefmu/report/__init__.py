@@ -61,6 +61,7 @@ def _reference_lines(result) -> dict[str, list[tuple[str, float]]]:
 
 
 _SOURCE_TEXT = {"given": "given", "scene": "the scene's stored setting",
+                "parameter set": "the parameter set's stored setting",
                 "algorithm default": "the algorithm's default", "default": "default"}
 
 
