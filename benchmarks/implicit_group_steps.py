@@ -19,6 +19,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
+from result_table import write  # noqa: E402
 from truck_modes import held  # noqa: E402
 
 from cranefmu.master.run import run  # noqa: E402
@@ -50,11 +51,7 @@ def main(argv: list[str] | None = None) -> int:
             lines.append(f"| {h * 1e3:g} ms | {'held' if hold else 'interpolated'} | {s.steps} | {s.iterations} | "
                          f"{s.iterations / s.steps:.2f} |")
             print(lines[-1], flush=True)
-    text = "\n".join(lines)
-    print(text)
-    Path(args.output).write_text(text + "\n")
-    print(f"written {args.output}")
-    return 0
+    return write(args.output, lines)
 
 
 if __name__ == "__main__":

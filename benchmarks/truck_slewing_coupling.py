@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
+from result_table import write  # noqa: E402
 from truck_modes import held, order  # noqa: E402
 
 from cranefmu.master import coupling as coupling_module  # noqa: E402
@@ -99,11 +100,7 @@ def main(argv: list[str] | None = None) -> int:
         for how in ("held", "interpolated"):
             lines.append(f"| {a * 1e3:g} -> {b * 1e3:g} ms | {how} | " + " | ".join(
                 order(table[(a, how)][c], table[(b, how)][c], a / b) for c in COLUMNS) + " |")
-    text = "\n".join(lines)
-    print(text)
-    Path(args.output).write_text(text + "\n")
-    print(f"written {args.output}")
-    return 0
+    return write(args.output, lines)
 
 
 if __name__ == "__main__":
