@@ -24,3 +24,12 @@ def save(name: str, lines: list[str], t0: float | None = None) -> None:
     text = "\n".join(lines) + "\n"
     print(text)
     (ROOT / "benchmarks" / "results" / f"{name}.md").write_text(text)
+
+
+def write(path: str | Path, lines: list[str]) -> int:
+    """Print the table ``lines``, write them to ``path`` and say so; 0, a script's exit status."""
+    text = "\n".join(lines)
+    print(text)
+    Path(path).write_text(text + "\n")
+    print(f"written {path}")
+    return 0

@@ -78,6 +78,8 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
     "truck_slewing.py": (["--smoke"], ["benchmarks/results/truck_slewing_smoke.md"]),
     "truck_slewing_bonds.py": (["--smoke"], ["benchmarks/results/truck_slewing_bonds_smoke.md"]),
     "truck_modes.py": (["--smoke", "--output", "{tmp}/truck_modes.md"], ["{tmp}/truck_modes.md"]),
+    "implicit_group_steps.py": (["--steps", "0.04", "--stop", "0.4", "--output", "{tmp}/igs.md"], ["{tmp}/igs.md"]),
+    "truck_slewing_coupling.py": (["--steps", "0.02,0.01", "--output", "{tmp}/tsc.md"], ["{tmp}/tsc.md"]),
     "truck_telescope_ssv.py": ([], ["ssp/truck_telescope/default.ssv"]),
     "validation_report.py": (["--quick"], ["docs/validation.md"]),
     "warm_run.py": (["--smoke"], ["benchmarks/results/warm_run_smoke.md"]),

@@ -7,8 +7,10 @@ those) and the values they exchange among themselves solved for: G(u), what they
 stepped with the internal inputs following the iterate u, is driven to u by Newton's method with a
 Jacobian estimated by finite differences (one perturbed step per value, each from the snapshot),
 kept over the steps and corrected by Broyden updates, until :class:`~.residual.CouplingCriterion`
-holds (the ``accelerator`` setting is not used).  Measured on truck_telescope: 2.0-3.0 group steps a
-macro step, where IQN-ILS took 5.7 (docs/master.md).  Inputs from outside the group stay explicit
+holds (the ``accelerator`` setting is not used).  Measured on truck_telescope with every bond in the
+group (tolerance 1e-5): 2.3, 4.1 and 14.9 group steps a macro step at 10, 20 and 40 ms; 2.0-2.7 while the
+chassis got the boom's loads held over the step and so never answered the iterate
+(benchmarks/results/implicit_group_steps.md).  Inputs from outside the group stay explicit
 (the extrapolated values of the last exchange).  Then every value moves, as in Jacobi.
 
 Degree (``extrapolation``) 0 holds the iterate's end value over the step (first order); degree 1 or 2

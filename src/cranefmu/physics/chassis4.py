@@ -124,13 +124,16 @@ class Chassis4Model(Model):
                coupling=True),
         Signal("Mz_base", "N.m", "moment about z at O2 of the boom on the chassis (negative presses the +x side)",
                coupling=True),
-        Signal("m_boom", "kg", "boom mass the foot carries (SlewingBoom m_carried; boom_inertia = 'carried')"),
-        Signal("Sx_boom", "kg.m", "its first moment toward +x about O2 (SlewingBoom Sx_carried)"),
-        Signal("Sz_boom", "kg.m", "its first moment toward +z about O2 (SlewingBoom Sz_carried)"),
-        Signal("Jp_boom", "kg.m2", "its inertia in pitch about O2 (SlewingBoom Jp_carried)"),
-        Signal("Jr_boom", "kg.m2", "its inertia in roll about O2 (SlewingBoom Jr_carried)"),
-        Signal("Jpr_boom", "kg.m2", "its pitch-roll product of inertia (SlewingBoom Jpr_carried)"),
-    )
+        Signal("m_boom", "kg", "boom mass the foot carries (SlewingBoom m_carried; boom_inertia = 'carried')",
+               coupling=True),
+        Signal("Sx_boom", "kg.m", "its first moment toward +x about O2 (SlewingBoom Sx_carried)", coupling=True),
+        Signal("Sz_boom", "kg.m", "its first moment toward +z about O2 (SlewingBoom Sz_carried)", coupling=True),
+        Signal("Jp_boom", "kg.m2", "its inertia in pitch about O2 (SlewingBoom Jp_carried)", coupling=True),
+        Signal("Jr_boom", "kg.m2", "its inertia in roll about O2 (SlewingBoom Jr_carried)", coupling=True),
+        Signal("Jpr_boom", "kg.m2", "its pitch-roll product of inertia (SlewingBoom Jpr_carried)", coupling=True),
+    )   # the carried inertia is coupling too, as in Chassis: a master feeds rates to a connection group only if
+        # every input in it takes them, and these share the group boom -> chassis with the forces; without rates
+        # the forces were held over each step (benchmarks/results/truck_slewing_coupling.md)
     initial_state_inputs = ("Fx_base", "Fy_base", "Fz_base", "Mx_base", "Mz_base")
     outputs = (
         Signal("y_base", "m", "vertical displacement of the boom foot O2 (up positive)"),
