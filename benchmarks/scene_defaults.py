@@ -4,8 +4,8 @@ mode (issue 24): the scene defaults, and each scene's fidelity ladder.
 For each scene: its key outputs (``cranefmu.converge.key_outputs``) against the monolithic reference
 (``cranefmu.converge.monolithic_reference``, rtol 1e-10, cached in /tmp) over the scene's default stop
 time (at most 10 s; truck_telescope 30 s, truck_slewing 20 s: the whole slew).  Candidates: jacobi x0/x1/x2
-and gauss-seidel x1 at H = 50, 20, 10, 5, 4, 3, 2, 1 ms (each series from coarse to fine, stopping at the first H that passes,
-since a finer one costs more), jacobi x1 with the hook bond implicit (elastic_pendulum, hook_sway; the
+and gauss-seidel x1 at H = 50, 20, 10, 5, 4, 3, 2, 1 ms (each series from coarse to fine, stopping at the first
+H that passes, since a finer one costs more), jacobi x1 with the hook bond implicit (elastic_pendulum, hook_sway; the
 truck: every bond, x1 and x2) on the same steps, and jacobi x1 adaptive.  A candidate passes when
 
 - every listed mode (:data:`cranefmu.modal.MODES`, fitted from its probe run against the monolith's)
