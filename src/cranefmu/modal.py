@@ -306,11 +306,10 @@ def luffing_cylinder(values: dict) -> tuple[float, float]:
             boom.cylinder_damping * lever ** 2 / (2 * math.sqrt(stiffness * inertia)))
 
 
-def truck_mode(index: int) -> Callable[[dict], tuple[float, float]]:
-    """The ``index``-th (lowest first) mode of the truck crane linearised about its rest
+def truck_mode(index: int, scene: str = "truck_telescope") -> Callable[[dict], tuple[float, float]]:
+    """The ``index``-th (lowest first) mode of the truck crane ``scene`` linearised about its rest
     (:func:`linearised_modes` without the probe's kick)."""
-    return lambda values: linearised_modes("truck_telescope", {k: v for k, v in values.items()
-                                                               if k not in TRUCK_KICK})[index]
+    return lambda values: linearised_modes(scene, {k: v for k, v in values.items() if k not in TRUCK_KICK})[index]
 
 
 # the truck crane's probes: telescope and winch held (boom 10.5 m), the load at rest below the tip, sent up at
@@ -321,6 +320,17 @@ TRUCK_AXIAL = {**TRUCK_HELD, "pendulum.vy0": 0.05}
 TRUCK_SWING = {**TRUCK_HELD, "pendulum.theta0": 0.05}
 TRUCK_FORMULA = ("linearised monolith (chassis heave and tilt on the pads' soil springs with the boom carried, "
                  "rope c = E A/(run + L/n), load): eigenvalues of its Jacobian at rest")
+
+# truck_slewing's probes: the slew held over the rear (slew_angle 0; telescope and winch are held in the scene
+# itself), kicked as the truck's.  Its linearised modes there, lowest first: 0: the swing in the boom's plane
+# (theta; 0.1652 Hz, coupled to the chassis' pitch), 1: the lateral swing (phi; the pure pendulum), 2: the load on
+# the rope (5.02 Hz), 3: heave and pitch on the front pads (9.67 Hz), 4: roll (11.81 Hz; the symmetric probe
+# does not excite it: not listed), 5: heave and pitch on the rear pads (14.31 Hz)
+SLEW_HELD = {"boom.slew_angle": 0.0}
+SLEW_AXIAL = {**SLEW_HELD, "pendulum.vy0": 0.05}
+SLEW_SWING = {**SLEW_HELD, "pendulum.theta0": 0.05}
+SLEW_FORMULA = ("linearised monolith (chassis heave, pitch and roll on the four pads' soil springs with the boom "
+                "carried, rope c = E A/(run + L/n), 3-D load), slew held over the rear: eigenvalues of its Jacobian")
 
 
 # the overhead crane's probe: the drum held (kinematic drive at zero speed, so the drivetrain is out), the
@@ -366,6 +376,16 @@ MODES: dict[str, tuple[ModeSpec, ...]] = {
                  span=3.0, probe=TRUCK_AXIAL, n_fit=3),
         ModeSpec("truck_telescope", "chassis on the rear pads", "chassis.N_rear", TRUCK_FORMULA, truck_mode(3),
                  span=3.0, probe=TRUCK_AXIAL, n_fit=3),
+    ),
+    "truck_slewing": (
+        ModeSpec("truck_slewing", "swing (boom plane)", "pendulum.theta", SLEW_FORMULA, truck_mode(0, "truck_slewing"),
+                 span=20.0, probe=SLEW_SWING),
+        ModeSpec("truck_slewing", "load on the rope (axial)", "rope.tension", SLEW_FORMULA,
+                 truck_mode(2, "truck_slewing"), span=3.0, probe=SLEW_AXIAL, n_fit=3),
+        ModeSpec("truck_slewing", "chassis on the front pads", "chassis.N1", SLEW_FORMULA,
+                 truck_mode(3, "truck_slewing"), span=3.0, probe=SLEW_AXIAL, n_fit=3),
+        ModeSpec("truck_slewing", "chassis on the rear pads", "chassis.N3", SLEW_FORMULA,
+                 truck_mode(5, "truck_slewing"), span=3.0, probe=SLEW_AXIAL, n_fit=3),
     ),
 }
 

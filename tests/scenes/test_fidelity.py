@@ -12,7 +12,8 @@ from cranefmu.master.scene import load_scene
 from cranefmu.scene_catalog import fidelity
 from cranefmu.scene_info import describe
 
-MEASURED = [s for s in ("elastic_pendulum", "hook_sway", "overhead_lift", "truck_telescope") if fidelity(s)]
+MEASURED = [s for s in ("elastic_pendulum", "hook_sway", "overhead_lift", "truck_telescope", "truck_slewing")
+            if fidelity(s)]
 
 
 @pytest.mark.parametrize("scene", MEASURED)

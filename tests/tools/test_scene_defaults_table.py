@@ -33,3 +33,12 @@ def test_the_implicit_group_rows_are_read_back(tmp_path):
         ("jacobi x1 implicit all bonds H 20 ms", 1, 0.02, False)]
     assert rows[0]["implicit"] is None and rows[1]["implicit"] == sd.IMPLICIT["truck_telescope"]["implicit"]
     assert facts["keys"] == ("pendulum.theta", "chassis.N_rear")
+
+
+def test_a_bond_at_rest_adds_no_energy():
+    """truck_slewing's drum bond (the rope held: no speed on either side) carries 0 J with 0 J of residual: it
+    counted as an infinite residual ratio, so every candidate 'added energy' and none passed."""
+    sd = load()
+    assert sd.worst_bond_ratio({"hook": 8e-5, "drum": 0.0}, {"hook": 234.0, "drum": 0.0}) == 8e-5 / 234.0
+    assert sd.worst_bond_ratio({"hook": 8e-5, "drum": 1e-9}, {"hook": 234.0, "drum": 0.0}) == float("inf")
+    assert sd.worst_bond_ratio({}, {}) == 0.0
