@@ -41,8 +41,12 @@ def test_the_generated_ssd_holds_what_the_hand_written_one_held(built, hand_writ
     old, new = read_ssd(hand_written / "SystemStructure.ssd", folder, built), read_ssd(
         folder / "SystemStructure.ssd", folder, built)
     for field in ("name", "connections", "bound", "sets", "start_time", "stop_time", "stop_conditions",
-                  "bonds_declared", "settings"):
+                  "bonds_declared"):
         assert getattr(new, field) == getattr(old, field), field
+    # the stored run settings changed on purpose after the port (issue 24: jacobi x1 at 10 ms missed the listed
+    # rear-pads mode by 6.9 % in frequency; benchmarks/results/scene_defaults.md)
+    assert old.settings == {"algorithm": "jacobi", "extrapolation": 1, "step_size": 0.01}
+    assert new.settings == {"algorithm": "jacobi", "extrapolation": 2, "step_size": 0.005}
     assert [(c.name, c.source, set(c.connectors)) for c in new.components] == \
         [(c.name, c.source, set(c.connectors)) for c in old.components]
     # the same three bonds, the same sides; no bond at the foot
@@ -52,7 +56,7 @@ def test_the_generated_ssd_holds_what_the_hand_written_one_held(built, hand_writ
 
 @pytest.mark.parametrize("settings", [
     dict(stop_time=0.03, step_size=1e-3, algorithm="iterative", extrapolation=1),   # exchange order shows here
-    dict(stop_time=0.5),                                                             # the stored settings
+    dict(stop_time=0.5, algorithm="jacobi", extrapolation=1, step_size=0.01),       # the hand-written SSD's stored
 ])
 def test_the_composed_scene_runs_bitwise_as_the_hand_written_one(built, hand_written, tmp_path, settings):
     old_ssp = b.build_ssp(hand_written, tmp_path / "truck_slewing_hand_written.ssp")
