@@ -144,6 +144,7 @@ def test_command_on_a_connected_input_or_an_output_is_refused(built):
         cranefmu.simulate("elastic_pendulum", stop_time=0.1, isolate=True, commands=[Command("rope.tension", _travel(0))])
 
 
+@pytest.mark.slow   # 80 s of CPU idle, minutes under load: .ci/run runs it in its slow step
 def test_shipped_experiments_pass(built, tmp_path):
     """CI: every experiment in experiments/ (the papers' claims, anti-sway, the trolley) passes."""
     report = tmp_path / "experiments.json"
