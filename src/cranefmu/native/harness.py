@@ -1,0 +1,146 @@
+"""A native model's functions (``include/cf_model.h``) called directly from Python, without the FMI
+layer: what the model-level conformance tests compare against the Python model.
+
+``load(name)`` compiles ``models/<name>.c`` with its generated tables header through cffi (setuptools'
+compiler, into a temporary folder) and returns a :class:`NativeModel`.
+"""
+from __future__ import annotations
+
+import importlib
+import sys
+import tempfile
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from .tables import model_header
+
+HERE = Path(__file__).parent
+CDEF = """
+typedef struct CfModel { const double *p; double data[512]; int n_states; char *msg; } CfModel;
+int cf_check_params(CfModel *m);
+int cf_prepare(CfModel *m);
+int cf_initial_state(CfModel *m, const double *u, double *x);
+void cf_derivatives(const CfModel *m, double t, const double *x, const double *u, double *dx);
+void cf_outputs(const CfModel *m, double t, const double *x, const double *u, double *y);
+int cf_frozen(const CfModel *m);
+int cf_exact_applies(const CfModel *m);
+int cf_exact_step(CfModel *m, double t, const double *x, double h, const double *u0, const double *r1,
+                  const double *r2, double max_step, double *x1);
+void cf_after_step(const CfModel *m, double t, double *x, const double *u);
+const char *cf_state_name(const CfModel *m, int i);
+extern const int cf_has_exact_step;
+"""
+FAIL_C = r"""
+#include <stdarg.h>
+#include <stdio.h>
+int cf_fail(CfModel *m, const char *format, ...) {
+    va_list ap; va_start(ap, format); vsnprintf(m->msg, 1024, format, ap); va_end(ap); return 1;
+}
+"""
+
+
+def _physics(name: str):
+    from ..fmi_adapter import CraneSlave  # noqa: F401  (the FMU scripts' base)
+    module = {"Rope": "rope", "Drive": "drive", "Girder": "girder", "Pendulum": "pendulum", "Boom": "boom",
+              "SlewingBoom": "slewing", "Chassis": "chassis", "Chassis4": "chassis4"}[name]
+    mod = importlib.import_module(f"cranefmu.physics.{module}")
+    return next(v for k, v in vars(mod).items() if k.endswith("Model") and isinstance(v, type)
+                and v.__module__ == mod.__name__ and k != "Model")
+
+
+@lru_cache(maxsize=None)
+def _compiled(name: str, source_stamp: float):
+    import cffi
+
+    model = _physics(name)
+    build = Path(tempfile.mkdtemp(prefix=f"cf_native_{name}_"))
+    (build / f"{name}_tables.h").write_text(model_header(model, name))
+    ffi = cffi.FFI()
+    ffi.cdef(CDEF)
+    module = f"_cf_model_{name}"
+    source = (HERE / "models" / f"{name}.c").read_text()
+    ffi.set_source(module, '#include "cf_model.h"\n' + FAIL_C + source,
+                   include_dirs=[str(HERE / "include"), str(build), str(HERE / "models")],
+                   extra_compile_args=["-std=c99", "-O2", "-ffp-contract=off", "-Wall"], libraries=["m"])
+    lib_path = ffi.compile(tmpdir=str(build))
+    sys.path.insert(0, str(build))
+    try:
+        mod = importlib.import_module(module)
+    finally:
+        sys.path.remove(str(build))
+    return model, mod.ffi, mod.lib
+
+
+class NativeModel:
+    """One configured instance of a C model (parameters as the Python model's ``Params``)."""
+
+    def __init__(self, name: str, params):
+        stamp = (HERE / "models" / f"{name}.c").stat().st_mtime
+        self.model_cls, self.ffi, self.lib = _compiled(name, stamp)
+        specs = self.model_cls.Params.field_specs()
+        values = []
+        for field, _, meta in specs:
+            v = getattr(params, field)
+            values.append(float(meta["choices"].index(v)) if meta.get("choices") else float(v))
+        self._p = self.ffi.new("double[]", values)
+        self._msg = self.ffi.new("char[]", 1024)
+        self.m = self.ffi.new("CfModel *")
+        self.m.p, self.m.msg = self._p, self._msg
+        for fn in (self.lib.cf_check_params, self.lib.cf_prepare):
+            if fn(self.m):
+                raise ValueError(self.message())
+        self.n_inputs, self.n_outputs = len(self.model_cls.inputs), len(self.model_cls.outputs)
+
+    def message(self) -> str:
+        return self.ffi.string(self._msg).decode()
+
+    def _d(self, values, n=None):
+        values = np.asarray(values, dtype=float)
+        return self.ffi.new("double[]", values.tolist() or [0.0])
+
+    def _out(self, n):
+        return self.ffi.new("double[]", max(n, 1))
+
+    def initial_state(self, u) -> np.ndarray:
+        x = self._out(self.m.n_states)
+        if self.lib.cf_initial_state(self.m, self._d(u), x):
+            raise ValueError(self.message())
+        return np.array([x[i] for i in range(self.m.n_states)])
+
+    def derivatives(self, t, x, u) -> np.ndarray:
+        dx = self._out(self.m.n_states)
+        self.lib.cf_derivatives(self.m, t, self._d(x), self._d(u), dx)
+        return np.array([dx[i] for i in range(self.m.n_states)])
+
+    def outputs(self, t, x, u) -> np.ndarray:
+        y = self._out(self.n_outputs)
+        self.lib.cf_outputs(self.m, t, self._d(x), self._d(u), y)
+        return np.array([y[i] for i in range(self.n_outputs)])
+
+    def frozen(self) -> bool:
+        return bool(self.lib.cf_frozen(self.m))
+
+    def exact_applies(self) -> bool:
+        return bool(self.lib.cf_exact_applies(self.m))
+
+    def exact_step(self, t, x, h, u0, r1, r2, max_step):
+        x1 = self._out(self.m.n_states)
+        rc = self.lib.cf_exact_step(self.m, t, self._d(x), h, self._d(u0), self._d(r1), self._d(r2), max_step, x1)
+        if rc < 0:
+            raise FloatingPointError(self.message())
+        return np.array([x1[i] for i in range(self.m.n_states)]) if rc == 1 else None
+
+    def after_step(self, t, x, u) -> np.ndarray:
+        xs = self._d(x)
+        self.lib.cf_after_step(self.m, t, xs, self._d(u))
+        return np.array([xs[i] for i in range(self.m.n_states)])
+
+    def state_name(self, i: int) -> str:
+        return self.ffi.string(self.lib.cf_state_name(self.m, i)).decode()
+
+
+def load(name: str, params) -> NativeModel:
+    """The C model ``name`` (an FMU name: Rope, Drive, ...) configured with ``params``."""
+    return NativeModel(name, params)
