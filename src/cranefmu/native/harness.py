@@ -18,7 +18,7 @@ from .tables import model_header
 
 HERE = Path(__file__).parent
 CDEF = """
-typedef struct CfModel { const double *p; double data[512]; int n_states; char *msg; } CfModel;
+typedef struct CfModel { const double *p; double data[4096]; int n_states; char *msg; } CfModel;
 int cf_check_params(CfModel *m);
 int cf_prepare(CfModel *m);
 int cf_initial_state(CfModel *m, const double *u, double *x);

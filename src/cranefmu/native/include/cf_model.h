@@ -36,7 +36,7 @@
 #include <stddef.h>
 
 #define CF_MAX_STATES 32
-#define CF_MODEL_DATA 512
+#define CF_MODEL_DATA 4096
 #define CF_MSG_SIZE 1024
 
 typedef struct CfModel {
