@@ -83,7 +83,22 @@ def test_hoisting_a_grounded_load_draws_the_en13001_phi2_band():
     assert sorted(lines) == pytest.approx([1000.0, (1.05 + 0.17) * 1000.0, (1.20 + 0.68) * 1000.0])
     from cranefmu.report import report_columns   # a report from a CSV reads the columns the band needs
 
-    assert set(report_columns("overhead_lift", [c for c in r.dtype.names if c != "time"])) == set(r.dtype.names[1:])
+    assert set(report_columns("overhead_lift", [c for c in r.dtype.names if c != "time"])) >= set(r.dtype.names[1:])
+
+
+def test_the_phi2_band_takes_the_hook_speed_not_the_rope_speed_at_the_drum():
+    """Four falls: the drum pays out 0.874 m/s of rope for a 0.2185 m/s hook (issue 37: HC4 was drawn at 1.79
+    for overhead_lift's loose lift, it is 1.20 + 0.68 * 0.2185 = 1.349)."""
+    from cranefmu.report import _reference_lines
+
+    names = ("time", "rope.tension", "rope.drum_force", "pendulum.rest_tension", "pendulum.N_ground", "drive.payout_rate")
+    r = np.zeros(3, dtype=[(c, float) for c in names])
+    r["pendulum.rest_tension"], r["pendulum.N_ground"], r["drive.payout_rate"] = 100.0, [900.0, 0, 0], [0, -0.4, -0.874]
+    r["rope.tension"], r["rope.drum_force"] = [100.0, 400.0, 1000.0], [25.0, 100.0, 250.0]
+    lines = {label: value for label, value in _reference_lines(r)["rope.tension"]}
+    hc4 = next(v for k, v in lines.items() if "HC4" in k)
+    assert hc4 == pytest.approx((1.20 + 0.68 * 0.874 / 4) * 1000.0, rel=1e-12)
+    assert any("hook v_h 0.218 m/s" in k for k in lines)
 
 
 def test_axes_say_the_unit_in_degrees_or_that_it_is_not_known():

@@ -34,8 +34,11 @@ def table(verdicts: list[Verdict]) -> list[str]:
 
 
 def write_json(path: Path, verdicts: list[Verdict], planned, wall: float, engine: str = "inline") -> None:
+    from .runner import early_stop
+
     cases = [{"experiment": p.case.experiment, "case": p.case.name, "file": str(p.case.file),
-              "scene": p.scene.name, "error": p.error, "wall_s": round(p.wall, 3)} for p in planned]
+              "scene": p.scene.name, "error": p.error, "stopped_early": early_stop(p) or None,
+              "stop_time_s": p.stop_time, "end_time_s": p.end_time, "wall_s": round(p.wall, 3)} for p in planned]
     data = {"passed": all(v.passed for v in verdicts), "assertions": len(verdicts),
             "failed": sum(not v.passed for v in verdicts), "wall_s": round(wall, 3), "engine": engine, "cases": cases,
             "verdicts": [v.as_dict() for v in verdicts]}
@@ -114,6 +117,7 @@ def verdicts_after_run(res, planned) -> list[Verdict]:
 
         rows = read_csv(res.output, planned.columns)
     planned.rows = {n: np.array(rows[n]) for n in ["time", *planned.columns] if n in rows.dtype.names}
+    planned.stopped = res.stats.stopped or ""
     return judge_all([planned])
 
 

@@ -34,7 +34,8 @@ METRICS = ("max", "min", "max_abs", "mean", "first_crossing", "smallest_peak", "
            "damping", *REGISTRY)
 COMMAND_KINDS = ("hoist", "lower", "telescope", "luff", "slew", "travel", "setpoint", "table")
 BOOM_MOTIONS = ("telescope", "luff", "slew")   # kinds bound to a boom's command input when no inputs are given
-CASE_KEYS = {"description", "scene", "parameter_set", "set", "commands", "assert"}
+CASE_KEYS = {"description", "scene", "parameter_set", "set", "commands", "assert", "expect_stop"}
+EXPECT_STOP_KEYS = {"reason", "during"}
 TOP_KEYS = CASE_KEYS | {"name", "cases"}
 ASSERT_KEYS = {"name", "column", "value", "always", "finally", "at", "during", "metric", "level", "static", "mode",
                "n_modes", "min", "max", "equals", "rel", "abs", "source", "description"}
@@ -89,6 +90,17 @@ class AssertionSpec:
 
 
 @dataclass(frozen=True)
+class ExpectedStop:
+    """``expect_stop = {reason = "chassis.tipping", during = [t1, t2]}``: the run is to end early, for a
+    reason whose text names ``reason`` (a stop condition's column), at a time in [after, before] s."""
+
+    reason: str
+    after: float
+    before: float
+    where: str = ""
+
+
+@dataclass(frozen=True)
 class Case:
     """One run of an experiment and its assertions."""
 
@@ -102,6 +114,7 @@ class Case:
     commands: tuple[CommandSpec, ...] = ()
     assertions: tuple[AssertionSpec, ...] = ()
     where: str = ""                               # FILE:LINE of the case's table (of the file for the base)
+    expect_stop: ExpectedStop | None = None       # the run is to stop early (else an early stop fails it)
 
 
 def load(path: str | Path) -> list[Case]:
@@ -160,7 +173,8 @@ def _make(experiment: str, case: str, path: Path, values: dict, where: str, line
         dup = next(n for n in names if names.count(n) > 1)
         raise ExperimentError(f"{where}: assert: two assertions of case {case} are named {dup!r}")
     return Case(experiment, case, path, values["scene"], values.get("parameter_set"), values.get("parameters", {}),
-                values.get("settings", {}), values.get("commands", ()), values.get("assertions", ()), where)
+                values.get("settings", {}), values.get("commands", ()), values.get("assertions", ()), where,
+                values.get("expect_stop"))
 
 
 def _known(table: dict, allowed: set[str], lines: Lines, name: str) -> None:
@@ -202,8 +216,14 @@ def _case_fields(data: dict, lines: Lines, table: str) -> dict:
         out["parameters"] = dict(values)
     settings = {f.name for f in fields(Settings)}
     given = {k: v for k, v in data.items() if k in settings}
+    if isinstance(given.get("stop_when"), str):   # as on the command line: "a,b", or "none" (run on)
+        from ..master.settings import _comma_list
+
+        given["stop_when"] = _comma_list(given["stop_when"])
     if given:
         out["settings"] = given
+    if "expect_stop" in data:
+        out["expect_stop"] = _expect_stop(data["expect_stop"], lines, table)
     if "commands" in data:
         items = _tables(data["commands"], lines, table, "commands")
         out["commands"] = tuple(_command(c, lines, f"{prefix}commands", k) for k, c in enumerate(items))
@@ -211,6 +231,28 @@ def _case_fields(data: dict, lines: Lines, table: str) -> dict:
         items = _tables(data["assert"], lines, table, "assert")
         out["assertions"] = tuple(_assertion(a, lines, f"{prefix}assert", k) for k, a in enumerate(items))
     return out
+
+
+def _expect_stop(value, lines: Lines, table: str) -> ExpectedStop:
+    where = lines.at(table, "expect_stop")
+    if not isinstance(value, dict):
+        raise ExperimentError(f"{where}: expect_stop = {value!r} is not allowed: a table "
+                              "{reason = \"component.variable\", during = [t1, t2]}")
+    unknown = set(value) - EXPECT_STOP_KEYS
+    if unknown:
+        raise ExperimentError(f"{where}: expect_stop: {sorted(unknown)[0]}: unknown key; allowed "
+                              f"{', '.join(sorted(EXPECT_STOP_KEYS))}")
+    if "reason" not in value or "during" not in value:
+        raise ExperimentError(f"{where}: expect_stop needs reason = the stop condition's column (e.g. "
+                              "\"chassis.tipping\") and during = [t1, t2] s, the window it is to stop in")
+    reason = _string(value["reason"], lines, table, "expect_stop")
+    span = value["during"]
+    if not isinstance(span, list) or len(span) != 2:
+        raise ExperimentError(f"{where}: expect_stop: during = {span!r} is not allowed: [t1, t2] s")
+    t1, t2 = (_number(x, lines, table, "expect_stop") for x in span)
+    if not 0 <= t1 <= t2:
+        raise ExperimentError(f"{where}: expect_stop: during = {span!r} is not allowed: 0 <= t1 <= t2")
+    return ExpectedStop(reason, t1, t2, where)
 
 
 def _scene_reference(scene: str, path: Path) -> str:

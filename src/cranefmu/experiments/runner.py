@@ -34,6 +34,18 @@ class Planned:
     rows: dict = field(default_factory=dict)   # column -> array after the run ("time" too)
     error: str = ""                  # the run failed: why
     wall: float = 0.0
+    stopped: str = ""                # the run ended before its stop time (a stop condition): why
+
+    @property
+    def stop_time(self) -> float:
+        """The time [s] the case's run was to reach."""
+        return float(self.spec.settings.stop_time)
+
+    @property
+    def end_time(self) -> float | None:
+        """The last row's time [s], None without rows."""
+        t = self.rows.get("time") if self.rows else None
+        return float(t[-1]) if t is not None and len(t) else None
 
 
 def experiment_files(paths: list[str | Path]) -> list[Path]:
@@ -88,15 +100,17 @@ def commands_of(specs: tuple[CommandSpec, ...], values: dict) -> list:
     return out
 
 
-def _run_one(spec, columns: list[str]) -> tuple[dict, str, float]:
-    """(kept columns, error text, wall s) of one case's run (also in a pool's worker process)."""
+def _run_one(spec, columns: list[str]) -> tuple[dict, str, float, str]:
+    """(kept columns, error text, wall s, why it stopped early or '') of one case's run (also in a pool's
+    worker process)."""
     from ..errors import SimulationError
     from ..master.run import run
 
     wall = clock.perf_counter()
-    error = ""
+    error = stopped = ""
     try:
-        rows = run(spec).result
+        res = run(spec)
+        rows, stopped = res.result, res.stats.stopped or ""
     except SimulationError as err:
         rows, error = err.result, f"the run failed: {err}"
     except CraneFmuError as err:
@@ -104,7 +118,7 @@ def _run_one(spec, columns: list[str]) -> tuple[dict, str, float]:
     kept = {}
     if rows is not None and len(rows):
         kept = {name: np.array(rows[name]) for name in ["time", *columns] if name in rows.dtype.names}
-    return kept, error, clock.perf_counter() - wall
+    return kept, error, clock.perf_counter() - wall, stopped
 
 
 ENGINES = ("auto", "inline", "pool", "dask")
@@ -147,7 +161,7 @@ def run_cases(planned: list[Planned], jobs: int = 1, say=None, engine: str = "au
 
     def finished(i: int, got) -> None:
         p = planned[i]
-        p.rows, p.error, p.wall = got
+        p.rows, p.error, p.wall, p.stopped = got
         if say:
             say(_ran(p))
 
@@ -171,7 +185,7 @@ def _on_pool(planned: list[Planned], jobs: int, finished) -> None:
                 got = f.result()
             except Exception as err:  # noqa: BLE001 - a worker process died (the pool is broken): the case
                 text = " ".join(f"{type(err).__name__}: {err}".split())   # fails, not the report
-                got = {}, f"the run was lost with its worker process: {text}", 0.0
+                got = {}, f"the run was lost with its worker process: {text}", 0.0, ""
             finished(i, got)
 
 
@@ -192,14 +206,14 @@ def _on_dask(planned: list[Planned], workers: int | None, scheduler: str | None,
         return [(shipped[p.spec.ssp], p.spec, p.columns) for p in planned]
 
     def done(i: int, got) -> None:
-        finished(i, ({}, f"the run was {got.reason}", 0.0) if isinstance(got, TaskLost) else got)
+        finished(i, ({}, f"the run was {got.reason}", 0.0, "") if isinstance(got, TaskLost) else got)
 
     run_tasks(_run_shipped, [()] * len(planned), workers=workers, scheduler=scheduler, prepare=ship, done=done,
               name="cranefmu-check")
 
 
 def _ran(p: Planned) -> str:
-    state = f"failed: {p.error}" if p.error else "ran"
+    state = f"failed: {p.error}" if p.error else f"stopped early: {p.stopped}" if p.stopped else "ran"
     return f"{p.case.experiment} / {p.case.name}: {state} ({p.wall:.1f} s)"
 
 
@@ -212,6 +226,7 @@ def judge_all(planned: list[Planned]) -> list[Verdict]:
     out = []
     for p in planned:
         c = p.case
+        out += stop_verdicts(p)
         results = {name: got for (file, name), got in found.items() if file == str(c.file) and isinstance(got, float)}
         for a in c.assertions:
             got = found[(str(c.file), f"{c.name}.{a.name}")]
@@ -230,10 +245,50 @@ def judge_all(planned: list[Planned]) -> list[Verdict]:
     return out
 
 
+def early_stop(p: Planned) -> str:
+    """Why the case's run ended before its stop time ('' if it ran to the end): a stop condition
+    (tipping, a lifted load, ...), or rows that end early."""
+    if p.stopped:
+        return p.stopped
+    end = p.end_time
+    step = float(getattr(p.spec.settings, "step_size", 0.0) or 0.0)
+    if end is not None and end < p.stop_time - max(0.5 * step, 1e-9 * max(1.0, p.stop_time)):
+        return f"the rows end at t = {end:.9g} s"
+    return ""
+
+
+def stop_verdicts(p: Planned) -> list[Verdict]:
+    """The verdict of the case's ``expect_stop`` ([] without one): its run must stop early, for a reason
+    naming the expected text, inside the expected window."""
+    c, expect = p.case, p.case.expect_stop
+    if expect is None:
+        return []
+    stop = early_stop(p)
+    t = p.end_time
+    window = f"stop on {expect.reason!r} in [{expect.after:g}, {expect.before:g}] s"
+    if p.error:
+        note = p.error
+    elif not stop:
+        note = f"the run reached its stop time {p.stop_time:g} s without stopping"
+    elif expect.reason not in stop:
+        note = f"it stopped for another reason: {stop}"
+    elif t is None or not expect.after - 1e-12 <= t <= expect.before + 1e-12:
+        note = f"it stopped at t = {t:.6g} s, outside the window" if t is not None else "no rows"
+    else:
+        return [Verdict(c.experiment, c.name, "expect_stop", expect.reason, t, window, min(t - expect.after,
+                        expect.before - t), True, t, source=expect.where)]
+    return [Verdict(c.experiment, c.name, "expect_stop", expect.reason, t if t is not None else float("nan"), window,
+                    float("-inf"), False, t, note=note, source=expect.where)]
+
+
 def _measure(p: Planned, a):
     """What the assertion measures in the case's rows, or the text of why there is nothing."""
     if p.error:   # a failed run fails every assertion of its case
         return p.error
+    stop = early_stop(p)
+    if stop and p.case.expect_stop is None:   # a run that ended early passes nothing (issue 37)
+        return (f"the run stopped before its stop time {p.stop_time:g} s ({stop}); "
+                "give expect_stop if that stop is what the experiment tests")
     if not p.rows or not columns_of(a, p.scene) <= set(p.rows):
         return f"no rows of {a.column}"
     t = p.rows["time"]
@@ -282,4 +337,7 @@ def prepare_case(case: Case, results: set[str], overrides: dict) -> Planned:
         raise
     except CraneFmuError as err:
         raise ExperimentError(f"{case.where}: {err}") from None
+    if not case.assertions and case.expect_stop is None:
+        raise ExperimentError(f"{case.where}: case {case.name} asserts nothing: give [[assert]] tables or "
+                              "expect_stop (a run with nothing asserted cannot pass)")
     return Planned(case, spec, scene, values, sorted(set().union(*(columns_of(a, scene) for a in case.assertions))))

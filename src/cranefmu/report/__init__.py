@@ -32,7 +32,7 @@ def report_columns(scene: str, names: list[str]) -> list[str]:
     info = SCENES.get(scene)
     wanted = {c for _, cols in _groups(scene, names) for c in cols} | set(columns_needed(names))
     wanted |= set(_metric_columns(scene)) | set(info.key_outputs if info else ())
-    wanted |= {"pendulum.rest_tension", "pendulum.N_ground", "drive.payout_rate"}   # for the reference lines
+    wanted |= {"pendulum.rest_tension", "pendulum.N_ground", "drive.payout_rate", "rope.drum_force"}   # reference lines
     return [c for c in names if c in wanted]
 
 
@@ -51,13 +51,27 @@ def _reference_lines(result) -> dict[str, list[tuple[str, float]]]:
         if ground > 0 and "drive.payout_rate" in names:
             # a grounded load hoisted: EN 13001-2 phi2 = phi2,min + beta2 v_h (hoist drive class HD1: v_h the
             # largest hoisting speed), the band from hoisting class HC1 to HC4 (shared/notes/crane-standards.md)
-            v_h = float(np.max(np.abs(result["drive.payout_rate"])))
-            lines["rope.tension"] += [(f"EN 13001-2 phi2 {hc} (v_h {v_h:.3g} m/s)", (low + beta * v_h) * weight)
+            # largest hoisting speed OF THE HOOK: the drum pays out rope at n_lines times the hook's speed, the
+            # reeving ratio read off the rows (the drum sees one line: drum_force = tension / n_lines)
+            v_h = float(np.max(np.abs(result["drive.payout_rate"]))) * _reeving_fraction(result)
+            lines["rope.tension"] += [(f"EN 13001-2 phi2 {hc} (hook v_h {v_h:.3g} m/s)", (low + beta * v_h) * weight)
                                       for hc, beta, low in (("HC1", 0.17, 1.05), ("HC4", 0.68, 1.20))]
     for c in ("chassis.N_front", "chassis.N_rear"):
         if c in names:
             lines[c] = [("lift-off (tipping) N = 0", 0.0)]
     return lines
+
+
+def _reeving_fraction(result) -> float:
+    """1 / n_lines of the reeving, from the rows where the rope carries load (rope.drum_force / rope.tension);
+    1 where the rows do not tell (no drum force column, a rope that never carries load)."""
+    import numpy as np
+
+    if "rope.drum_force" not in result.dtype.names:
+        return 1.0
+    tension, drum = np.asarray(result["rope.tension"]), np.asarray(result["rope.drum_force"])
+    loaded = tension > 1e-9 * max(1.0, float(np.max(np.abs(tension))))
+    return float(np.median(drum[loaded] / tension[loaded])) if loaded.any() else 1.0
 
 
 _SOURCE_TEXT = {"given": "given", "scene": "the scene's stored setting",
