@@ -4,6 +4,7 @@ why a run stopped; ``stop_when = "none"`` in a file as on the command line."""
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -92,3 +93,56 @@ def test_bad_expect_stop_gets_one_line_with_file_and_line(tmp_path, value, what)
     with pytest.raises(ExperimentError, match=what) as err:
         load(f)
     assert str(err.value).startswith(f"{f}:2: ")
+
+
+ASSERT = '[[assert]]\ncolumn = "rope.tension"\nmax = 1e9\n'
+
+
+@pytest.mark.parametrize("text, line, message", [
+    ('stop_time = 1.0\n' + ASSERT + '[[assert]]\ncolumn = "rope.tension"\nat = 5.0\nmax = 1e9\n', 8,
+     r"at = 5 s is outside the run \(0 to 1 s\)"),
+    ('stop_time = 1.0\n[[assert]]\ncolumn = "rope.tension"\nmin = 10\nmax = 1\n', 5, "min = 10 is above max = 1"),
+    ('set = {"pendulum.mass" = nan}\n' + ASSERT, 2, "pendulum.mass = nan is not allowed: a finite number"),
+    ('set = {"rope.n_lines" = 2.5}\n' + ASSERT, 2, "rope.n_lines = 2.5 is not a valid Integer value"),
+    ('stop_time = 1.0\n[[assert]]\ncolumn = "rope.tension"\nduring = [0.5, 3.0]\nmax = 1e9\n', 5,
+     r"during = \[0.5, 3\] s is not inside the run"),
+    ('stop_time = nan\n' + ASSERT, 2, "stop_time = nan is not allowed"),
+    ('stop_time = -1\n' + ASSERT, 2, "stop_time = -1 is not allowed"),
+    ('stop_time = "10"\n' + ASSERT, 2, r"stop_time = '10' is not allowed: a number \(without quotes\)"),
+    (ASSERT + '[[assert]]\nname = "rope_tension_1"\ncolumn = "rope.tension"\nmax = 1e9\n', 6,
+     "two assertions of case base are named 'rope_tension_1'"),
+    ('stop_time = 1.0\nexpect_stop = {reason = "rope.slack", during = [2.0, 3.0]}\n' + ASSERT, 3,
+     "begins after the run's stop time 1 s"),
+    (ASSERT + '[[commands]]\ninputs = "rope.payout"\nmoves = [{start = -1, to = 1, speed = 1}]\n', 7,
+     "start = -1 s is not allowed"),
+])
+def test_experiment_mistakes_are_one_line_before_the_run(built, tmp_path, text, line, message):
+    from cranefmu.experiments.runner import prepare
+
+    f = tmp_path / "m.toml"
+    f.write_text('scene = "elastic_pendulum"\n' + text)
+    with pytest.raises(ExperimentError) as err:
+        prepare([f])
+    text = str(err.value)
+    assert text.startswith(f"{f}:{line}: ") and "\n" not in text
+    assert re.search(message, text), text
+
+
+def test_an_unknown_scene_names_its_line(tmp_path):
+    from cranefmu.experiments.runner import prepare
+
+    f = tmp_path / "u.toml"
+    f.write_text('# a comment\nscene = "nosuch"\n' + ASSERT)
+    with pytest.raises(ExperimentError, match=f"^{f}:2: scene: scene 'nosuch' is unknown"):
+        prepare([f])
+
+
+def test_a_shaper_slower_than_the_run_is_refused(built, tmp_path):
+    from cranefmu.experiments.runner import prepare
+
+    f = tmp_path / "s.toml"
+    f.write_text('scene = "elastic_pendulum"\nstop_time = 1.0\n' + ASSERT +
+                 '[[commands]]\ninputs = "rope.payout"\nmoves = [{to = 1, speed = 1}]\n'
+                 'shaper = "zv"\nfrequency = 1e-300\n')
+    with pytest.raises(ExperimentError, match=r"frequency = 1e-300 Hz is not allowed: the shaper delays the move"):
+        prepare([f])

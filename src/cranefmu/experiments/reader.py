@@ -115,6 +115,7 @@ class Case:
     assertions: tuple[AssertionSpec, ...] = ()
     where: str = ""                               # FILE:LINE of the case's table (of the file for the base)
     expect_stop: ExpectedStop | None = None       # the run is to stop early (else an early stop fails it)
+    keys: dict = field(default_factory=dict)      # key of the case (scene, set, a run setting) -> FILE:LINE
 
 
 def load(path: str | Path) -> list[Case]:
@@ -153,7 +154,7 @@ def load(path: str | Path) -> list[Case]:
         for key, value in own.items():
             if key == "parameters":
                 merged[key] = {**base.get(key, {}), **value}
-            elif key == "settings":
+            elif key in ("settings", "keys"):
                 merged[key] = {**base.get(key, {}), **value}
             elif key == "assertions":
                 replaced = {a.name for a in value}
@@ -171,10 +172,12 @@ def _make(experiment: str, case: str, path: Path, values: dict, where: str, line
     names = [a.name for a in values.get("assertions", ())]
     if len(set(names)) != len(names):
         dup = next(n for n in names if names.count(n) > 1)
-        raise ExperimentError(f"{where}: assert: two assertions of case {case} are named {dup!r}")
+        second = [a for a in values.get("assertions", ()) if a.name == dup][-1]
+        raise ExperimentError(f"{second.keys.get('name', second.where)}: name: two assertions of case {case} are "
+                              f"named {dup!r}")
     return Case(experiment, case, path, values["scene"], values.get("parameter_set"), values.get("parameters", {}),
                 values.get("settings", {}), values.get("commands", ()), values.get("assertions", ()), where,
-                values.get("expect_stop"))
+                values.get("expect_stop"), values.get("keys", {}))
 
 
 def _known(table: dict, allowed: set[str], lines: Lines, name: str) -> None:
@@ -192,7 +195,7 @@ def _case_fields(data: dict, lines: Lines, table: str) -> dict:
     """The case keys of one table (the top or [cases.NAME]) as Case fields."""
     from ..master.settings import Settings
 
-    out: dict = {}
+    out: dict = {"keys": {key: lines.at(table, key) for key in data if key != "cases"}}
     prefix = f"{table}." if table else ""
     if "scene" in data:
         scene = data["scene"]
@@ -213,9 +216,17 @@ def _case_fields(data: dict, lines: Lines, table: str) -> dict:
             if not comp or not var or isinstance(value, (dict, list)):
                 raise ExperimentError(f"{lines.at(table, 'set')}: set: {key!r} = {value!r} is not allowed: "
                                       "\"component.variable\" = a number, a boolean or a switch's name")
+            if isinstance(value, float) and not math.isfinite(value):
+                raise ExperimentError(f"{lines.at(table, 'set')}: set: {key} = {value!r} is not allowed: a finite "
+                                      "number")
         out["parameters"] = dict(values)
     settings = {f.name for f in fields(Settings)}
     given = {k: v for k, v in data.items() if k in settings}
+    for key, value in given.items():
+        kind = next(f.metadata.get("type") for f in fields(Settings) if f.name == key)
+        if kind in (float, int) and (isinstance(value, (str, bool)) or not isinstance(value, (int, float))):
+            raise ExperimentError(f"{lines.at(table, key)}: {key} = {value!r} is not allowed: a number"
+                                  + (" (without quotes)" if isinstance(value, str) else ""))
     if isinstance(given.get("stop_when"), str):   # as on the command line: "a,b", or "none" (run on)
         from ..master.settings import _comma_list
 
@@ -338,8 +349,12 @@ def _command(c: dict, lines: Lines, table: str, k: int) -> CommandSpec:
                 raise ExperimentError(f"{lines.at(table, 'moves', k)}: moves: {sorted(unknown or missing)[0]}: "
                                       f"{'unknown key' if unknown else 'missing'}; a move has "
                                       f"{', '.join(sorted(MOVE_KEYS))} (start and accel_time default 0)")
-            checked.append({key: _number(m.get(key, 0.0), lines, table, "moves", k)
-                            for key in ("start", "to", "speed", "accel_time")})
+            move = {key: _number(m.get(key, 0.0), lines, table, "moves", k)
+                    for key in ("start", "to", "speed", "accel_time")}
+            if move["start"] < 0:
+                raise ExperimentError(f"{lines.at(table, 'moves', k)}: moves: start = {move['start']:g} s is not "
+                                      "allowed: a move starts at t >= 0 (the run starts at 0)")
+            checked.append(move)
         kw["moves"] = tuple(checked)
         kw["initial"] = _number(c.get("initial", 0.0), lines, table, "initial", k)
     else:

@@ -9,6 +9,7 @@ gives one :class:`~.assertions.Verdict` per assertion, after every case of an ex
 """
 from __future__ import annotations
 
+import math
 import time as clock
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -302,6 +303,39 @@ def _measure(p: Planned, a):
     return got
 
 
+def _check_times(case: Case, start: float, stop: float, values: dict) -> None:
+    """Refuse, before the run, what cannot be judged in its rows: an ``at`` or a ``during`` window outside
+    [start, stop], an ``expect_stop`` window past the stop, ``min > max``, a shaper whose delay exceeds the
+    run (one line FILE:LINE: key: ...)."""
+    tol = 1e-9 * max(1.0, abs(stop))
+    for a in case.assertions:
+        if a.when == "at" and not start - tol <= a.at <= stop + tol:
+            raise ExperimentError(f"{a.keys.get('at', a.where)}: at = {a.at:g} s is outside the run "
+                                  f"({start:g} to {stop:g} s)")
+        if a.when == "during" and (a.during[0] < start - tol or a.during[1] > stop + tol):
+            raise ExperimentError(f"{a.keys.get('during', a.where)}: during = [{a.during[0]:g}, {a.during[1]:g}] s "
+                                  f"is not inside the run ({start:g} to {stop:g} s)")
+        if a.min is not None and a.max is not None:
+            try:
+                lo, hi = evaluate(a.min, values), evaluate(a.max, values)
+            except CraneFmuError:   # a limit naming another case's result: judged after the runs
+                continue
+            if lo > hi:
+                raise ExperimentError(f"{a.keys.get('min', a.where)}: min = {lo:g} is above max = {hi:g}: no value "
+                                      "can pass")
+    expect = case.expect_stop
+    if expect is not None and expect.after > stop + tol:
+        raise ExperimentError(f"{expect.where}: expect_stop: during = [{expect.after:g}, {expect.before:g}] s "
+                              f"begins after the run's stop time {stop:g} s")
+    for c in case.commands:
+        if c.shaper and c.frequency is not None:
+            f = evaluate(c.frequency, values)
+            if not f > 0 or 0.5 / f > stop - start:
+                raise ExperimentError(f"{c.keys.get('frequency', c.where)}: frequency = {f:g} Hz is not allowed: "
+                                      f"the shaper delays the move by half a period, {0.5 / f if f > 0 else math.inf:g} s, "
+                                      f"more than the run's {stop - start:g} s (a mode the run cannot show)")
+
+
 def experiment_spec(path: Path, case_name: str | None, overrides: dict, parameters: dict, output, isolate: bool):
     """(RunSpec, Planned) of one case of one experiment file, for ``cranefmu run FILE.toml``:
     the command line's settings and ``--set`` over the file's."""
@@ -336,7 +370,10 @@ def prepare_case(case: Case, results: set[str], overrides: dict) -> Planned:
     except ExperimentError:
         raise
     except CraneFmuError as err:
-        raise ExperimentError(f"{case.where}: {err}") from None
+        text = str(err)
+        key = next((k for k in case.settings if text.startswith(f"{k} ") or f" {k} =" in text), None)
+        raise ExperimentError(f"{case.keys.get(key, case.where) if key else case.where}: {text}") from None
+    _check_times(case, float(spec.settings.start_time), float(spec.settings.stop_time), values)
     if not case.assertions and case.expect_stop is None:
         raise ExperimentError(f"{case.where}: case {case.name} asserts nothing: give [[assert]] tables or "
                               "expect_stop (a run with nothing asserted cannot pass)")

@@ -105,7 +105,7 @@ def scene_of(case: Case) -> SceneInterface:
     try:
         return interface(case.scene)
     except CraneFmuError as err:
-        raise ExperimentError(f"{case.where}: scene: {err}") from None
+        raise ExperimentError(f"{case.keys.get('scene', case.where)}: scene: {err}") from None
 
 
 def check(case: Case, results: set[str]) -> SceneInterface:
@@ -115,11 +115,20 @@ def check(case: Case, results: set[str]) -> SceneInterface:
     if case.parameter_set not in (None, "default") and case.parameter_set not in scene.sets:
         raise ExperimentError(f"{case.where}: parameter_set = {case.parameter_set!r} is not in scene {scene.name}: "
                               f"one of {', '.join(['default', *scene.sets])}")
-    for key in case.parameters:
-        _variable(scene, key, case.where, "set", ("parameter", "input"))
+    at_set = case.keys.get("set", case.where)
+    for key, value in case.parameters.items():
+        _variable(scene, key, at_set, "set", ("parameter", "input"))
         if key in scene.connected:
-            raise ExperimentError(f"{case.where}: set: {key} is an input connected to {scene.connected[key]}; "
+            raise ExperimentError(f"{at_set}: set: {key} is an input connected to {scene.connected[key]}; "
                                   f"set a parameter of {scene.connected[key].partition('.')[0]} instead")
+        comp, _, var = key.partition(".")
+        if scene.variables[comp][var][1] == "Integer" and not isinstance(value, str):
+            from ..master.fmi_integer import fmi_integer
+
+            try:
+                fmi_integer(value, key)
+            except CraneFmuError as err:
+                raise ExperimentError(f"{at_set}: set: {err}") from None
     values = scene.parameter_values(case.parameter_set, case.parameters)
     commanded: dict[str, str] = {}
     for cmd in case.commands:
