@@ -20,6 +20,12 @@ _SYMBOLS: dict[str, tuple[float, dict[str, int]]] = {
     "H": (1.0, {"kg": 1, "m": 2, "s": -2, "A": -2}), "Hz": (1.0, {"s": -1}),
     "kN": (1e3, {"kg": 1, "m": 1, "s": -2}), "deg": (0.017453292519943295, {"rad": 1}),
     "min": (60.0, {"s": 1}), "rev": (6.283185307179586, {"rad": 1}),
+    # what engineers type in experiment files (quantity): lengths, masses, forces, moments, speeds
+    "mm": (1e-3, {"m": 1}), "cm": (1e-2, {"m": 1}), "km": (1e3, {"m": 1}), "g": (1e-3, {"kg": 1}),
+    "t": (1e3, {"kg": 1}), "MN": (1e6, {"kg": 1, "m": 1, "s": -2}), "kPa": (1e3, {"kg": 1, "m": -1, "s": -2}),
+    "MPa": (1e6, {"kg": 1, "m": -1, "s": -2}), "GPa": (1e9, {"kg": 1, "m": -1, "s": -2}),
+    "kJ": (1e3, {"kg": 1, "m": 2, "s": -2}), "kW": (1e3, {"kg": 1, "m": 2, "s": -3}),
+    "ms": (1e-3, {"s": 1}), "h": (3600.0, {"s": 1}), "rpm": (6.283185307179586 / 60.0, {"rad": 1, "s": -1}),
 }
 _TOKEN = re.compile(r"^([A-Za-z]+)(-?\d+)?$")
 
@@ -49,3 +55,34 @@ def parse(unit: str) -> tuple[float, dict[str, int]]:
 
 def dimensionless(unit: str) -> bool:
     return unit in ("", "1")
+
+
+_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z][A-Za-z0-9./ ]*?)\s*$")
+
+
+def is_quantity(text: str) -> bool:
+    """Whether ``text`` reads as a number followed by a unit, e.g. ``"15 kN"``, ``"90 deg"``, ``"0.2 m/s"``."""
+    m = _QUANTITY.match(text)
+    if not m:
+        return False
+    try:
+        parse(m.group(2).strip())
+    except ValueError:
+        return False
+    return True
+
+
+def quantity(text: str) -> tuple[float, str]:
+    """(value in SI units, the unit as written) of a quantity ``"15 kN"`` -> (15000.0, "kN"); raises
+    ValueError naming what is not understood."""
+    m = _QUANTITY.match(text)
+    if not m:
+        raise ValueError(f"{text!r} is not a number with a unit (e.g. '15 kN', '90 deg', '0.2 m/s')")
+    unit = m.group(2).strip()
+    factor, _ = parse(unit)
+    return float(m.group(1)) * factor, unit
+
+
+def same_dimension(a: str, b: str) -> bool:
+    """Whether units ``a`` and ``b`` measure the same quantity (an angle in deg or rad is not a plain number)."""
+    return parse(a)[1] == parse(b)[1]

@@ -47,6 +47,7 @@ class Verdict:
     time: float | None = None     # the row the value is from (always/during without a metric, at, finally)
     note: str = ""                # why it failed without a value (a run failure, a window with no row, ...)
     source: str = ""
+    unit: str = ""                # the unit of value, limit and margin (the column's, or its metric's)
 
     def as_dict(self) -> dict:
         return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in self.__dict__.items()}

@@ -26,9 +26,12 @@ def table(verdicts: list[Verdict]) -> list[str]:
     head = ("experiment", "case", "assertion", "value", "limit", "margin", "result")
     rows = []
     for v in verdicts:
-        value = _number(v.value) + (f" @ {v.time:.6g} s" if v.time is not None else "")
+        unit = f" {v.unit}" if v.unit and v.unit != "1" else ""
+        value = _number(v.value) + (unit if v.value == v.value else "") + (f" @ {v.time:.6g} s" if v.time is not None else "")
         result = "pass" if v.passed else "FAIL" + (f": {v.note}" if v.note else "")
-        rows.append((v.experiment, v.case, v.name, value, v.limit or "-", _number(v.margin), result))
+        limit = (v.limit + unit) if v.limit and not v.limit.endswith("]") else v.limit or "-"
+        rows.append((v.experiment, v.case, v.name, value, limit, _number(v.margin) + (unit if v.margin == v.margin and
+                     abs(v.margin) != float("inf") else ""), result))
     widths = [max(len(r[i]) for r in [head, *rows]) for i in range(len(head) - 1)]
     return ["  ".join(c.ljust(w) for c, w in zip(r[:-1], widths)) + "  " + r[-1] for r in [head, *rows]]
 

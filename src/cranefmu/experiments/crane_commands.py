@@ -69,7 +69,12 @@ def bind(case: Case) -> Case:
         start = values.get(f"{comp}.{motion.start}", 0.0)
         initial = cmd.initial if "initial" in cmd.keys else start
         if cmd.kind == "luff":
+            _check_range(cmd, initial, -math.pi / 2, math.pi / 2, comp, "the boom's luffing range (-90, 90) deg "
+                         "(Boom luff_angle)")
             _check_lever(cmd, initial, values.get(f"{comp}.cyl_base_angle"), comp)
+        if cmd.kind == "slew":
+            _check_range(cmd, initial, initial - 2 * math.pi, initial + 2 * math.pi, comp,
+                         "one turn either way from the start")
         commands.append(replace(cmd, inputs=tuple(targets), initial=initial, offset=start))
     return replace(case, parameters=parameters, commands=tuple(commands))
 
@@ -86,12 +91,27 @@ def _holder(scene: SceneInterface, cmd: CommandSpec, motion: BoomMotion) -> tupl
     return (f"{found[0]}.{motion.input}",)
 
 
+def _angles(cmd: CommandSpec, initial: float) -> list[tuple[str, float]]:
+    return [("initial", initial)] + [("moves", m["to"]) for m in cmd.moves] + [("table", v) for _, v in cmd.table]
+
+
+def _check_range(cmd: CommandSpec, initial: float, low: float, high: float, comp: str, what: str) -> None:
+    """Refuse an angle of a luff or slew command outside (low, high) rad, before the run; a plain number
+    that would be inside as degrees gets the hint to write its unit."""
+    for key, phi in _angles(cmd, initial):
+        if not low < phi < high:
+            hint = (f"; if you meant {phi:g} deg, write \"{phi:g} deg\"" if low < math.radians(phi) < high
+                    and not cmd.quantities else "")
+            raise ExperimentError(f"{cmd.keys.get(key, cmd.where)}: {key}: {cmd.kind} angle {phi:g} rad "
+                                  f"({math.degrees(phi):.6g} deg) is outside {what} for {comp}: allowed "
+                                  f"{math.degrees(low):.6g} to {math.degrees(high):.6g} deg{hint}")
+
+
 def _check_lever(cmd: CommandSpec, initial: float, base_angle: float | None, comp: str) -> None:
     """Refuse a luffing angle where the cylinder has no lever: 0 < phi1 - cyl_base_angle < pi (cranefmu.physics.boom)."""
     if base_angle is None:
         return
-    angles = [("initial", initial)] + [("moves", m["to"]) for m in cmd.moves] + [("table", v) for _, v in cmd.table]
-    for key, phi in angles:
+    for key, phi in _angles(cmd, initial):
         if not 0.0 < math.remainder(phi - base_angle, 2.0 * math.pi) < math.pi:
             raise ExperimentError(f"{cmd.keys.get(key, cmd.where)}: {key}: luffing angle {phi!r} rad is not allowed "
                                   f"for {comp}: its cylinder needs 0 < phi1 - cyl_base_angle < pi, i.e. "

@@ -15,6 +15,7 @@ import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
+from .. import units
 from ..errors import CraneFmuError
 from .lines import Lines
 from .metrics import REGISTRY
@@ -62,6 +63,7 @@ class CommandSpec:
     frequency: str | float | None = None         # Hz, a number or an expression of parameters
     damping: str | float = 0.0
     offset: float = 0.0                          # subtracted from the profile (a boom motion's start, .crane_commands)
+    quantities: dict = field(default_factory=dict)   # "to", "initial", "speed" -> the unit written (SI inside)
 
 
 @dataclass(frozen=True)
@@ -87,6 +89,7 @@ class AssertionSpec:
     abs: float | None = None
     source: str = ""                             # where the limit comes from (a paper's value, a derivation)
     keys: dict = field(default_factory=dict)     # key -> FILE:LINE where it is written
+    quantities: dict = field(default_factory=dict)   # limit key -> the unit written ("15 kN": SI inside, "kN")
 
 
 @dataclass(frozen=True)
@@ -260,7 +263,7 @@ def _expect_stop(value, lines: Lines, table: str) -> ExpectedStop:
     span = value["during"]
     if not isinstance(span, list) or len(span) != 2:
         raise ExperimentError(f"{where}: expect_stop: during = {span!r} is not allowed: [t1, t2] s")
-    t1, t2 = (_number(x, lines, table, "expect_stop") for x in span)
+    t1, t2 = (_number(x, lines, table, "expect_stop", unit="s", name="during") for x in span)
     if not 0 <= t1 <= t2:
         raise ExperimentError(f"{where}: expect_stop: during = {span!r} is not allowed: 0 <= t1 <= t2")
     return ExpectedStop(reason, t1, t2, where)
@@ -287,8 +290,22 @@ def _string(value, lines: Lines, table: str, key: str) -> str:
     return value
 
 
-def _number(value, lines: Lines, table: str, key: str, index: int | None = None, expression: bool = False):
-    """A finite number (or, with ``expression``, the text of an expression, checked for form)."""
+def _number(value, lines: Lines, table: str, key: str, index: int | None = None, expression: bool = False,
+            unit: str | None = None, found: dict | None = None, name: str | None = None):
+    """A finite number (or, with ``expression``, the text of an expression, checked for form).
+
+    A string ``"NUMBER UNIT"`` (``"15 kN"``, ``"90 deg"``, ``"0.5 s"``; :func:`cranefmu.units.quantity`) is
+    converted to SI: checked against ``unit`` when the key's unit is known here, else recorded in ``found``
+    (``name`` -> the unit written) for the scene check, which knows the column's or input's unit."""
+    name = name or key
+    if isinstance(value, str) and units.is_quantity(value):
+        number, written = units.quantity(value)
+        if unit is not None and not units.same_dimension(written, unit):
+            raise ExperimentError(f"{lines.at(table, key, index)}: {name} = {value!r} is not allowed: {name} is in "
+                                  f"{unit}, {written!r} is not")
+        if found is not None:
+            found[name] = written
+        return number
     if expression and isinstance(value, str):
         from .expressions import parse
 
@@ -321,8 +338,25 @@ def _item(d: dict, allowed: set[str], what: str, lines: Lines, table: str, k: in
     return {"where": lines.at(table, None, k), "keys": {key: lines.at(table, key, k) for key in d}}
 
 
+def _move_value(value, lines: Lines, table: str, k: int, name: str, found: dict, key: str = "moves") -> float:
+    """A move's ``start``/``to``/``speed``/``accel_time`` (or the command's ``initial``): a number in the
+    target's SI unit, a quantity (``"90 deg"``, ``"0.2 m/s"``; times in s) or an expression of constants
+    (``"radians(90)"``)."""
+    time_unit = "s" if name in ("start", "accel_time") else None
+    if isinstance(value, str) and not units.is_quantity(value):
+        from .expressions import evaluate
+
+        try:
+            return float(evaluate(value, {}))
+        except CraneFmuError as err:
+            raise ExperimentError(f"{lines.at(table, key, k)}: {name}: {err}") from None
+    return _number(value, lines, table, key, k, unit=time_unit, found=None if time_unit else found, name=name)
+
+
 def _command(c: dict, lines: Lines, table: str, k: int) -> CommandSpec:
     kw = _item(c, COMMAND_KEYS, "a command", lines, table, k)
+    found: dict = {}
+    kw["quantities"] = found
     where = kw["where"]
     kind = c.get("kind", "table" if "table" in c else "setpoint")
     if kind not in COMMAND_KINDS:
@@ -349,14 +383,14 @@ def _command(c: dict, lines: Lines, table: str, k: int) -> CommandSpec:
                 raise ExperimentError(f"{lines.at(table, 'moves', k)}: moves: {sorted(unknown or missing)[0]}: "
                                       f"{'unknown key' if unknown else 'missing'}; a move has "
                                       f"{', '.join(sorted(MOVE_KEYS))} (start and accel_time default 0)")
-            move = {key: _number(m.get(key, 0.0), lines, table, "moves", k)
+            move = {key: _move_value(m.get(key, 0.0), lines, table, k, key, found)
                     for key in ("start", "to", "speed", "accel_time")}
             if move["start"] < 0:
                 raise ExperimentError(f"{lines.at(table, 'moves', k)}: moves: start = {move['start']:g} s is not "
                                       "allowed: a move starts at t >= 0 (the run starts at 0)")
             checked.append(move)
         kw["moves"] = tuple(checked)
-        kw["initial"] = _number(c.get("initial", 0.0), lines, table, "initial", k)
+        kw["initial"] = _move_value(c.get("initial", 0.0), lines, table, k, "initial", found, key="initial")
     else:
         kw["table"] = _table_points(c["table"], lines, table, k)
         kw["interpolation"] = c.get("interpolation", "linear")
@@ -412,6 +446,8 @@ def _table_points(value, lines: Lines, table: str, k: int) -> tuple[tuple[float,
 
 def _assertion(a: dict, lines: Lines, table: str, k: int) -> AssertionSpec:
     kw = _item(a, ASSERT_KEYS, "an assertion", lines, table, k)
+    found: dict = {}
+    kw["quantities"] = found
     where = kw["where"]
     if ("column" in a) == ("value" in a):
         raise ExperimentError(f"{where}: an assertion needs column = \"component.variable\" (a result column) "
@@ -435,12 +471,12 @@ def _assertion(a: dict, lines: Lines, table: str, k: int) -> AssertionSpec:
     if when in ("always", "finally") and when in a and a[when] is not True:
         raise ExperimentError(f"{lines.at(table, when, k)}: {when} = {a[when]!r} is not allowed: true")
     if when == "at":
-        kw["at"] = _number(a["at"], lines, table, "at", k)
+        kw["at"] = _number(a["at"], lines, table, "at", k, unit="s")
     if when == "during":
         span = a["during"]
         if not isinstance(span, list) or len(span) != 2:
             raise ExperimentError(f"{lines.at(table, 'during', k)}: during = {span!r} is not allowed: [t1, t2]")
-        t1, t2 = (_number(x, lines, table, "during", k) for x in span)
+        t1, t2 = (_number(x, lines, table, "during", k, unit="s") for x in span)
         if not t2 >= t1:
             raise ExperimentError(f"{lines.at(table, 'during', k)}: during = {span!r}: t2 must be >= t1")
         kw["during"] = (t1, t2)
@@ -457,7 +493,7 @@ def _assertion(a: dict, lines: Lines, table: str, k: int) -> AssertionSpec:
             if "level" not in a:
                 raise ExperimentError(f"{lines.at(table, 'metric', k)}: metric first_crossing needs level = the "
                                       "value crossed")
-            kw["level"] = _number(a["level"], lines, table, "level", k)
+            kw["level"] = _number(a["level"], lines, table, "level", k, found=found)
         if metric in ("frequency", "damping"):
             for key in ("mode", "n_modes"):
                 if key in a:
@@ -477,10 +513,10 @@ def _assertion(a: dict, lines: Lines, table: str, k: int) -> AssertionSpec:
                                   f"{'metric ' + metric if metric else 'an assertion without a metric'}")
     for key in ("min", "max", "equals"):
         if key in a:
-            kw[key] = _number(a[key], lines, table, key, k, expression=True)
+            kw[key] = _number(a[key], lines, table, key, k, expression=True, found=found)
     for key in ("rel", "abs"):
         if key in a:
-            kw[key] = _number(a[key], lines, table, key, k)
+            kw[key] = _number(a[key], lines, table, key, k, unit="1" if key == "rel" else None, found=found)
             if kw[key] < 0:
                 raise ExperimentError(f"{lines.at(table, key, k)}: {key} = {a[key]!r} must be >= 0")
     if "equals" in kw:

@@ -20,7 +20,7 @@ from ..errors import CraneFmuError
 from .assertions import Verdict, judge, measured
 from .expressions import evaluate
 from .reader import Case, CommandSpec, ExperimentError, load
-from .scene_check import SceneInterface, check, columns_of
+from .scene_check import SceneInterface, check, columns_of, measured_unit
 
 
 @dataclass
@@ -231,18 +231,19 @@ def judge_all(planned: list[Planned]) -> list[Verdict]:
         results = {name: got for (file, name), got in found.items() if file == str(c.file) and isinstance(got, float)}
         for a in c.assertions:
             got = found[(str(c.file), f"{c.name}.{a.name}")]
+            unit = "" if a.expression else (measured_unit(a, (p.scene.units or {}).get(a.column)) or "")
             if isinstance(got, str):
                 out.append(Verdict(c.experiment, c.name, a.name, a.column, float("nan"), "", float("-inf"), False,
-                                   note=got, source=a.source))
+                                   note=got, source=a.source, unit=unit))
                 continue
             try:
                 value, limit, margin, t = judge(a, got, {**results, **p.values})
             except CraneFmuError as err:
                 out.append(Verdict(c.experiment, c.name, a.name, a.column, float("nan"), "", float("-inf"), False,
-                                   note=str(err), source=a.source))
+                                   note=str(err), source=a.source, unit=unit))
                 continue
             out.append(Verdict(c.experiment, c.name, a.name, a.column, value, limit, margin, margin >= 0, t,
-                               source=a.source))
+                               source=a.source, unit=unit))
     return out
 
 
@@ -277,9 +278,9 @@ def stop_verdicts(p: Planned) -> list[Verdict]:
         note = f"it stopped at t = {t:.6g} s, outside the window" if t is not None else "no rows"
     else:
         return [Verdict(c.experiment, c.name, "expect_stop", expect.reason, t, window, min(t - expect.after,
-                        expect.before - t), True, t, source=expect.where)]
+                        expect.before - t), True, t, source=expect.where, unit="s")]
     return [Verdict(c.experiment, c.name, "expect_stop", expect.reason, t if t is not None else float("nan"), window,
-                    float("-inf"), False, t, note=note, source=expect.where)]
+                    float("-inf"), False, t, note=note, source=expect.where, unit="s")]
 
 
 def _measure(p: Planned, a):

@@ -27,6 +27,7 @@ class SceneInterface:
     connected: dict[str, str]                                       # "comp.input" -> "comp.output"
     values: dict                                                    # "comp.var" -> value of the default set
     sets: dict[str, dict]                                           # set name -> its values
+    units: dict[str, str] = None                                    # "comp.var" -> its declared unit (if any)
 
     def parameter_values(self, parameter_set: str | None, parameters: dict) -> dict[str, float]:
         """Every numeric parameter and input start 'comp.var' -> value in force: the FMU's start, the
@@ -89,13 +90,17 @@ def interface(reference: str) -> SceneInterface:
     ssp = scene_path(reference)
     shown = preview(ssp)
     workdir, loaded = extracted_scene(ssp)
-    variables = {}
+    variables, declared = {}, dict(shown.units)
     for c in loaded.components:
         md = FmuComponent(c.name, c.fmu, fmu_dir(workdir, c.name)).md
         variables[c.name] = {v.name: (v.causality, v.type, v.start) for v in md.modelVariables}
+        for v in md.modelVariables:
+            unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
+            if unit:
+                declared[f"{c.name}.{v.name}"] = unit
     connected = {f"{c.dst}.{c.dst_var}": f"{c.src}.{c.src_var}" for c in loaded.connections}
     found = SceneInterface(ssp, loaded.name, tuple(shown.columns), variables, connected,
-                           loaded.model_values(None), {s: loaded.model_values(s) for s in loaded.sets})
+                           loaded.model_values(None), {s: loaded.model_values(s) for s in loaded.sets}, declared)
     _INTERFACES[reference] = found
     return found
 
@@ -147,6 +152,10 @@ def check(case: Case, results: set[str]) -> SceneInterface:
                 commanded[target] = where
         for key in ("frequency", "damping"):
             _known_names(getattr(cmd, key), values, set(), f"{cmd.keys.get(key, cmd.where)}: {key}")
+        if cmd.quantities and cmd.inputs:
+            target = cmd.inputs[0]
+            _check_units(cmd.quantities, scene.units.get(target), f"input {target}",
+                         lambda key: cmd.keys.get(key, cmd.keys.get("moves", cmd.where)), rate_key="speed")
     for a in case.assertions:
         if a.expression:
             _known_names(a.column, {**values, **dict.fromkeys(scene.columns)}, set(),
@@ -157,7 +166,44 @@ def check(case: Case, results: set[str]) -> SceneInterface:
                                   f"{scene.name}: {', '.join(near or scene.columns[:20])}")
         for key in ("min", "max", "equals", "static"):
             _known_names(getattr(a, key), values, results, f"{a.keys.get(key, a.where)}: {key}")
+        if a.quantities:
+            unit = None if a.expression else measured_unit(a, scene.units.get(a.column))
+            what = f"{'metric ' + a.metric + ' of ' if a.metric in UNIT_OF_METRIC else ''}column {a.column}"
+            _check_units(a.quantities, unit, what, lambda key: a.keys.get(key, a.where))
     return scene
+
+
+#: the unit of a metric's value, where it is not the column's (None: the column's)
+UNIT_OF_METRIC = {"first_crossing": "s", "dynamic_factor": "1", "frequency": "Hz", "damping": "1",
+                  "envelope_first_minimum": "s", "envelope_min_ratio": "1", "envelope_fall_rate": "1/s"}
+
+
+def measured_unit(a, column_unit: str | None) -> str | None:
+    """The unit of what assertion ``a`` measures: its metric's, else its column's (None: not declared)."""
+    if a.metric in UNIT_OF_METRIC:
+        return UNIT_OF_METRIC[a.metric]
+    return column_unit
+
+
+def _check_units(quantities: dict, unit: str | None, what: str, where, rate_key: str | None = None) -> None:
+    """Refuse a quantity whose unit does not measure what ``what`` (in ``unit``) measures; ``rate_key``: the
+    key whose quantity is ``unit`` per second (a move's speed)."""
+    from .. import units
+
+    for key, written in quantities.items():
+        if key == "level" and what.startswith("metric"):
+            continue   # first_crossing's level is in the column's unit, not the metric's: not checked here
+        if unit is None:
+            raise ExperimentError(f"{where(key)}: {key} = '... {written}': {what} declares no unit, so a value "
+                                  "with a unit cannot be checked: give a plain number (SI)")
+        expected = dict(units.parse(unit)[1])
+        shown = unit
+        if key == rate_key:
+            expected["s"] = expected.get("s", 0) - 1
+            expected = {k: v for k, v in expected.items() if v}
+            shown = f"{unit} per s"
+        if units.parse(written)[1] != expected:
+            raise ExperimentError(f"{where(key)}: {key} in {written!r} does not fit {what}, which is in {shown}")
 
 
 def _variable(scene: SceneInterface, key: str, where: str, what: str, causalities: tuple[str, ...]) -> None:
