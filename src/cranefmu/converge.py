@@ -8,6 +8,8 @@ Observed order between neighbours i, i+1 (derived): p = ln(e_i / e_{i+1}) / ln(H
 """
 from __future__ import annotations
 
+from .sweep.table import FINISHED
+
 import csv
 import math
 from contextlib import contextmanager
@@ -246,7 +248,7 @@ def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_ti
             r = rows[(h, tol)]
             row = ConvergenceRun(h, tol, steps=int(r["steps"] or 0), wall_time=r["wall_time"] or math.nan)
             res = None
-            if r["status"] == "ok":
+            if r["status"] in FINISHED:   # a run a stop condition ended is a result too
                 res = np.load(Path(tmp) / "runs" / f"{r['key']}.npy")
                 row.rejections = int(r["rejections"])
                 row.simulated = float(res["time"][-1] - res["time"][0]) if len(res) else 0.0

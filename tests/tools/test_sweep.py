@@ -133,3 +133,20 @@ def test_remote_workers_get_the_scene_bytes_once(built, tmp_path, monkeypatch):
     local.write_bytes(b"")   # a second call reuses the copy, it does not write again
     assert sent.local() == local and local.read_bytes() == b""
     assert worker.SspFile.of(ssp, "elastic_pendulum", with_data=False).local() == ssp
+
+
+def test_a_tipped_run_says_tipped_and_rows_follow_the_design(client, tmp_path):
+    """Issue 37: a run the tipping flag ended is status 'tipped' (was 'ok' with nan metrics), the table's
+    rows are in the design's order whatever order the runs finished in, and it still counts as finished."""
+    from cranefmu.sweep.table import read
+
+    masses = [3500.0, 500.0, 3000.0, 1000.0]   # on a 26.96 m boom at 60 deg: 3500 and 3000 kg tip at t = 0
+    geometry = {"boom.luff_angle": 1.0471975511965976, "boom.boom_length_start": 26.96,
+                "boom.boom_length_end": 26.96, "boom.seg4_offset": 8.23, "boom.seg3_offset": 16.46}
+    res = cranefmu.sweep("truck_telescope", {"pendulum.mass": masses}, ["min:chassis.N_front"], tmp_path / "t.csv",
+                         client=client, parameters=geometry, stop_time=0.02, step_size=5e-3)
+    assert res.failed == 0
+    rows = read(tmp_path / "t.csv")
+    assert [r["pendulum.mass"] for r in rows] == masses
+    assert [r["status"] for r in rows] == ["tipped", "ok", "tipped", "ok"]
+    assert all("chassis.tipping" in r["stopped"] for r in rows if r["status"] == "tipped")

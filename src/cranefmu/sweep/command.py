@@ -1,6 +1,8 @@
 """``cranefmu sweep SCENE``: the command line of :func:`cranefmu.sweep`."""
 from __future__ import annotations
 
+from .table import FINISHED
+
 import argparse
 import sys
 
@@ -29,7 +31,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                 design=args.design, samples=args.samples, seed=args.seed, results=args.results,
                 workers=args.workers, scheduler=args.scheduler, progress=False if args.no_progress else None,
                 prune=args.prune)
-    failed = [r for r in res.rows if r["status"] != "ok"]
+    failed = [r for r in res.rows if r["status"] not in FINISHED]
     lost = sum(r["status"] == "lost" for r in failed)
     print(f"sweep of {args.scene}: {res.ran} run(s) now ({res.failed} failed), {res.skipped} already done; "
           f"{len(res.rows)} rows in {res.path} ({len(failed)} failed, {lost} of them lost), {res.wall_time:.1f} s "

@@ -159,6 +159,7 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     finally:
         table.close()
         out.wall_time = clock.perf_counter() - t0
+        tables.reorder(table.path, [r.key for r in points])   # the design's order, not the runs' completion
     out.rows = tables.read(table.path)
     by_key = {r["key"]: r for r in out.rows}
     out.design = [by_key[r.key] for r in points]
@@ -208,7 +209,7 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
             row["attempts"] = attempt
             table.write(row)
             out.ran += 1
-            out.failed += row["status"] != "ok"
+            out.failed += row["status"] not in tables.FINISHED
             out.lost += row["status"] == "lost"
             if bar is not None:
                 bar.set_postfix_str(f"done {out.ran - out.failed}, failed {out.failed}", refresh=False)

@@ -22,6 +22,8 @@ on it) with a bisection fallback when a run tips.
 """
 from __future__ import annotations
 
+from .table import FINISHED
+
 import math
 from dataclasses import dataclass
 
@@ -112,11 +114,11 @@ def static_chart(points: list[tuple[float, float]], output, client=None, fractio
         ra, rb = next(got), next(got)
         row = {"angle": a, "length": L, "radius": L * math.cos(math.radians(a)),
                "closed_form": closed_form_max_load(a, L), "scene": math.nan, "error": ""}
-        if ra["status"] == "ok" and rb["status"] == "ok":   # a failed run leaves the point open (nan)
+        if ra["status"] in FINISHED and rb["status"] in FINISHED:   # a failed run leaves the point open (nan)
             n_a, n_b = ra["initial:chassis.N_front"], rb["initial:chassis.N_front"]
             row["scene"] = m_b + n_b * (m_b - m_a) / (n_a - n_b)
         else:
-            row["error"] = next(f"{r['status']}: {r['error']}" for r in (ra, rb) if r["status"] != "ok")
+            row["error"] = next(f"{r['status']}: {r['error']}" for r in (ra, rb) if r["status"] not in FINISHED)
         rows.append(row)
     return rows
 
@@ -178,7 +180,7 @@ def dynamic_chart(points: list[tuple[float, float, float]], output, client=None,
         if note is not None:
             note(res)
         for (r, m), x in zip(batch, res.design):
-            if x["status"] != "ok":
+            if x["status"] not in FINISHED:
                 r.failure = f"load {m:.1f} kg: {x['error']}"
                 continue
             r.tried.append((m, x["N_front_min"], bool(x["tipping"])))

@@ -11,13 +11,17 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 from pathlib import Path
 
 from ..errors import SettingsError
 
 TAIL = ("status", "error", "stopped", "steps", "rejections", "wall_time", "task_time", "attempts", "worker")
 _TEXT = ("key", "status", "error", "stopped", "worker")   # never read as numbers (a key may look like 12e4)
-# status: ok | failed | lost (with its worker or the scheduler: run again on resume); error: the message of a failed run; stopped: why a stop condition ended the run
+#: statuses of a run that finished: ran to its stop time (ok), ended by the tipping flag (tipped), ended by another
+#: stop condition (stopped: a result, e.g. a lifted load; the reason in ``stopped``)
+FINISHED = ("ok", "tipped", "stopped")
+# status: ok | tipped | stopped | failed | lost (with its worker or the scheduler: run again on resume); error: the message of a failed run; stopped: why a stop condition ended the run
 # (a result, e.g. tipping); steps, rejections: accepted and rejected macro steps; wall_time [s]: the run's own (master loop); task_time [s]: on the worker,
 # scene loading, FMU set-up and metrics included; attempts: 2 when the run was retried
 
@@ -93,6 +97,22 @@ class Table:
 
     def close(self) -> None:
         self._file.close()
+
+
+def reorder(path: str | Path, keys: list[str]) -> None:
+    """Rewrite the table at ``path`` with the rows of ``keys`` in that order (the design's), each key's last
+    row; rows of other keys (an earlier design) after them in file order. Beside it, then renamed over it."""
+    path = Path(path)
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    last = {r[0]: r for r in rows[1:] if r}
+    ordered = [last.pop(k) for k in dict.fromkeys(keys) if k in last]
+    partial = path.with_name(path.name + ".order")
+    with open(partial, "w", newline="") as f:
+        csv.writer(f).writerows([rows[0], *ordered, *last.values()])
+        f.flush()
+        os.fsync(f.fileno())
+    partial.replace(path)
 
 
 def drop(path: str | Path, keys: set[str]) -> None:

@@ -71,7 +71,9 @@ def execute(ssp: SspFile, run: Run, metrics: list[Metric | Custom], results_dir:
                        **{"progress": False, **run.settings})   # in this worker process, rows kept
         res = execute(spec)
         row.update(measure(metrics, run.scene, res.result, run.inputs))
-        row.update(steps=res.stats.steps, rejections=res.stats.rejections, wall_time=res.stats.wall_time, stopped=_one_line(res.stats.stopped or ""))
+        stopped = _one_line(res.stats.stopped or "")
+        row.update(steps=res.stats.steps, rejections=res.stats.rejections, wall_time=res.stats.wall_time, stopped=stopped,
+                   status=status_of(stopped))
         if results_dir is not None:
             import numpy as np
 
@@ -82,6 +84,14 @@ def execute(ssp: SspFile, run: Run, metrics: list[Metric | Custom], results_dir:
         row.update(status="failed", error=_one_line(f"{type(err).__name__}: {err}"), retry=True)
     row["task_time"] = clock.perf_counter() - t0
     return row
+
+
+def status_of(stopped: str) -> str:
+    """A finished run's status from why it stopped: ok (ran to its stop time), tipped (the tipping flag
+    ended it), stopped (another stop condition)."""
+    if not stopped:
+        return "ok"
+    return "tipped" if ".tipping" in stopped else "stopped"
 
 
 def _one_line(text: str) -> str:
