@@ -35,6 +35,9 @@ def _cmd_study(args: argparse.Namespace) -> int:
     from ..sweep.engine import interrupt_once
 
     size = "smoke" if args.smoke else "full" if args.full else "default"
+    from .common import check_reproducible
+
+    check_reproducible(args.output)
     interrupt_once()
     try:
         failures = run_studies(names, args.output, size, args.workers, args.scheduler, prune=args.prune)

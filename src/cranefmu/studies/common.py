@@ -115,6 +115,24 @@ def commit() -> str:
             return "unknown"
 
 
+def check_reproducible(output: str | Path) -> None:
+    """Refuse (SettingsError, one line) to write a study into the checkout's docs/ from a tree with
+    uncommitted changes: a published page must name a commit that reproduces it (issue 37)."""
+    from ..sources import CHECKOUT, IN_CHECKOUT
+
+    if not IN_CHECKOUT:
+        return
+    docs = (Path(CHECKOUT) / "docs").resolve()
+    target = Path(output).resolve()
+    if target != docs and docs not in target.parents:
+        return
+    made = commit()
+    if made.endswith("+local changes"):
+        raise SettingsError(f"--output {output}: a study is written into docs/ only from a committed tree (the "
+                            f"checkout at {made.split()[0]} has uncommitted changes to tracked files): commit "
+                            "first, or write elsewhere")
+
+
 def provenance(command: str) -> str:
     """One line saying how a page was made: command, commit, UTC date, machine, load average."""
     load = " / ".join(f"{x:.1f}" for x in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
