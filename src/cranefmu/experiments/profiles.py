@@ -4,8 +4,12 @@ A :class:`Profile` holds, for each piece starting at a breakpoint, the Taylor co
 d1, d2, d3) there; ``at(t)`` gives (value, rate, curvature) at t [s], exactly.  Made from
 
 - :func:`moves`: setpoint moves with ramps: each goes from where the last one ended to ``to`` at
-  ``speed`` with constant acceleration over ``accel_time`` (a trapezoid of speed; a triangle when the
-  distance is too short to reach the speed), position piecewise quadratic;
+  ``speed`` with constant acceleration over ``accel_time`` and deceleration over ``decel_time`` (default
+  the same; a trapezoid of speed, a triangle when the distance is too short to reach the speed: the speed
+  is lowered, each ramp keeping its acceleration), position piecewise quadratic; with ``jerk_time`` > 0
+  each ramp is an S-curve: the acceleration rises linearly over jerk_time, holds, and falls over
+  jerk_time (position piecewise cubic; a ramp of time T reaching speed v still covers v T / 2, the peak
+  acceleration is v / (T - jerk_time));
 - :func:`table`: a time table, linear or a cubic spline (scipy's not-a-knot ``CubicSpline``) through
   its points, held at its first and last value outside them;
 - :func:`shaped`: an input shaper (ZV or ZVD) applied to a profile: the sum of its copies delayed by
@@ -84,15 +88,24 @@ def combine(parts: list[tuple[float, float, Profile]]) -> Profile:
 
 
 def moves(initial: float, steps: list[dict], where: str = "moves") -> Profile:
-    """Setpoint moves from ``initial``: each step {start [s], to, speed [unit/s] > 0, accel_time [s] >= 0}
-    starts no earlier than the last one ended."""
+    """Setpoint moves from ``initial``: each step {start [s], to, speed [unit/s] > 0, accel_time [s] >= 0,
+    decel_time [s] >= 0 (default accel_time), jerk_time [s] >= 0 (default 0)} starts no earlier than the
+    last one ended."""
     starts, coefs = [], []
     x, free = float(initial), -math.inf
     for k, step in enumerate(steps):
         t0, to, v, ta = (float(step[key]) for key in ("start", "to", "speed", "accel_time"))
+        td = float(step.get("decel_time", ta))
+        tj = float(step.get("jerk_time", 0.0))
         name = f"{where}[{k}]"
         if not v > 0 or not ta >= 0 or not math.isfinite(t0 + to + v + ta):
             raise ProfileError(f"{name}: speed = {v!r} must be > 0 and accel_time = {ta!r} >= 0, all finite")
+        if not td >= 0 or not tj >= 0 or not math.isfinite(td + tj) or (ta == 0) != (td == 0):
+            raise ProfileError(f"{name}: decel_time = {td!r} and jerk_time = {tj!r} must be finite and >= 0, and "
+                               "decel_time > 0 exactly when accel_time > 0")
+        if tj > 0 and 2 * tj > min(ta, td):
+            raise ProfileError(f"{name}: jerk_time = {tj!r} s is not allowed: at most half of the shorter ramp, "
+                               f"{min(ta, td) / 2!r} s")
         if t0 < free:
             raise ProfileError(f"{name}: start = {t0!r} s is before the previous move ends at {free!r} s")
         d = to - x
@@ -102,7 +115,7 @@ def moves(initial: float, steps: list[dict], where: str = "moves") -> Profile:
         if ta == 0:   # a speed step: constant speed, no ramps
             pieces = [(t0, (x, sign * v, 0.0, 0.0))]
             t_end = t0 + dist / v
-        else:
+        elif td == ta and tj == 0:   # the symmetric trapezoid (its arithmetic kept: shipped results unchanged)
             a = v / ta
             if dist < v * ta:   # a triangle: the speed a sqrt(dist / a) is reached at the middle
                 ta = math.sqrt(dist / a)
@@ -113,6 +126,8 @@ def moves(initial: float, steps: list[dict], where: str = "moves") -> Profile:
             pieces = [(t0, (x, 0.0, sign * a, 0.0)), (t0 + ta, (x1, sign * v, 0.0, 0.0)),
                       (t0 + ta + cruise, (x2, sign * v, -sign * a, 0.0))]
             t_end = t0 + 2 * ta + cruise
+        else:
+            pieces, t_end = _ramped(t0, x, sign, dist, v, ta, td, tj)
         pieces.append((t_end, (float(to), 0.0, 0.0, 0.0)))
         for s, c in pieces:
             if starts and s <= starts[-1]:   # a zero-length cruise: the later piece replaces it
@@ -121,6 +136,39 @@ def moves(initial: float, steps: list[dict], where: str = "moves") -> Profile:
             coefs.append(c)
         x, free = float(to), t_end
     return Profile(float(initial), tuple(starts), tuple(coefs))
+
+
+def _ramped(t0: float, x: float, sign: float, dist: float, v: float, ta: float, td: float,
+            tj: float) -> tuple[list, float]:
+    """The pieces of one move with its own acceleration and deceleration ramps (S-curves with ``tj`` > 0),
+    and its end time. Each ramp of time T covers v T / 2; a move too short for both at speed v lowers the
+    speed to v' = sqrt(2 dist / (1 / a1 + 1 / a2)), keeping each ramp's mean acceleration a = v / T (the jerk
+    time then at most half of the shorter ramp)."""
+    a1, a2 = v / ta, v / td
+    if dist < v * (ta + td) / 2:   # no cruise: the speed reached where the two ramps meet
+        v = math.sqrt(2 * dist / (1 / a1 + 1 / a2))
+        ta, td = v / a1, v / a2
+        tj = min(tj, ta / 2, td / 2)
+    cruise = max(0.0, dist / v - (ta + td) / 2)
+    # segments (duration, acceleration at their start, jerk), in the move's direction
+    segments = []
+    for i, (ramp, accel) in enumerate(((ta, v), (td, -v))):
+        if i == 1:
+            segments.append((cruise, 0.0, 0.0))
+        if tj > 0:
+            peak = accel / (ramp - tj)
+            segments += [(tj, 0.0, peak / tj), (ramp - 2 * tj, peak, 0.0), (tj, peak, -peak / tj)]
+        else:
+            segments.append((ramp, accel / ramp, 0.0))
+    pieces, t, pos, vel = [], t0, x, 0.0
+    for duration, acc, jerk in segments:
+        if duration <= 0:
+            continue
+        pieces.append((t, (pos, sign * vel, sign * acc, sign * jerk)))
+        pos += sign * duration * (vel + duration * (acc / 2 + duration * jerk / 6))
+        vel += duration * (acc + duration * jerk / 2)
+        t += duration
+    return pieces, t
 
 
 def table(points: list[tuple[float, float]], interpolation: str = "linear", where: str = "table") -> Profile:

@@ -42,7 +42,7 @@ ASSERT_KEYS = {"name", "column", "value", "always", "finally", "at", "during", "
                "n_modes", "min", "max", "equals", "rel", "abs", "source", "description"}
 COMMAND_KEYS = {"kind", "inputs", "rate_inputs", "initial", "moves", "table", "interpolation", "shaper",
                 "frequency", "damping", "description"}
-MOVE_KEYS = {"start", "to", "speed", "accel_time"}
+MOVE_KEYS = {"start", "to", "speed", "accel_time", "decel_time", "jerk_time"}
 
 
 @dataclass(frozen=True)
@@ -342,7 +342,7 @@ def _move_value(value, lines: Lines, table: str, k: int, name: str, found: dict,
     """A move's ``start``/``to``/``speed``/``accel_time`` (or the command's ``initial``): a number in the
     target's SI unit, a quantity (``"90 deg"``, ``"0.2 m/s"``; times in s) or an expression of constants
     (``"radians(90)"``)."""
-    time_unit = "s" if name in ("start", "accel_time") else None
+    time_unit = "s" if name in ("start", "accel_time", "decel_time", "jerk_time") else None
     if isinstance(value, str) and not units.is_quantity(value):
         from .expressions import evaluate
 
@@ -382,9 +382,13 @@ def _command(c: dict, lines: Lines, table: str, k: int) -> CommandSpec:
             if unknown or missing:
                 raise ExperimentError(f"{lines.at(table, 'moves', k)}: moves: {sorted(unknown or missing)[0]}: "
                                       f"{'unknown key' if unknown else 'missing'}; a move has "
-                                      f"{', '.join(sorted(MOVE_KEYS))} (start and accel_time default 0)")
+                                      f"{', '.join(sorted(MOVE_KEYS))} (start, accel_time and jerk_time default 0, "
+                                      "decel_time accel_time)")
             move = {key: _move_value(m.get(key, 0.0), lines, table, k, key, found)
                     for key in ("start", "to", "speed", "accel_time")}
+            for key in ("decel_time", "jerk_time"):   # only where given: the symmetric ramp's arithmetic otherwise
+                if key in m:
+                    move[key] = _move_value(m[key], lines, table, k, key, found)
             if move["start"] < 0:
                 raise ExperimentError(f"{lines.at(table, 'moves', k)}: moves: start = {move['start']:g} s is not "
                                       "allowed: a move starts at t >= 0 (the run starts at 0)")
