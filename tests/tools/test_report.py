@@ -234,3 +234,39 @@ def test_headless_chromium_draws_each_scene(built, scene, tmp_path):
     for cls, count in parts:
         assert len(re.findall(rf'class="{cls}"', dom)) == count, cls
     assert dom.count("<polyline") >= 2
+
+
+FAILING = ('name = "tips_on_a_long_boom"\nscene = "truck_telescope"\nstop_time = 0.04\n'
+           'set = {"boom.luff_angle" = 1.0471975511965976, "boom.boom_length_start" = 26.96, '
+           '"boom.boom_length_end" = 26.96, "boom.seg4_offset" = 8.23, "boom.seg3_offset" = 16.46, '
+           '"pendulum.mass" = 3500.0}\n'
+           'expect_stop = {reason = "chassis.tipping", during = [0.0, 0.04]}\n'
+           '[[assert]]\nname = "front_loaded"\ncolumn = "chassis.N_front"\nat = 0.0\nmin = "1 kN"\n')
+
+
+def test_the_report_of_a_failed_experiment_shows_its_verdict_first(built, tmp_path):
+    """Issue 37: verdict at the top (experiment, case, FAIL in colour, value/limit/unit, why the run stopped)."""
+    f = tmp_path / "tips.toml"
+    f.write_text(FAILING)
+    html = tmp_path / "r.html"
+    p = cranefmu("run", str(f), "--report", str(html))
+    assert p.returncode == 1, p.stderr
+    text = html.read_text()
+    assert "<title>FAIL: experiment tips_on_a_long_boom, case base (truck_telescope)</title>" in text
+    verdict, crane = text.index("id='verdict'"), text.index("<h2>The crane</h2>")
+    assert verdict < crane   # before the drawing and the plots
+    assert "class='verdict fail'" in text and "<tr class='fail'>" in text
+    assert "The run stopped early: stopped at t = 0 s: chassis.tipping = 1" in text
+    assert re.search(r"<td>[-\d.e+]+ N @ 0 s</td><td>&gt;= 1000 N</td>", text), text[verdict:verdict + 2000]
+    assert "<tr class='pass'><td>expect_stop</td>" in text
+
+
+@needs_chromium
+def test_headless_chromium_shows_the_fail_in_red_above_the_crane(built, tmp_path):
+    f = tmp_path / "tips.toml"
+    f.write_text(FAILING)
+    html = tmp_path / "r.html"
+    cranefmu("run", str(f), "--report", str(html))
+    dom = _open(html, 0.0, tmp_path / "profile")
+    assert dom.index('id="verdict"') < dom.index('id="views"')
+    assert re.search(r'class="verdict fail"[^>]*><b>FAIL</b>: 1 of 2 assertion', dom)

@@ -112,7 +112,7 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
     ``assertions``: an experiment's verdicts (:class:`cranefmu.experiments.assertions.Verdict`), shown first.
     """
     from ..scenes import summary
-    from .page import page, plot_specs, table
+    from .page import page, plot_specs, table, verdict_block
 
     if hasattr(result, "stats") and hasattr(result, "result"):
         scene, settings, stats = scene or result.scene, settings or result.settings, stats or result.stats
@@ -137,11 +137,7 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
     missing = sorted({c for c in columns if c not in units})
     plots = plot_specs(result, _groups(scene, columns), units, _reference_lines(result))
     sections = []
-    if assertions:
-        rows = [(v.name, v.column, f"{v.value:.6g}" + (f" @ {v.time:.6g} s" if v.time is not None else ""),
-                 v.limit or "-", f"{v.margin:.6g}", "pass" if v.passed else "FAIL" + (f": {v.note}" if v.note else ""))
-                for v in assertions]
-        sections.append(("Assertions", table(rows, ("assertion", "of", "value", "limit", "margin", "result"))))
+    verdict = verdict_block(assertions, getattr(stats, "stopped", "") or "") if assertions else ""
     try:
         lines = summary(scene, result)
     except (KeyError, ValueError, IndexError):   # a result lacking a metric's column: ranges only
@@ -157,6 +153,11 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
     notes = [f"units not known for {len(missing)} column(s) ({', '.join(missing[:5])}...): no scene matched"
              ] if missing and not units else []
     title = f"cranefmu run of {scene or 'an unknown scene'}" + (f" ({source})" if source else "")
+    if assertions:
+        first = assertions[0]
+        title = (f"{'PASS' if all(v.passed for v in assertions) else 'FAIL'}: experiment {first.experiment}, case "
+                 f"{first.case} ({scene or 'an unknown scene'})")
     target = Path(path)
-    target.write_text(page(result, title=title, plots=plots, sections=sections, notes=notes), encoding="utf-8")
+    target.write_text(page(result, title=title, plots=plots, sections=sections, notes=notes, verdict=verdict),
+                      encoding="utf-8")
     return target

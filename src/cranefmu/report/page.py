@@ -60,10 +60,31 @@ def table(rows: list[tuple[str, ...]], head: tuple[str, ...] = ()) -> str:
                                     for r in rows) + "</table>"
 
 
+def verdict_block(assertions, stopped: str = "") -> str:
+    """An experiment's verdict as the first thing a reader sees: PASS or FAIL in colour, how many passed,
+    why the run stopped early (if it did), and each assertion with value, limit, margin and unit."""
+    passed = all(v.passed for v in assertions)
+    word = "PASS" if passed else "FAIL"
+    good = sum(v.passed for v in assertions)
+    stop = f"<p class='stop'>The run stopped early: {html.escape(stopped)}</p>" if stopped else ""
+    rows = []
+    for v in assertions:
+        unit = f" {v.unit}" if getattr(v, "unit", "") and v.unit != "1" else ""
+        value = ("-" if v.value != v.value else f"{v.value:.6g}{unit}") + (f" @ {v.time:.6g} s" if v.time is not None else "")
+        margin = "-" if v.margin != v.margin or abs(v.margin) == math.inf else f"{v.margin:.6g}{unit}"
+        result = "pass" if v.passed else "FAIL" + (f": {v.note}" if v.note else "")
+        cells = (v.name, v.column, value, (v.limit + unit) if v.limit else "-", margin, result)
+        rows.append(f"<tr class='{'pass' if v.passed else 'fail'}'>" + "".join(
+            f"<td>{html.escape(str(c))}</td>" for c in cells) + "</tr>")
+    head = "".join(f"<th>{h}</th>" for h in ("assertion", "of", "value", "limit", "margin", "result"))
+    return (f"<div class='verdict {word.lower()}' id='verdict'><b>{word}</b>: {good} of {len(assertions)} "
+            f"assertion(s) passed</div>{stop}<table class='assertions'><tr>{head}</tr>{''.join(rows)}</table>")
+
+
 def page(result: np.ndarray, *, title: str, plots: list[dict], sections: list[tuple[str, str]],
-         notes: list[str]) -> str:
+         notes: list[str], verdict: str = "") -> str:
     """The HTML text: ``result`` (at least the drawn columns and time) animated, ``plots`` (plot_specs),
-    ``sections`` (heading, HTML) below them."""
+    ``sections`` (heading, HTML) below them; ``verdict`` (HTML, an experiment's) first, under the title."""
     t = np.asarray(result["time"], dtype=float)
     d = draw(result)
     idx = frames(len(t), frame_limit(3 * len(d.points) + len(d.forces)))
@@ -84,6 +105,7 @@ def page(result: np.ndarray, *, title: str, plots: list[dict], sections: list[tu
 <html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>
 <style>{STYLE}</style></head><body>
 <h1>{html.escape(title)}</h1>
+{verdict}
 <h2>The crane</h2>
 <div class="views" id="views"></div>
 <div class="controls"><button id="play">play</button><input type="range" id="slider" min="0" value="0" step="1">

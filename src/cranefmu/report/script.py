@@ -12,6 +12,9 @@ svg .girder{stroke:#3a6ea5;stroke-width:8}svg .rope{stroke:#333;stroke-width:1.5
 svg .trolley{fill:#3a6ea5}svg .payload{fill:#8a5a2b}svg .hook{fill:#c00}svg .pad{fill:#777}
 svg .ground{stroke:#6b4;stroke-width:2}svg .arrow{stroke:#080;stroke-width:2.5;fill:none}svg .anchor{fill:#555}
 svg line,svg polyline,svg path{vector-effect:non-scaling-stroke}
+.verdict{font-size:1.3em;padding:.4em .8em;margin:.5em 0;border-left:8px solid}
+.verdict.pass{background:#e6f4ea;border-color:#1e8e3e;color:#0d5c25}.verdict.fail{background:#fce8e6;border-color:#d93025;color:#a50e0e}
+tr.fail td{color:#a50e0e}tr.fail td:last-child{font-weight:bold}tr.pass td:last-child{color:#1e8e3e}.stop{color:#a50e0e}
 .plot{margin:.3em 0}.plot .axis{stroke:#999}.plot .grid{stroke:#eee}.plot .cursor{stroke:#c00}
 .plot .zoom{fill:rgba(0,0,200,.1)}.plot text{font-size:11px}.tip{font-size:12px;color:#333;min-height:1.4em}
 """
