@@ -1,0 +1,290 @@
+"""Conformance of a native FMU with its pythonfmu twin: both driven through the same FMI call sequence.
+
+A :class:`Case` is one call sequence: parameters (a switch by name or code), inputs that move as
+``base + amp sin(w t + phi)`` with their exact rates set on ``<input>_dt``/``_dt2`` (or held), doSteps,
+a tunable parameter changed mid-run, and an FMU-state rollback: the state saved at one third of the run
+is restored at two thirds (once from memory, once serialized and deserialized) and the rest is run again.
+:func:`drive_all` runs a list of cases on one FMU (the pythonfmu FMU in a spawned child: it cannot be
+instantiated again in a process after an instance was freed) and records every output after every step,
+and every message; :func:`check_agreement` asserts that the two FMUs agree to ``rtol`` relative to each
+output's largest magnitude, refuse the same parameters with the same message, and that each one replays
+its own rollback to the last bit.
+
+Use (porters and the wiring add cases here or in their tests)::
+
+    from conformance import Case, conform
+    conform("Girder", [Case({"solver": "rk4"}, wiggle={"Fy_rope": 1e4})], tmp_path)
+"""
+from __future__ import annotations
+
+import math
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+RTOL = 1e-12
+
+
+@dataclass
+class Case:
+    """One FMI call sequence (see the module docstring)."""
+
+    params: dict[str, Any] = field(default_factory=dict)
+    inputs: dict[str, float] = field(default_factory=dict)    # base values (default: the start values)
+    wiggle: dict[str, float] = field(default_factory=dict)    # amplitude of each input's sine
+    steps: int = 30
+    h: float = 1e-3
+    t0: float = 0.0
+    rates: bool = True            # set <input>_dt, _dt2 to the sine's derivatives (else they stay 0)
+    tunable: dict[str, Any] = field(default_factory=dict)    # set after half the steps
+    rollback: bool = True
+    refused: bool = False         # the parameters must be refused at fmi2ExitInitializationMode
+    label: str = ""
+
+
+def _input_value(case: Case, i: int, name: str, base: float, t: float) -> tuple[float, float, float]:
+    """(u, du/dt, d2u/dt2) of input ``name`` (the i-th wiggled one) at ``t``."""
+    amp = case.wiggle.get(name, 0.0)
+    w = 2.0 * math.pi * (3.0 + 1.7 * i)
+    phi = 0.3 + 0.9 * i
+    s, c = math.sin(w * t + phi), math.cos(w * t + phi)
+    return base + amp * s, amp * w * c, -amp * w * w * s
+
+
+class _Driven:
+    """One instance of an FMU with name-based access (fmpy's FMU2Slave) and its messages."""
+
+    def __init__(self, fmu: str, unzipdir: str, instance: str):
+        from xml.etree import ElementTree
+
+        from fmpy import calloc, free, read_model_description
+        from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                               fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+
+        self.md = read_model_description(unzipdir, validate=False)
+        self.vars = {v.name: v for v in self.md.modelVariables}
+        root = ElementTree.parse(Path(unzipdir) / "modelDescription.xml").getroot()
+        self.switches = {v.get("name"): {i.get("name"): int(i.get("value")) for i in v}
+                         for v in root.iter("Variable") if v.find("Item") is not None}
+        self.messages: list[str] = []
+
+        def logger(env, name, status, category, message):
+            if status >= 2:
+                self.messages.append(message.decode(errors="replace"))
+
+        self.callbacks = fmi2CallbackFunctions()
+        self.callbacks.logger = fmi2CallbackLoggerTYPE(logger)
+        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=unzipdir,
+                             modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=instance)
+        self.fmu.instantiate(callbacks=self.callbacks, loggingOn=True)
+        self.outputs = [v.name for v in self.md.modelVariables if v.causality == "output"]
+        self.failed = self.fatal = False
+
+    def fail(self, err: Exception) -> None:
+        self.failed = True
+        self.fatal = getattr(err, "status", None) == 4   # fmi2Fatal
+
+    def set(self, values: dict[str, Any]) -> None:
+        for name, value in values.items():
+            var = self.vars[name]
+            if var.type == "Real":
+                self.fmu.setReal([var.valueReference], [float(value)])
+            else:
+                code = self.switches.get(name, {}).get(value, value) if isinstance(value, str) else value
+                self.fmu.setInteger([var.valueReference], [int(code)])
+
+    def get_outputs(self) -> list[float]:
+        out = []
+        for name in self.outputs:
+            var = self.vars[name]
+            vr = [var.valueReference]
+            out.append(float(self.fmu.getReal(vr)[0] if var.type == "Real" else self.fmu.getInteger(vr)[0]))
+        return out
+
+    def free(self) -> None:
+        """Terminate (unless a call failed: FMI 2.0 then allows only the free) and free the instance; the
+        library stays loaded (fmpy's freeInstance would unload it under the other instances)."""
+        if self.fatal:   # FMI 2.0: no call at all after fmi2Fatal (pythonfmu's status for an exception)
+            return
+        try:
+            if not self.failed:
+                self.fmu.terminate()
+        finally:
+            self.fmu.fmi2FreeInstance(self.fmu.component)
+
+
+def _inputs_at(d: _Driven, case: Case, t: float) -> dict[str, float]:
+    values = {}
+    names = [v.name for v in d.md.modelVariables if v.causality == "input" and not v.name.endswith(("_dt", "_dt2"))]
+    for i, name in enumerate(names):
+        base = case.inputs.get(name, d.vars[name].start)
+        base = 0.0 if base is None else float(base)
+        u, du, ddu = _input_value(case, i, name, base, t)
+        values[name] = u
+        if case.rates and f"{name}_dt" in d.vars and name in case.wiggle:
+            values[f"{name}_dt"], values[f"{name}_dt2"] = du, ddu
+    return values
+
+
+def _run_case(d: _Driven, case: Case) -> dict:
+    rows: list[list[float]] = []
+    result = {"outputs": d.outputs, "rows": rows, "error": None, "replay_equal": True}
+
+    def record(t: float) -> None:
+        rows.append([t, *d.get_outputs()])
+
+    try:
+        d.fmu.setupExperiment(startTime=case.t0)
+        d.set(case.params)
+        d.fmu.enterInitializationMode()
+        d.set(_inputs_at(d, case, case.t0))
+        d.fmu.exitInitializationMode()
+    except Exception as err:
+        result["error"] = "initialization"
+        d.fail(err)
+        result["messages"] = list(d.messages)
+        return result
+    record(case.t0)
+    k_save, k_restore = case.steps // 3, (2 * case.steps) // 3
+    saved = serialized = None
+    first_pass: list[list[float]] = []
+    try:
+        k = 0
+        passes = 0
+        while k < case.steps:
+            t = case.t0 + k * case.h
+            if case.rollback and k == k_save and saved is None:
+                saved = d.fmu.getFMUstate()
+                serialized = d.fmu.serializeFMUstate(saved)
+            if case.tunable and k == case.steps // 2:
+                d.set(case.tunable)
+            d.set(_inputs_at(d, case, t))
+            d.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=case.h)
+            record(t + case.h)
+            k += 1
+            if case.rollback and k == k_restore and passes < 2:
+                # restore the state saved at k_save (in memory, then deserialized) and run again from there
+                first_pass.append(rows[-(k_restore - k_save):])
+                if passes == 0:
+                    d.fmu.setFMUstate(saved)
+                else:
+                    state = d.fmu.deSerializeFMUstate(serialized)
+                    d.fmu.setFMUstate(state)
+                    d.fmu.freeFMUstate(state)
+                passes += 1
+                k = k_save
+        if saved is not None:
+            d.fmu.freeFMUstate(saved)
+    except Exception as err:
+        result["error"] = f"step: {err}"
+        d.fail(err)
+    n = k_restore - k_save
+    if case.rollback and len(first_pass) == 2 and n:
+        # rows: ..., pass 0 [k_save, k_restore), replay 1 of it, replay 2 of it + the rest
+        start = 1 + k_save
+        runs = [rows[start + j * n: start + (j + 1) * n] for j in range(3)]
+        result["replay_equal"] = runs[0] == runs[1] == runs[2]
+    result["messages"] = list(d.messages)
+    return result
+
+
+def drive_all(fmu: str, cases: list[dict]) -> list[dict]:
+    """Run every case (as dicts of :class:`Case` fields) on its own instance of ``fmu``; every instance
+    is freed at the end only (pythonfmu: no new instance after a free in the same process)."""
+    import tempfile
+
+    from fmpy import extract
+
+    unzipdir = extract(fmu, tempfile.mkdtemp(prefix="cf_conformance_"))
+    results, alive = [], []
+    try:
+        for i, c in enumerate(cases):
+            d = _Driven(fmu, unzipdir, f"inst{i}")
+            alive.append(d)
+            results.append(_run_case(d, Case(**c)))
+    finally:
+        for d in alive:
+            d.free()
+    return results
+
+
+def in_child(func, *args):
+    """``func(*args)`` in a fresh spawned process."""
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        return pool.submit(func, *args).result(timeout=600)
+
+
+# --- building the pair ----------------------------------------------------------------------------
+
+def pythonfmu_fmu(name: str, dest: Path, script: Path | None = None) -> Path:
+    """The pythonfmu FMU of ``name``: the checkout's fmus/<name>.fmu when it is current, else built into
+    ``dest``."""
+    from cranefmu import build as b
+
+    script = script or b.FMU_SOURCES / f"{name}.py"
+    current = b.FMU_DIR / f"{name}.fmu"
+    if script.parent == b.FMU_SOURCES and current.exists() and not b.fmu_is_stale(script):
+        return current
+    target = Path(dest) / "python" / f"{name}.fmu"
+    if not target.exists():
+        target.parent.mkdir(parents=True, exist_ok=True)
+        b.build_fmu(script, target)
+    return target
+
+
+def native_fmu(name: str, dest: Path, **kwargs) -> Path:
+    """The native FMU of ``name`` built into ``dest``/native (once per ``dest``)."""
+    from cranefmu.native.build import build_native_fmu
+
+    target = Path(dest) / "native" / f"{name}.fmu"
+    return target if target.exists() else build_native_fmu(name, target.parent, **kwargs)
+
+
+def fmu_pair(name: str, dest: Path, script: Path | None = None, model_c: Path | None = None) -> tuple[Path, Path]:
+    """(native, pythonfmu) FMUs of ``name``."""
+    kwargs = {k: v for k, v in (("script", script), ("model_c", model_c)) if v is not None}
+    return native_fmu(name, dest, **kwargs), pythonfmu_fmu(name, dest, script)
+
+
+# --- comparison -----------------------------------------------------------------------------------
+
+def check_agreement(native: dict, python: dict, rtol: float = RTOL, label: str = "") -> float:
+    """Assert the two FMUs' records agree (module docstring); returns the largest relative difference."""
+    assert (native["error"] is None) == (python["error"] is None), (
+        f"{label}: native error {native['error']!r} {native['messages'][-1:]}, "
+        f"pythonfmu error {python['error']!r} {python['messages'][-1:]}")
+    if native["error"] == "initialization":
+        refusal = [m for m in python["messages"] if "refused" in m]
+        assert refusal, f"{label}: the pythonfmu FMU logged no refusal: {python['messages']}"
+        assert refusal[-1].strip() in [m.strip() for m in native["messages"]], (
+            f"{label}: native messages {native['messages']} lack the pythonfmu refusal {refusal[-1]!r}")
+        return 0.0
+    assert native["replay_equal"], f"{label}: the native FMU did not replay its rollback to the last bit"
+    assert python["replay_equal"], f"{label}: the pythonfmu FMU did not replay its rollback to the last bit"
+    assert native["outputs"] == python["outputs"]
+    a, b = np.array(native["rows"]), np.array(python["rows"])
+    assert a.shape == b.shape, f"{label}: {a.shape} native rows, {b.shape} pythonfmu rows"
+    scale = np.maximum(np.max(np.abs(b), axis=0), 1e-300)
+    rel = np.max(np.abs(a - b), axis=0) / scale
+    worst = float(np.max(rel)) if rel.size else 0.0
+    bad = {name: float(r) for name, r in zip(["time", *native["outputs"]], rel) if not r <= rtol}
+    assert not bad, f"{label}: native and pythonfmu differ by more than {rtol:g} relative: {bad}"
+    return worst
+
+
+def conform(name: str, cases: list[Case], dest: Path, rtol: float = RTOL, script: Path | None = None,
+            model_c: Path | None = None) -> list[float]:
+    """Build (or reuse) both FMUs of ``name`` under ``dest``, drive them through ``cases`` and assert
+    agreement; returns each case's largest relative difference."""
+    native, python = fmu_pair(name, dest, script, model_c)
+    dicts = [asdict(c) for c in cases]
+    got_native = in_child(drive_all, str(native), dicts)
+    got_python = in_child(drive_all, str(python), dicts)
+    return [check_agreement(n, p, rtol, c.label or f"{name} case {i}: {c.params}")
+            for i, (c, n, p) in enumerate(zip(cases, got_native, got_python))]
