@@ -10,4 +10,8 @@
    numpy on 2x2 matrices, within 1 ulp on 3x3).  Returns 0, or 1 when a is singular (a zero pivot). */
 int cf_inverse(int n, const double *a, double *inv);
 
+/* x = a^-1 b for the n x n row-major a, as numpy.linalg.solve (the same factorisation and solves as
+   cf_inverse).  Returns 0, or 1 when a is singular. */
+int cf_solve(int n, const double *a, const double *b, double *x);
+
 #endif
