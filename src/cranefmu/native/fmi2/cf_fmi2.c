@@ -377,7 +377,7 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, f
     const char *who = name ? name : CF_MODEL_IDENTIFIER;
     if (type != fmi2CoSimulation) {
         if (logger) logger(env, who, fmi2Error, "logStatusError",
-                           "%s: fmi2Instantiate: this FMU offers co-simulation only");
+                           "fmi2Instantiate: this FMU offers co-simulation only");
         return NULL;
     }
     if (guid && strcmp(guid, CF_GUID) != 0) {
