@@ -220,6 +220,16 @@ def in_child(func, *args):
         return pool.submit(func, *args).result(timeout=600)
 
 
+# Boom and SlewingBoom: the scenes' sets (ssp/truck_telescope, hook_sway, truck_slewing) across their laws' phases
+_TELESCOPE = {"luff_angle": 1.0471975511965976, "boom_length_start": 10.5, "boom_length_end": 22.4, "t_acc": 3.0}
+_TIP_LOAD = {"Fy_tip": -3.5e4, "Fx_tip": 1e3}
+_BOOM_WIGGLE = {"Fy_tip": 5e3, "Fx_tip": 2e3, "gamma": 2e-3, "y_base": 1e-3, "vy_base": 1e-2, "gamma_rate": 1e-2}
+_SLEWING = {"luff_angle": 1.0471975511965976, "boom_length_start": 10.5, "boom_length_end": 10.5,
+            "slew_angle_start": 0.0, "slew_angle": 1.5707963267948966, "slew_speed": 0.1, "slew_t_acc": 2.0,
+            "slew_start": 1.0}
+_SLEWING_WIGGLE = dict(_BOOM_WIGGLE, Fz_tip=2e3, beta=2e-3, beta_rate=1e-2)
+
+
 #: the cases every model's native FMU must pass against its pythonfmu FMU (tests/native/test_fmi_layer.py);
 #: a porter adds a model here once its harness test passes
 MODEL_CASES: dict[str, list[Case]] = {
@@ -231,6 +241,55 @@ MODEL_CASES: dict[str, list[Case]] = {
         Case({"solver": "euler", "max_step": 2e-4}, inputs={"Fy_rope": 2e4}, wiggle={"Fy_rope": 1e4}),
         Case({"c1": -1.0}, refused=True),
         Case({"bearing": 7}, refused=True),
+    ],
+    "Boom": [
+        # truck_telescope default, fast and luff30 across the telescoping law's phase ends (3 s; 20 s, 13.8 s)
+        Case(dict(_TELESCOPE), inputs=_TIP_LOAD, wiggle=_BOOM_WIGGLE, t0=2.9, h=0.005, steps=40,
+             label="Boom telescoping at t_acc"),
+        Case(dict(_TELESCOPE), inputs=_TIP_LOAD, wiggle=_BOOM_WIGGLE, t0=19.9, h=0.005, steps=40,
+             label="Boom telescoping end"),
+        Case(dict(_TELESCOPE, telescope_speed=0.55), inputs=_TIP_LOAD, wiggle=_BOOM_WIGGLE, t0=13.7, h=0.005,
+             steps=40, label="Boom fast"),
+        Case(dict(_TELESCOPE, luff_angle=0.5235987755982988), inputs=_TIP_LOAD, wiggle=_BOOM_WIGGLE, h=0.01,
+             steps=30, label="Boom luff30"),
+        # truck_telescope luffing: the spring-damper cylinder through the luffing law's start, damping tuned
+        Case(dict(_TELESCOPE, cylinder="spring_damper", luff_delta=-0.2617993877991494, luff_rate=0.05,
+                  luff_t_acc=1.0, luff_start=1.0, boom_length_end=10.5), inputs=_TIP_LOAD, wiggle=_BOOM_WIGGLE,
+             t0=0.95, h=0.005, steps=45, tunable={"cylinder_damping": 5e4}, label="Boom luffing"),
+        Case(dict(_TELESCOPE, cylinder="spring_damper", solver="euler", max_step=2e-4), inputs=_TIP_LOAD,
+             wiggle=_BOOM_WIGGLE, t0=2.95, h=0.005, steps=30, label="Boom elastic euler"),
+        # hook_sway default and crane_motion: the kinematic tip, commanded travel, across the steering's start
+        Case(dict(_TELESCOPE, tip="kinematic", boom_length_end=10.5), inputs=_TIP_LOAD,
+             wiggle={"x_travel": 0.2, "vx_travel": 0.1, "Fy_tip": 5e3}, label="Boom kinematic"),
+        Case(dict(_TELESCOPE, tip="kinematic", boom_length_end=10.5, travel_distance=1.0, travel_speed=0.3,
+                  travel_t_acc=1.0, steer_delta=0.7853981633974483, steer_rate=0.2, steer_t_acc=1.0,
+                  steer_start=6.0), inputs=_TIP_LOAD, t0=5.9, h=0.01, steps=30, label="Boom crane motion"),
+        # operator commands (extension_command, luff_command and their rates) on the elastic cylinder
+        Case(dict(_TELESCOPE, telescope_source="input", luff_source="input", cylinder="spring_damper"),
+             inputs=dict(_TIP_LOAD, extension_command=2.0),
+             wiggle=dict(_BOOM_WIGGLE, extension_command=0.5, luff_command=0.05), h=0.005, steps=30,
+             label="Boom commanded"),
+        Case(dict(_TELESCOPE, t_acc=20.0), refused=True, label="Boom t_acc refused"),
+        Case({"cyl_base_angle": 1.2}, refused=True, label="Boom cylinder lever refused"),
+        Case({"travel_distance": 1.0}, refused=True, label="Boom travel of a dynamic tip refused"),
+        Case({"tip": 2}, refused=True, label="Boom tip code refused"),
+    ],
+    "SlewingBoom": [
+        # truck_slewing default through the slewing law's phases (start 1 s, steady from 3 s, end 16.7 s)
+        Case(dict(_SLEWING), inputs=_TIP_LOAD, wiggle=_SLEWING_WIGGLE, t0=0.9, h=0.005, steps=40,
+             label="SlewingBoom start"),
+        Case(dict(_SLEWING), inputs=_TIP_LOAD, wiggle=_SLEWING_WIGGLE, t0=2.9, h=0.005, steps=40,
+             label="SlewingBoom steady"),
+        Case(dict(_SLEWING), inputs=_TIP_LOAD, wiggle=_SLEWING_WIGGLE, t0=16.6, h=0.005, steps=40,
+             label="SlewingBoom end"),
+        Case(dict(_SLEWING, boom_length_end=22.4, t_acc=3.0, luff_delta=0.1, luff_t_acc=1.0), inputs=_TIP_LOAD,
+             wiggle=_SLEWING_WIGGLE, t0=2.95, h=0.005, steps=30, label="SlewingBoom telescoping and luffing"),
+        Case(dict(_SLEWING, slew_source="input", telescope_source="input", luff_source="input"),
+             inputs=dict(_TIP_LOAD, slew_command=0.5),
+             wiggle=dict(_SLEWING_WIGGLE, slew_command=0.2, extension_command=0.5, luff_command=0.05),
+             label="SlewingBoom commanded"),
+        Case({"tip": "kinematic"}, refused=True, label="SlewingBoom kinematic tip refused"),
+        Case({"slew_angle": 0.1, "slew_t_acc": 2.0}, refused=True, label="SlewingBoom slew_t_acc refused"),
     ],
 }
 #: the tolerance of a model where libm or LAPACK and numpy differ (measured; default RTOL)
