@@ -142,9 +142,9 @@ def configured_sets(seed: int, per_config: int):
 
 def test_random_sets_every_configuration():
     """Initial state, derivatives, outputs and the end-of-step update equal to Python's over 45
-    configurations x 5 sets x 6 (state, input) pairs, with the pin damper, inertias and drag on and off."""
+    configurations x 3 sets x 6 (state, input) pairs, with the pin damper, inertias and drag on and off."""
     seen_body = seen_turning = 0
-    for rng, p in configured_sets(0, 5):
+    for rng, p in configured_sets(0, 3):
         py, c = PendulumModel(p), load("Pendulum", p)
         seen_body += py._body
         seen_turning += p.payload == "none" and p.J_hook != 0.0
@@ -159,7 +159,7 @@ def test_random_sets_every_configuration():
             assert_agree(py.derivatives(t, x, u), c.derivatives(t, x, u), p, f"derivatives {p} x={x} u={u}")
             assert_agree(py.output_list(t, x, u), c.outputs(t, x, u), p, f"outputs {p} x={x} u={u}")
             assert_agree(py.after_step(t, x, u), c.after_step(t, x, u), p, f"after_step {p}")
-    assert seen_body >= 20 and seen_turning >= 10   # the general solve was exercised
+    assert seen_body >= 15 and seen_turning >= 8   # the general solve was exercised
     print(f"worst relative difference: {WORST['relative']:.3g}")
 
 
