@@ -9,7 +9,9 @@ difference 0).  Where the Python model calls numpy's BLAS/LAPACK (rigid sling wi
 J_hook: a 3x3 dot/gemv/solve; the lone hook with J_hook), the C model mirrors the OpenBLAS kernels this
 machine runs (fused multiply-adds in their order, models/Pendulum.c's header); another OpenBLAS kernel (a
 CPU without FMA) may round differently, so those configurations are held to BLAS_RTOL of the vector's
-largest component instead of the last bit."""
+largest component instead of the last bit.  Measured: the same C without the fused operations differs from
+numpy in 565 of 4040 such vectors, by at most 1.8e-13 of the largest component (a payload swinging out
+near phi = +-75 deg amplifies the round-off by 1 / cos^2 phi)."""
 from __future__ import annotations
 
 import itertools
@@ -28,8 +30,8 @@ from cranefmu.physics.params import ParameterError  # noqa: E402
 from cranefmu.physics.pendulum import PendulumModel, PendulumParams  # noqa: E402
 
 #: configurations through numpy's BLAS/LAPACK: agreement to this fraction of the vector's largest component
-#: (module docstring; measured 0 here)
-BLAS_RTOL = 1e-13
+#: (module docstring; measured 0 here, 1.8e-13 for an unfused BLAS)
+BLAS_RTOL = 1e-12
 
 DIMENSIONS, PAYLOADS = (1, 2, 3), ("none", "rigid", "elastic")
 STARTS, GROUNDS = ("position", "below_top", "on_ground"), ("none", "spring_damper")
