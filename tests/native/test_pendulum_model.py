@@ -10,8 +10,9 @@ J_hook: a 3x3 dot/gemv/solve; the lone hook with J_hook), the C model mirrors th
 machine runs (fused multiply-adds in their order, models/Pendulum.c's header); another OpenBLAS kernel (a
 CPU without FMA) may round differently, so those configurations are held to BLAS_RTOL of the vector's
 largest component instead of the last bit.  Measured: the same C without the fused operations differs from
-numpy in 565 of 4040 such vectors, by at most 1.8e-13 of the largest component (a payload swinging out
-near phi = +-75 deg amplifies the round-off by 1 / cos^2 phi)."""
+numpy in 565 of 4040 such vectors, by at most 1.8e-13 of the largest component: the sling force of a light
+hook under a heavy payload (6.4 kg under 3810 kg), where S = m_p (f_p.e - a_h.e + L |w|^2) cancels; the
+derivatives differ by at most 1.5e-15."""
 from __future__ import annotations
 
 import itertools
