@@ -27,6 +27,8 @@ from typing import Any
 import numpy as np
 
 RTOL = 1e-12
+#: rk45 (scipy's RK45 in C, plain sums for BLAS's dot products) while both FMUs take the same steps
+RK45_RTOL = 1e-11
 
 
 @dataclass
@@ -230,6 +232,29 @@ _SLEWING = {"luff_angle": 1.0471975511965976, "boom_length_start": 10.5, "boom_l
 _SLEWING_WIGGLE = dict(_BOOM_WIGGLE, Fz_tip=2e3, beta=2e-3, beta_rate=1e-2)
 
 
+# Rope and Drive: the scenes' sets (ssp/elastic_pendulum, hook_sway, overhead_lift, truck_telescope) and the events
+_G = 9.81
+#: overhead_lift's fitted Bouc-Wen reeving (ssp/overhead_lift/default.ssv), taken up taut at the start
+_LIFT_ROPE = {"model": "bouc_wen", "start": "taut", "E": 1.155e11, "A": 5.53e-5, "n_lines": 4, "zeta": 0.07,
+              "rho": 7850.0, "k1": 6761493.757911944, "k2": 0.4155514384229589, "k3": 3.1686334600173973,
+              "b": 2.0, "c": -130.77152626502237, "alpha": 2177145.2587497463, "beta": 1.2696565576625083,
+              "gamma": -1.2238469436969202, "n": 2.868752363232895}
+_TELESCOPE_ROPE = {"E": 1.4e11, "run_length": 9.0, "A": 0.00031415926535897936, "zeta": 0.07, "length": 9.09,
+                   "n_lines": 2}
+
+
+def _hanging(length: float, stretch: float, mass: float = 1000.0, n_lines: int = 1, payout: float = 0.0,
+             **extra: float) -> dict[str, float]:
+    """Rope inputs: top at the origin, the hook ``stretch`` [m] below the unstretched length, load m g."""
+    return {"y_hook": -(length + payout / n_lines + stretch), "m_load": mass, "load": mass * _G, "payout": payout,
+            **extra}
+
+
+#: hook bobbing, swinging and the drum paying out: sines on every kinematic input (with their rates)
+_ROPE_WIGGLE = {"y_hook": 3e-3, "vy_hook": 0.05, "x_hook": 0.05, "vx_hook": 0.1, "z_hook": 0.02, "y_top": 5e-4,
+                "vy_top": 0.01, "payout": 1e-3, "payout_rate": 0.01}
+
+
 #: the cases every model's native FMU must pass against its pythonfmu FMU (tests/native/test_fmi_layer.py);
 #: a porter adds a model here once its harness test passes
 MODEL_CASES: dict[str, list[Case]] = {
@@ -239,6 +264,7 @@ MODEL_CASES: dict[str, list[Case]] = {
         Case({"solver": "rk4", "bearing": "rigid", "mass_model": "beam", "damping_model": "decrement"},
              inputs={"Fy_rope": 2e4}, wiggle={"Fy_rope": 1e4}, rates=False),
         Case({"solver": "euler", "max_step": 2e-4}, inputs={"Fy_rope": 2e4}, wiggle={"Fy_rope": 1e4}),
+        Case({"solver": "rk45", "rtol": 1e-9}, inputs={"Fy_rope": 2e4}, wiggle={"Fy_rope": 1e4}, steps=60),
         Case({"c1": -1.0}, refused=True),
         Case({"bearing": 7}, refused=True),
     ],
@@ -290,6 +316,60 @@ MODEL_CASES: dict[str, list[Case]] = {
              label="SlewingBoom commanded"),
         Case({"tip": "kinematic"}, refused=True, label="SlewingBoom kinematic tip refused"),
         Case({"slew_angle": 0.1, "slew_t_acc": 2.0}, refused=True, label="SlewingBoom slew_t_acc refused"),
+    ],
+    "Rope": [
+        # elastic_pendulum: Kelvin-Voigt, the hook bobbing through the unstretched length (slack and re-tension)
+        Case({"solver": "rk4"}, inputs=_hanging(10.0, 1e-3), wiggle=_ROPE_WIGGLE, steps=40, tunable={"zeta": 0.3},
+             label="Rope Kelvin-Voigt slack and re-tension"),
+        Case({"length": 0.4, "E": 1.0e9, "A": 2.0e-5}, inputs=_hanging(0.4, 2e-4), wiggle={"y_hook": 5e-4,
+             "vy_hook": 0.02, "x_hook": 0.1}, rates=False, label="Rope hook_sway"),
+        # truck_telescope: the series run along the boom, the run growing with the telescoping
+        Case(dict(_TELESCOPE_ROPE), inputs=_hanging(9.09, 2e-3, 3500.0, 2, run_extension=1.0),
+             wiggle=dict(_ROPE_WIGGLE, run_extension=0.5), label="Rope truck_telescope run"),
+        Case(dict(_TELESCOPE_ROPE, start="taut", length=10.0, start_slack=3e-4),
+             inputs=_hanging(9.5, 0.0, 2000.0, 2, x_top=1.0), wiggle=_ROPE_WIGGLE, label="Rope Kelvin-Voigt taut"),
+        # Bouc-Wen: reversals in the loop, slack and re-tension with z reset, unloading on the zero-force line
+        Case({"model": "bouc_wen"}, inputs=_hanging(10.0, 2e-3), wiggle=dict(_ROPE_WIGGLE, y_hook=4e-3), steps=60,
+             label="Rope Bouc-Wen reversals and slack"),
+        Case({"model": "bouc_wen", "n_lines": 3, "run_length": 4.0}, inputs=_hanging(10.0, 3e-3, 2500.0, 3),
+             wiggle={"y_hook": 1e-3, "vy_hook": 0.3, "payout_rate": 0.05}, h=2e-3, steps=45,
+             label="Rope Bouc-Wen unloading fast"),
+        Case({"model": "bouc_wen", "solver": "euler", "max_step": 1e-4}, inputs=_hanging(10.0, 1e-3),
+             wiggle=_ROPE_WIGGLE, label="Rope Bouc-Wen euler"),
+        # overhead_lift default and loose: the fitted reeving taken up taut (loose: 0.1 m paid out beyond it)
+        Case(dict(_LIFT_ROPE), inputs=_hanging(12.0, 0.0, 1000.0, 4), wiggle=dict(_ROPE_WIGGLE, y_hook=1e-3),
+             label="Rope overhead_lift"),
+        Case(dict(_LIFT_ROPE, start_slack=0.1), inputs=_hanging(12.0, 0.0, 1000.0, 4),
+             wiggle={"y_hook": 0.3, "vy_hook": 0.5, "payout": 0.05}, h=5e-3, steps=40,
+             label="Rope overhead_lift loose"),
+        Case({"start": "taut", "length": 12.0}, refused=True, label="Rope length with taut refused"),
+        Case({"start_slack": 0.1}, refused=True, label="Rope start_slack refused"),
+        Case({"model": "bouc_wen", "gamma": 80.0}, refused=True, label="Rope gamma > beta refused"),
+        Case({"model": "bouc_wen", "beta": 1.0, "gamma": -1.0}, refused=True, label="Rope beta + gamma refused"),
+        Case({"model": 2}, refused=True, label="Rope model code refused"),
+    ],
+    "Drive": [
+        # overhead_lift: the motor starts at 0.2 s with a 0.5 s ramp; steps across the start and into the ramp
+        Case({"R_3": 0.25, "n_drum_lines": 2, "start_time": 0.2, "ramp_time": 0.5}, inputs={"drum_force": 2453.0},
+             wiggle={"drum_force": 500.0}, t0=0.18, steps=40, tunable={"b_3n": 3e4}, label="Drive overhead_lift"),
+        Case({"start_time": 0.01, "ramp_time": 0.0, "brake_delay": 0.012, "start_fraction": 0.2},
+             inputs={"drum_force": 1e4}, wiggle={"drum_force": 2e3}, steps=40, rates=False,
+             label="Drive direct on line, brake delay"),
+        Case({"solver": "euler", "max_step": 2e-5, "start_time": 0.005}, inputs={"drum_force": 5e3},
+             wiggle={"drum_force": 1e3}, label="Drive euler"),
+        # truck_telescope: the kinematic payout law through all its phases (scaled to fit the run)
+        Case({"mode": "kinematic", "n_drum_lines": 1, "payout_speed": 1.212435565298214, "duration": 0.03,
+              "t_acc": 0.01, "start_time": 0.002}, inputs={"drum_force": 1.7e4}, wiggle={"drum_force": 3e3},
+             steps=40, label="Drive kinematic phases"),
+        Case({"mode": "kinematic", "n_drum_lines": 1, "payout_speed": 1.212435565298214, "duration": 20.0,
+              "t_acc": 3.0}, inputs={"drum_force": 1.7e4}, t0=2.98, h=0.005, steps=30,
+             label="Drive truck_telescope at t_acc"),
+        Case({"mode": "kinematic", "payout_speed": -0.35}, inputs={"drum_force": 1e4}, t0=1.0,
+             label="Drive kinematic hoisting"),
+        Case({"duration": 5.0, "t_acc": 3.0}, refused=True, label="Drive duration refused"),
+        Case({"M_k": 100.0}, refused=True, label="Drive M_k refused"),
+        Case({"s_k": 0.05}, refused=True, label="Drive s_k refused"),
+        Case({"mode": 2}, refused=True, label="Drive mode code refused"),
     ],
 }
 #: the tolerance of a model where libm or LAPACK and numpy differ (measured; default RTOL)
