@@ -54,6 +54,8 @@ PENDULUM_CASES = [
          label="Pendulum hook_sway pin_damper"),
     Case(dict(HOOK_SWAY, theta_payload0=0.0, phi_payload0=0.0, c_pin=2.0), inputs=_hanging(13.0),
          wiggle=_wiggle(13.0 * G, 0.05), h=0.005, steps=30, label="Pendulum hook_sway crane_motion"),
+    Case(dict(HOOK_SWAY, solver="auto", max_step=1e-3), inputs=_hanging(13.0), wiggle=_wiggle(13.0 * G, 0.05),
+         h=0.002, steps=30, label="Pendulum hook_sway with the default solver (auto: rk4 with a payload)"),
     # overhead_lift: elastic sling in 1-D, the load resting on the ground; a rope force swinging between 0.4 and
     # 1.4 weights (three lift-offs and touch-downs in 0.4 s, measured); one pulling 1.3 weights from the start
     Case(dict(OVERHEAD_LIFT), inputs=dict(_TOP, Fy_rope=30.0 * G), wiggle={"Fy_rope": 300.0}, h=0.005, steps=30,
