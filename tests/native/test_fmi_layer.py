@@ -15,7 +15,7 @@ from xml.etree import ElementTree
 
 import pytest
 
-from conformance import MODEL_CASES, MODEL_RTOL, RTOL, Case, conform, drive_all, fmu_pair, in_child
+from conformance import MODEL_CASES, MODEL_RTOL, RK45_RTOL, RTOL, Case, conform, drive_all, fmu_pair, in_child
 from cranefmu.native.build import compiler_available
 from cranefmu.studies.oscillator import HERE as OSC_DIR
 
@@ -72,14 +72,22 @@ def test_non_finite_state_is_the_pythonfmu_failure(osc_pair, build_dir):
     assert "step at t = 0 s failed: FloatingPointError: non-finite state v at t = 0.001 s" in got[0]["messages"][-1]
 
 
-def test_adaptive_solvers_are_refused_in_one_line(osc_pair):
-    """rk45, radau, bdf (scipy) are the pythonfmu FMU's: the native FMU refuses them naming what it offers."""
-    got = in_child(drive_all, str(osc_pair[0]), [dict(params={"solver": s}) for s in ("rk45", "radau", "bdf")])
-    for code, (name, r) in enumerate(zip(("rk45", "radau", "bdf"), got), start=4):
+def test_rk45_agrees_with_scipy_to_round_off(osc_pair, build_dir):
+    """rk45 is scipy's RK45 step control in C (plain sums where scipy calls BLAS): the same steps, equal to
+    round-off (RK45_RTOL), over tolerances from loose to tight and with max_step limiting the steps."""
+    cases = [Case({"x0": 0.1, "d": 0.5, "solver": "rk45", "rtol": r, "max_step": m}, steps=40, h=h, **WIGGLE)
+             for r, m, h in ((1e-3, 1.0, 2e-2), (1e-6, 1.0, 2e-2), (1e-10, 1.0, 2e-2), (1e-6, 2e-3, 1e-2))]
+    assert max(conform("OscMass", cases, build_dir, rtol=RK45_RTOL, **OSC)) <= RK45_RTOL
+
+
+def test_implicit_adaptive_solvers_are_refused_in_one_line(osc_pair):
+    """radau and bdf (scipy) are the pythonfmu FMU's: the native FMU refuses them naming what it offers."""
+    got = in_child(drive_all, str(osc_pair[0]), [dict(params={"solver": s}) for s in ("radau", "bdf")])
+    for code, (name, r) in enumerate(zip(("radau", "bdf"), got), start=5):
         assert r["error"] == "initialization"
         assert r["messages"][-1] == (
-            f"inst{code - 4}: initialization refused: ParameterError: mass.solver = {code} ({name}) is not offered "
-            "by the native FMU: allowed 0 = euler, 1 = rk2, 2 = rk4, 3 = trbdf2 (rk45, radau and bdf: the "
+            f"inst{code - 5}: initialization refused: ParameterError: mass.solver = {code} ({name}) is not offered "
+            "by the native FMU: allowed 0 = euler, 1 = rk2, 2 = rk4, 3 = trbdf2, 4 = rk45 (radau and bdf: the "
             "pythonfmu FMU)")
 
 

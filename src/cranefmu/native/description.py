@@ -23,12 +23,11 @@ from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
 from .. import __version__
 from ..fmi_adapter import EXTRAPOLATION_SUFFIXES, CraneSlave, solvers
-from ..integrators import ADAPTIVE
 from ..physics.params import allowed_text, enumeration_text
 
 NATIVE_TOOL = "org.cranefmu.native"   # VendorAnnotations tool describing the native build
-#: solvers of the pythonfmu FMU that the native layer does not offer (scipy's adaptive methods)
-NOT_NATIVE = ADAPTIVE
+#: solvers of the pythonfmu FMU that the native layer does not offer (scipy's implicit adaptive methods)
+NOT_NATIVE = ("radau", "bdf")
 GENERATION_TOOL = f"cranefmu {__version__} native FMI 2.0 layer (C99, libm)"
 NATIVE_NOTE = ("Native FMU: C99 and libm only, no Python in the host's process; its C sources are in "
                "sources/ (listed in SourceFiles)")

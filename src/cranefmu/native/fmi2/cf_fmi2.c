@@ -148,11 +148,11 @@ static int check_range(CfInstance *c, const CfParamSpec *s, double value) {
     return 0;
 }
 
-/* the FMU's solver code -> CF_EULER ... CF_AUTO, CF_UNSUPPORTED for rk45, radau, bdf */
+/* the FMU's solver code -> CF_EULER ... CF_RK45, CF_UNSUPPORTED for radau and bdf */
 static int solver_method(int code) {
     const char *name = cf_solver_names[code];
-    static const char *const methods[] = {"euler", "rk2", "rk4", "trbdf2", "exact", "auto"};
-    for (int i = 0; i < 6; i++)
+    static const char *const methods[] = {"euler", "rk2", "rk4", "trbdf2", "exact", "auto", "rk45"};
+    for (int i = 0; i < 7; i++)
         if (!strcmp(name, methods[i])) return i;
     return CF_UNSUPPORTED;
 }
@@ -166,7 +166,7 @@ static int build_model(CfInstance *c, CfModel *m, double *p, int *solver, const 
     int method = solver_method((int)pv[0]);
     if (method == CF_UNSUPPORTED) {
         snprintf(c->v.msg, CF_MSG_SIZE, "%s.solver = %.0f (%s) is not offered by the native FMU: allowed %s "
-                 "(rk45, radau and bdf: the pythonfmu FMU)", CF_COMPONENT, pv[0], cf_solver_names[(int)pv[0]],
+                 "(radau and bdf: the pythonfmu FMU)", CF_COMPONENT, pv[0], cf_solver_names[(int)pv[0]],
                  CF_NATIVE_SOLVERS);
         return 1;
     }
@@ -291,7 +291,7 @@ static int advance(CfInstance *c, double t, double h, double *x1, const char **k
             f.moving = moving;
             f.n_inputs = N_INPUTS;
             f.u = u;
-            if (cf_integrate(&f, solver, t, v->x, n, h, v->pv[2], x1, v->msg, CF_MSG_SIZE)) return 1;
+            if (cf_integrate(&f, solver, t, v->x, n, h, v->pv[2], v->pv[1], x1, v->msg, CF_MSG_SIZE)) return 1;
         }
     }
     double t1 = t + h;

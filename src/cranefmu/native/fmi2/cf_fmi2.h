@@ -34,6 +34,6 @@ typedef struct CfParamSpec {
 } CfParamSpec;
 
 /* the internal solvers of the layer (cf_solvers.c); the FMU's solver codes map onto them */
-enum { CF_EULER = 0, CF_RK2, CF_RK4, CF_TRBDF2, CF_EXACT, CF_AUTO, CF_UNSUPPORTED };
+enum { CF_EULER = 0, CF_RK2, CF_RK4, CF_TRBDF2, CF_EXACT, CF_AUTO, CF_RK45, CF_UNSUPPORTED };
 
 #endif

@@ -200,10 +200,130 @@ static int trbdf2(CfRhs *f, double t0, double *x, int n, double dt, long steps, 
     return 0;
 }
 
-int cf_integrate(CfRhs *f, int method, double t0, const double *x0, int n, double h, double max_step,
+/* --- rk45: Dormand-Prince 5(4) with scipy's step control (scipy.integrate.RK45 as solve_ivp runs it
+   from t0 to t0 + h: its initial step selection, error norm, safety factors and step rejection). Its
+   dot products are plain sums where scipy calls BLAS: equal to round-off while both take the same
+   steps (docs/fmus.md). ------------------------------------------------------------------------- */
+static const double RK45_C[6] = {0.0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1.0};
+static const double RK45_A[6][5] = {
+    {0.0, 0.0, 0.0, 0.0, 0.0},
+    {1.0 / 5, 0.0, 0.0, 0.0, 0.0},
+    {3.0 / 40, 9.0 / 40, 0.0, 0.0, 0.0},
+    {44.0 / 45, -56.0 / 15, 32.0 / 9, 0.0, 0.0},
+    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729, 0.0},
+    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656}};
+static const double RK45_B[6] = {35.0 / 384, 0.0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84};
+static const double RK45_E[7] = {-71.0 / 57600, 0.0, 71.0 / 16695, -71.0 / 1920, 17253.0 / 339200, -22.0 / 525,
+                                 1.0 / 40};
+
+static double rms_norm(const double *v, int n) {  /* np.linalg.norm(v) / v.size ** 0.5 */
+    double s = 0.0;
+    for (int i = 0; i < n; i++) s += v[i] * v[i];
+    return sqrt(s) / pow((double)n, 0.5);
+}
+
+static double rk45_initial_step(CfRhs *f, double t0, const double *y0, const double *f0, int n, double t_bound,
+                                double max_step, double direction, double rtol, double atol) {
+    double scale[N_MAX], v[N_MAX], y1[N_MAX], f1[N_MAX];
+    double interval = fabs(t_bound - t0), h0, h1, d0, d1, d2;
+    if (interval == 0.0) return 0.0;
+    for (int i = 0; i < n; i++) scale[i] = atol + fabs(y0[i]) * rtol;
+    for (int i = 0; i < n; i++) v[i] = y0[i] / scale[i];
+    d0 = rms_norm(v, n);
+    for (int i = 0; i < n; i++) v[i] = f0[i] / scale[i];
+    d1 = rms_norm(v, n);
+    h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+    if (interval < h0) h0 = interval;
+    double step = h0 * direction;
+    for (int i = 0; i < n; i++) y1[i] = y0[i] + step * f0[i];
+    cf_rhs(f, t0 + h0 * direction, y1, f1);
+    for (int i = 0; i < n; i++) v[i] = (f1[i] - f0[i]) / scale[i];
+    d2 = rms_norm(v, n) / h0;
+    if (d1 <= 1e-15 && d2 <= 1e-15)
+        h1 = 1e-6 > h0 * 1e-3 ? 1e-6 : h0 * 1e-3;
+    else
+        h1 = pow(0.01 / (d2 > d1 ? d2 : d1), 1.0 / 5);
+    double h = 100 * h0;
+    if (h1 < h) h = h1;
+    if (interval < h) h = interval;
+    if (max_step < h) h = max_step;
+    return h;
+}
+
+static int rk45(CfRhs *f, double t0, double *y, int n, double h_total, double rtol_set, double max_step, char *msg,
+                size_t msg_size) {
+    double atol = 1e-3 * rtol_set, rtol = rtol_set < 100 * 2.220446049250313e-16 ? 100 * 2.220446049250313e-16
+                                                                                 : rtol_set;
+    double t = t0, t_bound = t0 + h_total, direction = t_bound > t0 ? 1.0 : t_bound < t0 ? -1.0 : 1.0;
+    double fy[N_MAX], K[7][N_MAX], ys[N_MAX], y_new[N_MAX], err[N_MAX];
+    cf_rhs(f, t, y, fy);
+    double h_abs_next = rk45_initial_step(f, t, y, fy, n, t_bound, max_step, direction, rtol, atol);
+    while (t != t_bound) {
+        double min_step = 10 * fabs(nextafter(t, direction * HUGE_VAL) - t);
+        double h_abs = h_abs_next > max_step ? max_step : h_abs_next < min_step ? min_step : h_abs_next;
+        double t_new = t, h = 0.0;
+        int accepted = 0, rejected = 0;
+        while (!accepted) {
+            if (h_abs < min_step) {
+                snprintf(msg, msg_size, "solver rk45 failed at t = %.6g s: Required step size is less than spacing "
+                         "between numbers.", t0);
+                return 1;
+            }
+            h = h_abs * direction;
+            t_new = t + h;
+            if (direction * (t_new - t_bound) > 0) t_new = t_bound;
+            h = t_new - t;
+            h_abs = fabs(h);
+            memcpy(K[0], fy, sizeof(double) * (size_t)n);
+            for (int s = 1; s < 6; s++) {
+                for (int i = 0; i < n; i++) {
+                    double dot = 0.0;
+                    for (int j = 0; j < s; j++) dot += K[j][i] * RK45_A[s][j];
+                    ys[i] = y[i] + dot * h;
+                }
+                cf_rhs(f, t + RK45_C[s] * h, ys, K[s]);
+            }
+            for (int i = 0; i < n; i++) {
+                double dot = 0.0;
+                for (int j = 0; j < 6; j++) dot += K[j][i] * RK45_B[j];
+                y_new[i] = y[i] + h * dot;
+            }
+            cf_rhs(f, t + h, y_new, K[6]);
+            for (int i = 0; i < n; i++) {
+                double dot = 0.0, big = fabs(y[i]) > fabs(y_new[i]) ? fabs(y[i]) : fabs(y_new[i]);
+                for (int j = 0; j < 7; j++) dot += K[j][i] * RK45_E[j];
+                err[i] = dot * h / (atol + big * rtol);
+            }
+            double error_norm = rms_norm(err, n);
+            if (error_norm < 1) {
+                double factor = 10.0;
+                if (error_norm != 0) {
+                    double grow = 0.9 * pow(error_norm, -1.0 / 5);
+                    factor = grow < 10.0 ? grow : 10.0;
+                }
+                if (rejected && !(factor < 1.0)) factor = 1.0;
+                h_abs *= factor;
+                accepted = 1;
+            } else {
+                double shrink = 0.9 * pow(error_norm, -1.0 / 5);
+                h_abs *= shrink > 0.2 ? shrink : 0.2;
+                rejected = 1;
+            }
+        }
+        t = t_new;
+        memcpy(y, y_new, sizeof(double) * (size_t)n);
+        memcpy(fy, K[6], sizeof(double) * (size_t)n);
+        h_abs_next = h_abs;
+        if (direction * (t - t_bound) >= 0) break;
+    }
+    return 0;
+}
+
+int cf_integrate(CfRhs *f, int method, double t0, const double *x0, int n, double h, double max_step, double rtol,
                  double *x1, char *msg, size_t msg_size) {
     memcpy(x1, x0, sizeof(double) * (size_t)n);
     if (n == 0 || h == 0.0) return 0;
+    if (method == CF_RK45) return rk45(f, t0, x1, n, h, rtol, max_step, msg, msg_size);
     long steps = cf_substeps(h, max_step);
     if (steps < 0) {
         snprintf(msg, msg_size, "h = %.9g s over max_step = %.9g s needs more than %ld sub-steps", h, max_step,
