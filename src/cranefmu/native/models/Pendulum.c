@@ -66,8 +66,8 @@ static double dot3(const double a[3], const double b[3])
     return fma(a[2], b[2], fma(a[1], b[1], a[0] * b[0]));
 }
 
-/* a @ v for the row-major 3x3 a (OpenBLAS dgemv) */
-static void matvec3(const double a[3][3], const double v[3], double out[3])
+/* a @ v for the row-major 3x3 a (OpenBLAS dgemv); a is not changed (C99 has no const 2-D array parameters) */
+static void matvec3(double a[3][3], const double v[3], double out[3])
 {
     for (int i = 0; i < 3; i++)
         out[i] = fma(a[i][2], v[2], fma(a[i][0], v[0], a[i][1] * v[1]));
@@ -136,8 +136,8 @@ static void solve_small(int n, double a[3][3], double b[3])
     }
 }
 
-/* out[free] = solve(a[free, free], rhs[free]), 0 elsewhere (the frozen directions) */
-static void solve_free(const double mask[3], const double a[3][3], const double rhs[3], double out[3])
+/* out[free] = solve(a[free, free], rhs[free]), 0 elsewhere (the frozen directions); a is not changed */
+static void solve_free(const double mask[3], double a[3][3], const double rhs[3], double out[3])
 {
     int free[3], n = 0;
     double sub[3][3], b[3];
