@@ -197,3 +197,28 @@ def test_accepted_sets_pass_the_c_checks():
         load("Drive", p)   # raises on a refusal
     edge = dataclasses.replace(DriveParams(), duration=6.0, t_acc=3.0)   # exactly 2 t_acc: allowed
     load("Drive", edge)
+
+
+SCENE_SETS = {   # the drive fields of the scenes' parameter sets (ssp/*/default.ssv and variants)
+    "overhead_lift": dict(R_3=0.25, n_drum_lines=2, start_time=0.2, ramp_time=0.5),
+    "truck_telescope": dict(mode="kinematic", n_drum_lines=1, payout_speed=1.212435565298214, duration=20.0,
+                            t_acc=3.0),
+    "truck_telescope fast": dict(mode="kinematic", n_drum_lines=1, payout_speed=1.905255888325765,
+                                 duration=13.818181818181817, t_acc=3.0),
+    "truck_telescope slow": dict(mode="kinematic", n_drum_lines=1, payout_speed=0.6928203230275509, duration=32.75,
+                                 t_acc=3.0),
+    "truck_slewing": dict(mode="kinematic", n_drum_lines=1, payout_speed=0.0),
+}
+
+
+@pytest.mark.parametrize("scene", list(SCENE_SETS))
+def test_scene_sets_are_bitwise_python(scene):
+    p = DriveParams(**SCENE_SETS[scene])
+    nat, py = load("Drive", p), DriveModel(p)
+    rng = np.random.default_rng(5)
+    u0 = np.array([2453.0])
+    np.testing.assert_array_equal(nat.initial_state(u0), py.initial_state(u0))
+    for t in times(p, rng):
+        x, u = random_state(rng), rng.normal(size=1) * 2e4
+        np.testing.assert_array_equal(nat.derivatives(t, x, u), py.derivatives(t, x, u))
+        np.testing.assert_array_equal(nat.outputs(t, x, u), np.array(py.output_list(t, x, u)))

@@ -24,6 +24,7 @@ from cranefmu.physics import boucwen
 from cranefmu.physics.params import ParameterError
 from cranefmu.physics.rope import RopeModel, RopeParams, elastic_length
 
+from conformance import _LIFT_ROPE, _TELESCOPE_ROPE
 from structural_cases import random_params
 
 pytest.importorskip("cffi")
@@ -362,3 +363,28 @@ def test_kelvin_voigt_ignores_the_bouc_wen_set():
     p = RopeParams()
     object.__setattr__(p, "gamma", 80.0)   # inadmissible, but not used by kelvin_voigt
     load("Rope", p)
+
+
+SCENE_SETS = {   # the rope fields of the scenes' parameter sets (ssp/*/default.ssv and variants)
+    "elastic_pendulum": {},
+    "hook_sway": dict(length=0.4, E=1.0e9, A=2.0e-5),
+    "overhead_lift": {k: v for k, v in _LIFT_ROPE.items()},
+    "overhead_lift loose": dict(_LIFT_ROPE, start_slack=0.1),
+    "truck_telescope": dict(_TELESCOPE_ROPE),
+}
+
+
+@pytest.mark.parametrize("scene", list(SCENE_SETS))
+def test_scene_sets_are_bitwise_python(scene):
+    p = RopeParams(**SCENE_SETS[scene])
+    nat, py = load("Rope", p), RopeModel(p)
+    rng = np.random.default_rng(18)
+    l_u0 = p.length + p.start_slack
+    u0 = inputs(rng, p, l_u0 * 1.2 if p.start == "taut" else l_u0, 1e-3 * l_u0, mass=1000.0 * p.n_lines)
+    x0 = py.initial_state(u0)
+    np.testing.assert_array_equal(nat.initial_state(u0), x0)
+    for _ in range(100):
+        x, u = random_state_inputs(rng, p, py, x0, float(u0[15]))
+        np.testing.assert_array_equal(nat.derivatives(0.0, x, u), py.derivatives(0.0, x, u))
+        np.testing.assert_array_equal(nat.outputs(0.0, x, u), np.array(py.output_list(0.0, x, u)))
+        np.testing.assert_array_equal(nat.after_step(0.0, x, u), py.after_step(0.0, x, u))
