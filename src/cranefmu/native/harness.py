@@ -50,6 +50,11 @@ def _physics(name: str):
                 and v.__module__ == mod.__name__ and k != "Model")
 
 
+def _shared_sources() -> list[Path]:
+    """The C files every model is compiled with (``models/cf_*.c``: linear step, repr, ...)."""
+    return sorted((HERE / "models").glob("cf_*.c"))
+
+
 @lru_cache(maxsize=None)
 def _compiled(name: str, source_stamp: float):
     import cffi
@@ -61,7 +66,8 @@ def _compiled(name: str, source_stamp: float):
     ffi.cdef(CDEF)
     module = f"_cf_model_{name}"
     source = (HERE / "models" / f"{name}.c").read_text()
-    ffi.set_source(module, '#include "cf_model.h"\n' + FAIL_C + source,
+    shared = [str(f) for f in _shared_sources()]   # models/cf_*.c: compiled into every model
+    ffi.set_source(module, '#include "cf_model.h"\n' + FAIL_C + source, sources=shared,
                    include_dirs=[str(HERE / "include"), str(build), str(HERE / "models")],
                    extra_compile_args=["-std=c99", "-O2", "-ffp-contract=off", "-Wall"], libraries=["m"])
     lib_path = ffi.compile(tmpdir=str(build))
@@ -77,7 +83,8 @@ class NativeModel:
     """One configured instance of a C model (parameters as the Python model's ``Params``)."""
 
     def __init__(self, name: str, params):
-        stamp = (HERE / "models" / f"{name}.c").stat().st_mtime
+        stamp = max(f.stat().st_mtime for f in [HERE / "models" / f"{name}.c", *_shared_sources(),
+                                                 *(HERE / "models").glob("cf_*.h")])
         self.model_cls, self.ffi, self.lib = _compiled(name, stamp)
         specs = self.model_cls.Params.field_specs()
         values = []

@@ -12,7 +12,7 @@ from ..physics.component import Model
 
 
 def _ident(text: str) -> str:
-    return re.sub(r"\W", "_", text)
+    return re.sub(r"\W", "_", str(text))
 
 
 def model_header(model: type[Model], name: str) -> str:

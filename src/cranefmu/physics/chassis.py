@@ -50,6 +50,13 @@ taken only if at every sub-point s = j d (d <= max_step) both pads stay loaded w
 the reaction can do between sub-points (d^2/8 max|N''|, with |N''| <= 4 omega_max^2 (N1 + N2));
 otherwise (lift-off, touch-down) the FMU integrates with rk4 at max_step.
 
+With the boom's inertia carried the mass matrix changes at every step (while the boom telescopes, and
+with the tilt through S cos psi), and a matrix exponential per step cost 0.15-3 ms of CPU
+(benchmarks/results/chassis_carried_step.md).  The soil's damping is proportional to its stiffness (b = (d/c)
+c at both outriggers), so the two modes of (M, K) decouple the linear system: that case takes the same
+closed form and the same contact check through them on plain floats (cranefmu.physics.modal_step; equal to
+the matrix exponential's state to round-off, tests/physics/test_modal_step.py).
+
 Static loads of seed 000 (104.13 kN / 77.8 kN).  The text gives them twice with opposite labels.
 Statics settle it: with the boom at 60 deg, the tip at 10.5 m and a 2.5 t hook load (not the 3.5 t
 of the simulations) the rear outrigger 2, on the boom side, carries 104.14 kN and the front
@@ -66,6 +73,7 @@ import numpy as np
 
 from .component import Model, Port, Signal
 from .linear_step import LinearPropagator, step_key
+from .modal_step import TwoModes
 from .params import Params, ParameterError, param
 
 
@@ -161,6 +169,7 @@ class ChassisModel(Model):
         self._linear: LinearPropagator | None = None
         self._checks: dict[tuple[float, int], tuple[np.ndarray, np.ndarray, float]] = {}
         self._last_maps: tuple | None = None   # (h as given, k, _step_maps' result) of the last call
+        self._modes: dict[tuple[float, float, float], TwoModes] = {}   # per carried inertia (exact key)
 
     def state_names(self) -> tuple[str, ...]:
         return ("y", "gamma", "vy", "gamma_rate")
@@ -294,6 +303,8 @@ class ChassisModel(Model):
     def exact_step(self, t: float, x: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray,
                    r2: np.ndarray, max_step: float) -> np.ndarray | None:
         """Closed-form step while both pads stay loaded (see the module docstring), else None."""
+        if self.p.boom_inertia == "carried":
+            return self._modal_step(x, h, u0, r1, r2, max_step)
         self.carry(u0)
         k = max(1, math.ceil(h / max_step - 1e-9))   # contact checked at sub-points <= max_step apart
         end, checks, margin = self._step_maps(h, k)
@@ -304,6 +315,43 @@ class ChassisModel(Model):
         if min(v[:m]) <= 0.0 or min(n) <= 2.0 * margin * max(n):   # N1 + N2 <= 2 max N
             return None
         return end @ z
+
+    def _modal_step(self, x: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray, r2: np.ndarray,
+                    max_step: float) -> np.ndarray | None:
+        """:meth:`exact_step` with the boom's inertia carried: the same closed form and contact check,
+        by the two modes (cranefmu.physics.modal_step; the soil's damping is proportional to its
+        stiffness, b = (d/c) c) instead of a matrix exponential, since the mass matrix changes at
+        every step while the boom telescopes (and with the tilt through S cos psi)."""
+        p = self.p
+        carried = tuple(u0[_MB:_JB + 1].tolist())
+        modes = self._modes.get(carried)
+        if modes is None:
+            (x1, x2), c = self.x_pads.tolist(), self.stiffness
+            mb, sb, jb = carried
+            modes = TwoModes(self.mass + mb, -self.first_moment - sb, self.inertia + jb,
+                             2.0 * c, -c * (x1 + x2), c * (x1 * x1 + x2 * x2), p.damping / c)
+            if len(self._modes) >= 4:   # a Jacobi iteration repeats the step's start: keep a few
+                self._modes.clear()
+            self._modes[carried] = modes
+        k = max(1, math.ceil(h / max_step - 1e-9))   # contact checked at sub-points <= max_step apart
+        fx, fy, mo = u0[:3].tolist()
+        forces = [(fy - self.mass * p.g, p.g * self.first_moment - mo + fx * p.h_foot)]
+        for r in (r1, r2):
+            rx, ry, rm = r[:3].tolist()
+            forces.append((ry, -rm + rx * p.h_foot))
+        y, gamma, vy, rate = x.tolist()
+        prepared = modes.prepare((y, gamma), (vy, rate), *forces)
+        (x1, x2), c, d = self.x_pads.tolist(), self.stiffness, p.damping
+        settle, react = [], []
+        for j in range(k + 1):
+            y, gamma, vy, rate = modes.state(prepared, h if j == k else j * (h / k))
+            for xi in (x1, x2):
+                settle.append(gamma * xi - y)
+                react.append(c * (gamma * xi - y) + d * (rate * xi - vy))
+        margin = 0.5 * (modes.spectral_radius() * h / k) ** 2   # d^2/8 * 4 omega^2
+        if min(settle) <= 0.0 or min(react) <= 2.0 * margin * max(react):   # N1 + N2 <= 2 max N
+            return None
+        return np.array([y, gamma, vy, rate])
 
     def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         q1, q2, n1, n2 = self._pads(x)

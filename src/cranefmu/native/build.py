@@ -1,0 +1,144 @@
+"""Assemble and compile one native FMU (FMI 2.0 co-simulation, C99 + libm).
+
+``build_native_fmu(name, dest_dir)`` writes ``dest_dir/<name>.fmu``:
+
+- ``modelDescription.xml`` from the pythonfmu adapter's own description of ``fmus/<name>.py``
+  (:mod:`.description`), listing the C sources as FMI 2.0 ``<SourceFiles>``;
+- ``sources/``: the generic layer (``fmi2/``), the contract ``include/cf_model.h``, the model
+  ``models/<name>.c``, every shared helper ``models/cf_*.c|h``, the generated ``<name>_tables.h``
+  (:mod:`.tables`) and ``cf_fmu_variables.h``; flat, so that any tool compiles ``sources/*.c`` with
+  ``sources/`` and its FMI 2 headers on the include path;
+- ``binaries/linux64/<name>.so``, compiled from exactly those sources by fmpy's own source-FMU build
+  (``fmpy.build``: fmpy's CMakeLists.txt and its shipped FMI 2 headers, through CMake), with
+  ``-std=c99 -ffp-contract=off`` (no fused multiply-add: the arithmetic of Python's floats) and hidden
+  symbols but the fmi2 functions.
+
+Why CMake through fmpy: it is the build a tool on another platform runs on this FMU's sources
+(``fmpy compile``), so the shipped binary comes out of the same path; the FMI headers come from fmpy,
+never copied.  This module only runs fmpy's configure and build steps with their output captured.
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+import zipfile
+from pathlib import Path
+
+from .description import native_description, slave_class, variables_header
+from .tables import model_header
+
+HERE = Path(__file__).resolve().parent
+LAYER_DIR = HERE / "fmi2"
+INCLUDE_DIR = HERE / "include"
+MODELS_DIR = HERE / "models"
+C_FLAGS = "-std=c99 -ffp-contract=off -fvisibility=hidden -Wall"
+
+
+class NativeBuildError(RuntimeError):
+    """A native FMU could not be assembled or compiled (the message names the FMU and the step)."""
+
+
+def compiler_available() -> bool:
+    """True when this machine can compile a native FMU: CMake and a C compiler on PATH."""
+    cc = os.environ.get("CC")
+    has_cc = bool(cc and shutil.which(cc)) or any(shutil.which(c) for c in ("cc", "gcc", "clang"))
+    return has_cc and shutil.which("cmake") is not None
+
+
+def model_source(name: str) -> Path:
+    """``models/<name>.c``: the C model of FMU ``name``."""
+    return MODELS_DIR / f"{name}.c"
+
+
+def native_models() -> list[str]:
+    """The FMU names with a C model (``models/<Name>.c``; the ``cf_*`` helpers excluded), sorted."""
+    return sorted(p.stem for p in MODELS_DIR.glob("*.c") if not p.name.startswith("cf_"))
+
+
+def _copied_sources(model_c: Path, helpers_dir: Path) -> dict[str, Path]:
+    """{file name in sources/: file} of the layer, the contract, the model and the shared helpers."""
+    files = {p.name: p for p in sorted(LAYER_DIR.glob("*.[ch]"))}
+    files["cf_model.h"] = INCLUDE_DIR / "cf_model.h"
+    if helpers_dir.is_dir():
+        files |= {p.name: p for p in sorted(helpers_dir.glob("cf_*.[ch]"))}
+    files[model_c.name] = model_c
+    return files
+
+
+def assemble_source_fmu(name: str, unzipdir: Path, *, script: Path | None = None, model_c: Path | None = None,
+                        helpers_dir: Path = MODELS_DIR) -> Path:
+    """Write the source FMU of ``name`` (modelDescription.xml and sources/) into ``unzipdir``; returns it.
+
+    ``script`` (default ``fmus/<name>.py``) holds the pythonfmu slave class ``name``; ``model_c``
+    (default ``models/<name>.c``) its C model (tests pass their own)."""
+    cls = slave_class(name, script)
+    model_c = model_c or model_source(name)
+    if not model_c.is_file():
+        raise NativeBuildError(f"{name}: no C model {model_c}: native FMUs exist for "
+                               f"{', '.join(native_models()) or 'no model yet'}")
+    sources = unzipdir / "sources"
+    sources.mkdir(parents=True, exist_ok=True)
+    texts = {fname: path.read_bytes() for fname, path in _copied_sources(model_c, helpers_dir).items()}
+    texts[f"{name}_tables.h"] = model_header(cls.physics, name).encode()
+    digest = hashlib.sha256()
+    for fname in sorted(texts):
+        digest.update(fname.encode() + b"\0" + texts[fname])
+    c_files = sorted(f for f in texts if f.endswith(".c"))
+    xml, guid = native_description(cls, c_files, digest.hexdigest())
+    texts["cf_fmu_variables.h"] = variables_header(cls, name, guid).encode()
+    for fname, data in texts.items():
+        (sources / fname).write_bytes(data)
+    (unzipdir / "modelDescription.xml").write_bytes(xml)
+    return unzipdir
+
+
+def compile_binary(unzipdir: Path) -> Path:
+    """Compile ``unzipdir``'s sources into ``binaries/linux64/<id>.so`` with fmpy's CMake build; returns it."""
+    import fmpy
+    from fmpy import read_model_description
+    from fmpy.build import create_cmake_settings
+
+    if not compiler_available():
+        raise NativeBuildError("no C compiler and CMake on PATH: native FMUs cannot be built here "
+                               "(install gcc and cmake, or run the pythonfmu FMUs: --fmus python)")
+    identifier = read_model_description(str(unzipdir)).coSimulation.modelIdentifier
+    with tempfile.TemporaryDirectory(prefix="cranefmu_native_cmake_") as build_dir:
+        create_cmake_settings(unzipdir, build_dir, configuration="Release", cmake_options={
+            "CMAKE_C_FLAGS:STRING": C_FLAGS, "CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm"})
+        c_code = Path(fmpy.__file__).parent / "c-code"
+        for step in (["cmake", "-S", str(c_code), "-B", build_dir],
+                     ["cmake", "--build", build_dir, "--target", "install", "--config", "Release"]):
+            done = subprocess.run(step, capture_output=True, text=True)
+            if done.returncode != 0:
+                raise NativeBuildError(f"{identifier}: {' '.join(step[:2])} failed:\n{done.stdout[-4000:]}"
+                                       f"{done.stderr[-4000:]}")
+    binary = unzipdir / "binaries" / fmpy.platform / f"{identifier}{fmpy.sharedLibraryExtension}"
+    if not binary.is_file():
+        raise NativeBuildError(f"{identifier}: the build wrote no {binary.relative_to(unzipdir)}")
+    return binary
+
+
+def zip_fmu(unzipdir: Path, fmu: Path) -> Path:
+    """Zip ``unzipdir`` into ``fmu`` (written beside it first, then moved: never half-written)."""
+    fmu.parent.mkdir(parents=True, exist_ok=True)
+    tmp = fmu.with_name(f"{fmu.name}.{os.getpid()}.tmp")
+    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
+        for path in sorted(unzipdir.rglob("*")):
+            if path.is_file():
+                zf.write(path, path.relative_to(unzipdir).as_posix())
+    tmp.replace(fmu)
+    return fmu
+
+
+def build_native_fmu(name: str, dest_dir: Path, *, script: Path | None = None, model_c: Path | None = None,
+                     helpers_dir: Path = MODELS_DIR) -> Path:
+    """Build the native FMU of ``name`` (``fmus/<name>.py`` and ``models/<name>.c``) into
+    ``dest_dir/<name>.fmu``; returns its path.  Raises :class:`NativeBuildError` naming the step."""
+    with tempfile.TemporaryDirectory(prefix=f"cranefmu_native_{name}_") as tmp:
+        unzipdir = assemble_source_fmu(name, Path(tmp) / name, script=script, model_c=model_c,
+                                       helpers_dir=helpers_dir)
+        compile_binary(unzipdir)
+        return zip_fmu(unzipdir, Path(dest_dir) / f"{name}.fmu")
