@@ -66,19 +66,26 @@ def test_stability_map_has_every_algorithm_and_the_analytic_limit_in_its_bracket
         assert plain[r["E"]] <= float(r["H_stable"])
 
 
-def test_load_chart_scene_at_rest_agrees_with_the_statics_and_rated_is_85_percent_less_rigging(smoke):
-    from cranefmu.studies.load_chart import HOOK_BLOCK, RIGGING, tipping_load
+def test_load_chart_scene_at_rest_agrees_with_the_statics_and_rated_is_gross_the_lesser_limit(smoke):
+    from cranefmu.studies.load_chart import tipping_load
+    from cranefmu.studies.rating import structural_limit
 
     out, _ = smoke
     static = _rows(out / "load_chart_static.csv")
     retracted = [r for r in static if float(r["length"]) == 10.5]
     assert retracted and all(abs(float(r["scene"]) / float(r["tipping"]) - 1.0) < 0.01 for r in retracted)
     chart = _rows(out / "load_chart.csv")
-    row = next(r for r in chart if float(r["radius"]) == 8.0)
-    tip = tipping_load(10.5, math.degrees(math.acos(8.0 / 10.5)))
-    assert float(row["rated_10.5"]) == pytest.approx(0.85 * tip - HOOK_BLOCK - RIGGING, rel=1e-12)
-    rated = [float(r["rated_22.4"]) for r in chart if r["rated_22.4"]]
+    row = next(r for r in chart if float(r["radius"]) == 8.0 and float(r["length"]) == 10.5)
+    angle = math.degrees(math.acos(8.0 / 10.5))
+    tip = tipping_load(10.5, angle)   # the two-outrigger scene over the rear = the four pads over the rear
+    assert float(row["tipping_rear"]) == pytest.approx(tip, rel=1e-9)
+    assert float(row["rated_rear"]) == pytest.approx(min(0.85 * tip, structural_limit(10.5, angle)[0]), rel=1e-12)
+    assert float(row["rated_360"]) == float(row["rated_front"]) < float(row["rated_side"]) < float(row["rated_rear"])
+    rated = [float(r["rated_360"]) for r in chart if float(r["length"]) == 22.4]
     assert all(a > b for a, b in zip(rated, rated[1:]))   # rated load falls with radius
+    assert all(10.0 - 1e-9 <= float(r["angle"]) <= 80.0 + 1e-9 for r in chart)   # the working angles only
+    page = (out / "load_chart.md").read_text()
+    assert "## Gross rated load [t], over the front" in page and "hook block 150 kg" in page and "holds." in page
     tele = _rows(out / "load_chart_telescoping.csv")
     assert tele and all(r["status"] == "ok" and float(r["of_static"]) < 1.0 for r in tele)
 

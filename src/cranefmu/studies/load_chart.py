@@ -1,15 +1,14 @@
-"""Load chart of the truck crane (seed 000, scene truck_telescope) as a manufacturer prints one.
+"""Load chart of the truck crane (seed 000) as a manufacturer prints one.
 
-Tipping load (static): the hook load at which the front outrigger reaction N1 falls to zero, from
-``cranefmu.scenes.static_outrigger_loads`` (the scene's Boom and Chassis models at rest, statically
-determinate; N1 is linear in the load, so two loads give the zero).  Rated load (the stated stability
-rule, ASME B30.5 / SAE J765 practice for outriggers, /work notes crane-standards): 85 % of the tipping
-load, minus the hook block and the rigging (parameters below), which hang on the hook but are not
-payload.  EN 13000's own stability criterion is not included: its exact form was not verified from
-a source.  No structural (boom strength) or winch (rope pull) limit is modelled: every value here is
-stability-limited, and a real chart's short-radius values would be lower.
+The chart (:mod:`.rating`): the crane on four outriggers (truck_slewing's chassis), gross rated loads over
+the rear, the side, the front and 360 deg (the least over all slewing angles), each the lesser of 85 % of
+the static tipping load (ASME B30.5 / SAE J765 on outriggers) and a structural limit (luffing cylinder and
+boom bending, assumed allowables: seed 000 gives no section data), within the boom's working angles; the
+hook block and rigging listed as deductions; backward stability without load.  EN 13000's own stability
+criterion is not included: its exact form was not verified from a source.
 
-Checks beside it: the co-simulated scene at rest (N1 at the start at two loads, its linear zero)
+Checks beside it (truck_telescope, two outriggers: its over-the-rear tipping equals the four-pad one, the
+front outrigger reaction N1 = 0 from ``cranefmu.scenes.static_outrigger_loads``): the co-simulated scene at rest (N1 at the start at two loads, its linear zero)
 against the static tipping load; and while telescoping (from the retracted boom to the length, at
 seed 000's speeds, then free sway), the largest load whose run keeps N1 > 0, by secant rounds on the
 sweep engine (sweep/load_chart.py), rated by the same rule.
@@ -22,15 +21,17 @@ import numpy as np
 
 from ..sweep.load_chart import (L_MAX, L_MIN, STEP, closed_form_max_load, dynamic_chart, slewing_max_loads,
                                 static_chart)
-from .common import Context, finish, pyplot, write_csv, write_page
+from .common import Context, pyplot, write_csv, write_page
+from .rating import (ALLOWABLES, BACKWARD_LIMIT, DEDUCTIONS, MAX_ANGLE, MIN_ANGLE, STABILITY_FACTOR,
+                     backward_stability, cell, radius_range)
 
-STABILITY_FACTOR = 0.85    # rated / tipping on outriggers (ASME B30.5, crane-standards.md)
-HOOK_BLOCK = 150.0         # [kg] hook block deducted from the chart value (assumed: seed 000 gives none)
-RIGGING = 50.0             # [kg] slings and shackles deducted likewise (assumed)
+HOOK_BLOCK = dict(DEDUCTIONS)["hook block"]   # [kg] listed on the chart as a deduction (assumed)
+RIGGING = dict(DEDUCTIONS)["slings and shackles (rigging)"]
 SPEEDS = (0.2, 0.35, 0.55)  # telescoping speeds of seed 000 [m/s]
 LENGTHS = (L_MIN, 14.0, 18.0, L_MAX)
-RADII = (4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 12.0, 14.0, 16.0, 18.0, 20.0)
-MAX_ANGLE = 80.0           # [deg] steepest boom angle of the chart
+RADII = (2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 12.0, 14.0, 16.0, 18.0, 20.0, 22.0)
+ZONES = (("360", "360 deg (the least over every slewing angle)"), ("rear", "over the rear"),
+         ("side", "over the side"), ("front", "over the front (the cab)"))
 TIP_LOAD = 2500.0          # [kg] seed 000's load, for the tipping lengths
 
 
@@ -45,8 +46,9 @@ def tipping_load(length: float, angle_deg: float) -> float:
 
 
 def rated(tipping: float) -> float:
-    """Rated payload [kg] from a tipping load [kg]: the stability factor, then hook block and rigging off."""
-    return STABILITY_FACTOR * tipping - HOOK_BLOCK - RIGGING
+    """Gross rated load [kg] (stability only) from a tipping load [kg]: the stability factor; the hook block
+    and rigging are part of it (listed deductions)."""
+    return STABILITY_FACTOR * tipping
 
 
 def tipping_length(angle_deg: float, load: float = TIP_LOAD, top: float = 40.0) -> float:
@@ -75,21 +77,21 @@ def closed_form_length(angle_deg: float, load: float = TIP_LOAD) -> float:
 
 
 def chart() -> list[dict]:
-    """Rated load per boom length and radius (cells outside 0-80 deg or inside the tipping line: None)."""
+    """One row per boom length and radius within the working angles: tipping loads [kg] over the rear, side,
+    front and 360 deg (with its slewing angle), the structural limit [kg] and member, gross rated loads [kg]
+    and what governs each."""
     rows = []
-    for radius in RADII:
-        row = {"radius": radius}
-        for length in LENGTHS:
-            angle = math.degrees(math.acos(radius / length)) if radius < length else None
-            ok = angle is not None and angle <= MAX_ANGLE
-            tip = tipping_load(length, angle) if ok else math.nan
-            row[f"angle_{length:g}"] = angle if ok else None
-            row[f"tipping_{length:g}"] = tip if ok and math.isfinite(tip) else None
-            row[f"rated_{length:g}"] = rated(tip) if ok and math.isfinite(tip) and rated(tip) > 0 else None
-            # on four outrigger pads (truck_slewing's chassis): over the rear and over the side
-            for where, t in zip(("rear", "side"), slewing_max_loads(angle, length) if ok else (math.nan, math.nan)):
-                row[f"rated_{where}_{length:g}"] = rated(t) if math.isfinite(t) and rated(t) > 0 else None
-        rows.append(row)
+    for length in LENGTHS:
+        for radius in RADII:
+            c = cell(length, radius)
+            if c is None:
+                continue
+            row = {"length": length, "radius": radius, "angle": c.angle}
+            row.update({f"tipping_{w}": c.tipping[w] for w, _ in ZONES})
+            row.update({"slew_360": c.slew_360, "structural": c.structural, "structural_member": c.member})
+            row.update({f"rated_{w}": c.rated(w) for w, _ in ZONES})
+            row.update({f"governs_{w}": c.governs(w) for w, _ in ZONES})
+            rows.append(row)
     return rows
 
 
@@ -134,37 +136,54 @@ def run(ctx: Context) -> None:
                page(table, static, dyn_rows, settle))
 
 
+def _cell(row: dict | None, where: str) -> str:
+    if row is None or not math.isfinite(row[f"rated_{where}"]):
+        return "-"
+    return f"{row[f'rated_{where}'] / 1e3:.2f}" + ("*" if row[f"governs_{where}"] == "structure" else "")
+
+
 def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float | None) -> list[str]:
-    lines = [f"Rated load = {STABILITY_FACTOR:.0%} of the static tipping load (ASME B30.5 / SAE J765 on outriggers) "
-             f"minus the hook block ({HOOK_BLOCK:g} kg) and rigging ({RIGGING:g} kg), both assumed (seed 000 gives "
-             "neither).  Tipping load: front outrigger reaction N1 = 0 about the rear pad, from "
-             "`scenes.static_outrigger_loads` (the scene's Boom and Chassis models at rest, every segment extended "
-             "to the boom length).  EN 13000's stability criterion is not included (its exact form was not "
-             "verified from a source).  No structural or winch limit is modelled: every value is "
-             "stability-limited.  Tables: load_chart.csv, load_chart_static.csv, load_chart_telescoping.csv.", "",
-             "## Rated load [t] per boom length and radius (on outriggers, 360 deg not checked: over the rear)", "",
-             "| radius [m] | " + " | ".join(f"boom {L:g} m" for L in LENGTHS) + " |",
-             "| ---: | " + " | ".join("---:" for _ in LENGTHS) + " |"]
-    for row in table:
-        cells = []
-        for L in LENGTHS:
-            v, a = row[f"rated_{L:g}"], row[f"angle_{L:g}"]
-            cells.append("-" if v is None else f"{v / 1e3:.2f} ({a:.0f} deg)")
-        lines.append(f"| {row['radius']:g} | " + " | ".join(cells) + " |")
-    lines += ["", "'-': radius beyond the boom, steeper than 80 deg, or no load tips the crane there.", "",
-              "## Rated load [t] over the rear / over the side on four outrigger pads", "",
-              "The truck_slewing chassis: four pads, seed 000's base l7 = 3.08 m along the truck and (assumed) across; "
-              "tipping load = the resultant of all weights on the rear pad edge or on the edge of the two pads on the "
-              "boom's side (`scenes.pad_tipping_load`, rigid statics), rated by the same rule.  Over the rear it "
-              "equals the table above.", "",
-              "| radius [m] | " + " | ".join(f"boom {L:g} m rear / side" for L in LENGTHS) + " |",
-              "| ---: | " + " | ".join("---:" for _ in LENGTHS) + " |"]
-    for row in table:
-        cells = []
-        for L in LENGTHS:
-            rear, side = row[f"rated_rear_{L:g}"], row[f"rated_side_{L:g}"]
-            cells.append(" / ".join("-" if v is None else f"{v / 1e3:.2f}" for v in (rear, side)))
-        lines.append(f"| {row['radius']:g} | " + " | ".join(cells) + " |")
+    back, back_slew = backward_stability()
+    deduct = ", ".join(f"{name} {kg:g} kg" for name, kg in DEDUCTIONS)
+    lines = ["On four outriggers fully extended (truck_slewing's chassis: seed 000's base l7 = 3.08 m along the "
+             "truck and, assumed, across), boom telescoped with both segments extended equally, the load at rest "
+             "(no wind, no dynamic allowance: the telescoping section below measures what the sway takes).  "
+             "Tables: load_chart.csv, load_chart_static.csv, load_chart_telescoping.csv.", "",
+             f"- **Gross rated loads** [t]: the hook block and rigging are part of them.  Deduct from the chart value: "
+             f"{deduct} (assumed: seed 000 gives neither).",
+             f"- **Rated = the lesser of** the stability limit, {STABILITY_FACTOR:.0%} of the static tipping load "
+             "(ASME B30.5 / SAE J765 on outriggers; tipping: the resultant of all weights on a pad edge, rigid "
+             "statics without the soil's tilt, `scenes.pad_tipping_load`), and the structural limit (marked *): "
+             f"{ALLOWABLES.describe()}, both ASSUMED (seed 000 gives no cylinder or boom section data); the "
+             "cylinder force and the boom's moment at the pin are the statics of the seed's boom (`studies/rating.py`).",
+             f"- **Every slewing direction**: over the rear (0 deg), the side (90 deg), the front (180 deg, over the "
+             "cab: the truck body sits 0.89 m ahead of the slewing centre and the front pads only 1.452 m ahead of "
+             "it, so the front governs), and 360 deg, the least over all slewing angles (a 0.25-deg search, refined): "
+             + ("over the front at every point of this chart." if all(r["slew_360"] == 180.0 for r in table) else
+                "at the slewing angles of load_chart.csv (slew_360).") + "  Where the slewing direction is not "
+             "fixed, the 360-deg table applies.",
+             f"- **Working range**: boom angles {MIN_ANGLE:g} to {MAX_ANGLE:g} deg (assumed: seed 000 gives none); "
+             "radius from the slewing axis.",
+             f"- **Backward stability without load** (shortest boom at {MAX_ANGLE:g} deg, no hook load): the unloaded "
+             f"crane's centre of gravity lies {back:.1%} of the way from the slewing axis to the pad edge it faces "
+             f"(least stable slewing angle {back_slew:g} deg); limit {BACKWARD_LIMIT:.0%} (ASME B30.5 on "
+             "outriggers as practice cites it, the text not verified here): "
+             + ("holds." if back <= BACKWARD_LIMIT else "**exceeded**."),
+             "- EN 13000's own stability criterion is not included (its exact form was not verified from a source).",
+             ""]
+    by = {(r["length"], r["radius"]): r for r in table}
+    radii = sorted({r["radius"] for r in table})
+    for where, title in ZONES:
+        lines += [f"## Gross rated load [t], {title}", "",
+                  "| radius [m] | " + " | ".join(f"boom {L:g} m" for L in LENGTHS) + " |",
+                  "| ---: | " + " | ".join("---:" for _ in LENGTHS) + " |"]
+        for radius in radii:
+            lines.append(f"| {radius:g} | " + " | ".join(_cell(by.get((L, radius)), where) for L in LENGTHS) + " |")
+        lines.append("")
+    lines += ["'*': the structural limit governs.  '-': outside the boom's working angles "
+              f"({MIN_ANGLE:g}-{MAX_ANGLE:g} deg) at that radius.  Boom angles [deg] per cell: "
+              + "; ".join(f"{L:g} m: " + ", ".join(f"{by[(L, r)]['angle']:.0f}" for r in radii if (L, r) in by)
+                          for L in LENGTHS) + "."]
     lines += ["",
               f"Static tipping lengths at {TIP_LOAD / 1e3:g} t (boom length at which N1 = 0; beyond {L_MAX} m the "
               "model's boom extended by the same law): " + ", ".join(
@@ -210,30 +229,47 @@ def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float |
 
 
 def plot(table: list[dict], static: list[dict], dyn: list[dict], path) -> None:
+    """One panel per boom length (so each length can be told apart): gross rated loads over the rear, the side
+    and the front (= 360 deg here), the structural limit and the tipping loads, within the working radii; the
+    co-simulated checks of that length (over the rear)."""
+    from .rating import structural_limit, tipping_loads
+
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(8.5, 5.8))
-    for i, L in enumerate(LENGTHS):
-        angles = np.linspace(0.0, MAX_ANGLE, 81)
-        pts = [(L * math.cos(math.radians(a)), tipping_load(L, a)) for a in angles]
-        pts = [(x, t) for x, t in pts if math.isfinite(t) and rated(t) > 0 and x >= RADII[0]]   # the chart's range
-        if not pts:
-            continue
-        x = [p[0] for p in pts]
-        ax.plot(x, [rated(p[1]) / 1e3 for p in pts], "-", color=f"C{i}", lw=1.6,
-                label=f"boom {L:g} m: rated ({STABILITY_FACTOR:.0%} tipping - hook/rigging)")
-        ax.plot(x, [p[1] / 1e3 for p in pts], ":", color=f"C{i}", lw=1, label=f"boom {L:g} m: static tipping load")
-    if static:
-        ax.plot([r["radius"] for r in static], [r["scene"] / 1e3 for r in static], "ko", mfc="none", ms=6,
-                label="tipping, co-simulated scene at rest")
-    for v, marker in zip(SPEEDS, ("v", "s", "D")):
-        sel = [r for r in dyn if r["speed"] == v and r["status"] == "ok"]
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), sharey=True)
+    styles = {"rear": ("C0", "-"), "side": ("C2", "--"), "front": ("C3", "-")}
+    for ax, L in zip(axes.flat, LENGTHS):
+        lo, hi = radius_range(L)
+        radius = np.linspace(lo, hi, 121)
+        angles = np.degrees(np.arccos(radius / L))
+        tips = np.array([tipping_loads(L, a, [0.0, 90.0, 180.0]) for a in angles])
+        struct = np.array([structural_limit(L, a)[0] for a in angles])
+        for k, where in enumerate(("rear", "side", "front")):
+            color, ls = styles[where]
+            label = "over the front = 360 deg" if where == "front" else f"over the {where}"
+            ax.plot(radius, np.minimum(STABILITY_FACTOR * tips[:, k], struct) / 1e3, ls, color=color, lw=1.8,
+                    label=f"rated, {label}")
+            ax.plot(radius, tips[:, k] / 1e3, ":", color=color, lw=0.9, label=f"tipping, {label}")
+        ax.plot(radius, struct / 1e3, "-", color="0.45", lw=1.2, label="structural limit (assumed allowables)")
+        sel = [r for r in static if r["length"] == L and math.isfinite(r["scene"])]
         if sel:
-            ax.plot([r["radius"] for r in sel], [r["rated"] / 1e3 for r in sel], marker, color="k", ms=6,
-                    label=f"rated while telescoping at {v} m/s (co-simulation)")
-    bad = [r for r in dyn if r["status"] != "ok"]
-    if bad:
-        ax.plot([r["radius"] for r in bad], [r["static_tipping"] * STABILITY_FACTOR / 1e3 for r in bad], "rX", ms=10,
-                label="failed telescoping point")
-    ax.set_ylim(0.0, None)
-    finish(fig, ax, path, "working radius from the slewing centre [m]", "load [t]",
-           "truck crane 55713-1K (seed 000): load chart on outriggers, over the rear", legend=6.5, grid="major")
+            ax.plot([r["radius"] for r in sel], [r["scene"] / 1e3 for r in sel], "ko", mfc="none", ms=6,
+                    label="tipping over the rear, co-simulated scene at rest")
+        for v, marker in zip(SPEEDS, ("v", "s", "D")):
+            pts = [r for r in dyn if r["length"] == L and r["speed"] == v and r["status"] == "ok"]
+            if pts:
+                ax.plot([r["radius"] for r in pts], [r["rated"] / 1e3 for r in pts], marker, color="k", ms=6,
+                        label=f"rated over the rear while telescoping at {v} m/s")
+        ax.set_yscale("log")
+        ax.set_xlim(0.0, 23.0)
+        ax.set_xticks(range(0, 23, 5))
+        ax.set_title(f"boom {L:g} m (angles {MIN_ANGLE:g}-{MAX_ANGLE:g} deg: radius {lo:.1f}-{hi:.1f} m)", fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=6, loc="upper right")
+    for ax in axes[1]:
+        ax.set_xlabel("working radius from the slewing axis [m]")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("gross load [t]")
+    fig.suptitle("truck crane 55713-1K (seed 000) on four outriggers: gross rated load per boom length")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
