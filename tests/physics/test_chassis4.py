@@ -1,5 +1,6 @@
 """Truck body on four outrigger pads in 3-D (physics/chassis4.py): the rigid-cap statics, the two-outrigger
-chassis as its working-plane section, unilateral lift-off, energy without damping, the heave frequency."""
+chassis as its working-plane section, unilateral lift-off (rocking on three pads is not tipping; a second pad
+off, of one edge or the diagonal, is), energy without damping, the heave frequency."""
 from __future__ import annotations
 
 import math
@@ -58,13 +59,14 @@ def test_rigid_cap_formula_is_the_equilibrium_of_the_model(mx, mz, fz):
 
 
 def test_a_pad_with_a_pull_in_the_formula_lifts_off_and_three_pads_carry_the_loads():
+    """One pad off is the crane resting on three pads, the resultant inside the support polygon: not tipping."""
     model = Chassis4Model(Chassis4Params())
     u = inputs(Fy_base=-3.0e4, Mx_base=2.72e5, Mz_base=-1.0e5)
     assert model.static_reactions(u).min() < 0.0        # the rigid-cap formula pulls on a -z pad
     x = model.initial_state(u)
     y = model.output_list(0.0, x, u)
     n = reactions(model, x, u)
-    assert y[OUT["pads_lifted"]] == 1.0 and y[OUT["tipping"]] == 1.0
+    assert y[OUT["pads_lifted"]] == 1.0 and y[OUT["tipping"]] == 0.0
     off = int(np.argmin(n))
     assert n[off] == 0.0 and model.zs[off] < 0.0 and y[OUT[f"q{off + 1}"]] <= 0.0
     w, m_gamma, m_beta = model.applied_loads(u)
@@ -86,6 +88,46 @@ def test_resultant_outside_the_pads_has_no_equilibrium():
     assert y["pads_lifted"] == 2.0 and y["tipping"] == 1.0
     assert y["N2"] + y["N4"] == pytest.approx(w, rel=1e-12) and y["N1"] == y["N3"] == 0.0
     assert max(y["q1"], y["q3"]) == pytest.approx(0.0, abs=1e-15)
+
+
+def test_a_second_pad_off_is_tipping_and_a_diagonal_pair_never_lifts_alone():
+    """tipping counts the pads carrying nothing: 0 or 1 is not tipping, 2 (an edge) or more is.  On the
+    rectangle of pads the settlements lie on a plane, q1 + q4 = q2 + q3 (and so does c q + b q'), so a
+    diagonal pair cannot lift while the other two press: the second pad off is always of one edge."""
+    model = Chassis4Model(Chassis4Params())
+    u = inputs(Fy_base=-3.0e4)
+    d = np.column_stack([np.ones(4), model.xs, model.zs])
+    # q1, q2, q3 wanted (q4 = q2 + q3 - q1 follows) -> the pads off
+    for q123, off in (((2e-3, 3e-3, 1e-3), ()), ((2e-3, 3e-3, -1e-4), (2,)), ((-1e-4, 2e-3, -2e-4), (0, 2)),
+                      ((-1e-4, -2e-4, 2e-3), (0, 1)), ((3e-3, 2e-3, -1e-3), (2, 3)),
+                      ((-1e-3, -1e-4, -1e-4), (0, 1, 2))):
+        neg_y, gamma, beta = np.linalg.solve(d[:3], q123)
+        y = dict(zip(OUT, model.output_list(0.0, np.array([-neg_y, gamma, beta, 0.0, 0.0, 0.0]), u)))
+        n = [y[f"N{i}"] for i in range(1, 5)]
+        assert [i for i in range(4) if n[i] == 0.0] == list(off), (off, n)
+        assert y["pads_lifted"] == len(off)
+        assert y["tipping"] == (1.0 if len(off) >= 2 else 0.0), off
+    rng = np.random.default_rng(1)
+    for x in rng.normal(size=(2000, 6)) * [1e-3, 1e-3, 1e-3, 1e-2, 1e-2, 1e-2]:
+        y = dict(zip(OUT, model.output_list(0.0, x, u)))
+        off = {i for i in range(4) if y[f"N{i + 1}"] == 0.0}
+        assert off not in ({0, 3}, {1, 2}), x
+
+
+def test_rocking_on_three_pads_never_lifts_a_second_pad():
+    """Pushed in roll from rest on four pads (a roll rate of 0.01 rad/s, no damping): the chassis rocks, a
+    -z pad lifting off and landing again, the other three carrying on, never a second pad off: it rocks on
+    three pads and does not tip (the resultant stays inside the pads)."""
+    model = Chassis4Model(Chassis4Params(damping=0.0))
+    u = inputs(Fy_base=-3.0e4, Mx_base=2.6e5, Mz_base=-1.0e5)
+    x0 = model.initial_state(u) + np.array([0.0, 0.0, 0.0, 0.0, 0.0, 1e-2])
+    sol = solve_ivp(lambda t, x: model.derivatives(t, x, u), (0.0, 0.5), x0, method="DOP853",
+                    rtol=1e-10, atol=1e-14, dense_output=True, max_step=1e-4)
+    ys = np.array([model.output_list(t, sol.sol(t), u) for t in np.linspace(0.0, 0.5, 2001)])
+    lifted = ys[:, OUT["pads_lifted"]]
+    assert lifted.max() == 1.0 and lifted[0] == 0.0
+    assert np.count_nonzero(np.diff(lifted) > 0) >= 2      # lifts, lands and lifts again
+    assert ys[:, OUT["tipping"]].max() == 0.0
 
 
 def test_energy_is_conserved_without_damping_through_lift_off():

@@ -28,9 +28,12 @@ beta' p_z, beta' p_y), so it adds [[m_b, -S_x, -S_z], [-S_x, J_p, J_pr], [-S_z, 
 
 Soil (seed 000 "C0 = q0 F"): each pad c = q0 F = 20.25 MN/m, damping b = (damping per outrigger
 position) / 2, so two pads at one position equal :mod:`.chassis`' outrigger.  Unilateral: N_i = max(0,
-c q_i + b q_i') while q_i > 0, else 0.  ``tipping`` is 1 while a pad carries nothing (the crane rests on
-three pads or fewer: a pad lifting off is where the stability reserve is used up); ``pads_lifted`` counts
-them.  Integrated with rk4 (no closed-form step).
+c q_i + b q_i') while q_i > 0, else 0.  A crane on four outriggers rocks on three pads: with one pad off
+(it carries nothing, free above the soil) the other three carry the loads and the model runs on.  It
+overturns when the resultant of all weights leaves the support polygon, where a second pad lifts (the two
+of one edge: it turns about that edge; or a diagonal pair: it rests on the other diagonal's line):
+``tipping`` is 1 while two pads or more carry nothing (beyond that the small tilts have no overturning
+kinematics), ``pads_lifted`` counts the pads carrying nothing.  Integrated with rk4 (no closed-form step).
 
 Statics (:meth:`Chassis4Model.static_reactions`, rigid chassis on four equal springs): three balances
 (force, two moments) for four reactions; compatibility (the pads' settlements lie on the chassis' plane,
@@ -146,8 +149,10 @@ class Chassis4Model(Model):
           for i, name in enumerate(("front-left", "front-right", "rear-left", "rear-right"), 1)),
         *(Signal(f"N{i}", "N", f"soil reaction on pad {i} ({name})")
           for i, name in enumerate(("front-left", "front-right", "rear-left", "rear-right"), 1)),
-        Signal("pads_lifted", "1", "number of pads carrying nothing", discrete=True),
-        Signal("tipping", "1", "1 while a pad has lifted off (carries nothing), else 0", discrete=True),
+        Signal("pads_lifted", "1", "number of pads carrying nothing (one: the crane rocks on three pads)",
+               discrete=True),
+        Signal("tipping", "1", "1 while two pads or more carry nothing (the resultant outside the support "
+               "polygon: the crane overturns), else 0", discrete=True),
     )
 
     def __init__(self, params: Chassis4Params):
@@ -207,9 +212,11 @@ class Chassis4Model(Model):
         return qs, ns
 
     def initial_state(self, u: np.ndarray) -> np.ndarray:
-        """Static equilibrium on the pads in contact (:func:`contact_statics`).  Without one (the resultant
-        outside the pads) the chassis rests on the two pads of the edge the resultant lies beyond, which carry
-        the whole vertical load, the other two just clear of the soil: it starts to tip (as :mod:`.chassis`)."""
+        """Static equilibrium on the pads in contact (:func:`contact_statics`): four, or three with the
+        fourth clear of the soil (``pads_lifted`` 1, not tipping).  Without one (the resultant outside the
+        support polygon) the chassis rests on the two pads of the edge the resultant lies beyond, which carry
+        the whole vertical load, the other two just clear of the soil (``pads_lifted`` 2 or 3, ``tipping``
+        1): it starts to overturn (as :mod:`.chassis`)."""
         self.carry(u)
         w, mg, mbeta = self.applied_loads(u)
         if w <= 0.0:
@@ -250,7 +257,7 @@ class Chassis4Model(Model):
     def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         qs, ns = self.pads(x)
         lifted = float(sum(1 for n in ns if n == 0.0))
-        return [*x.tolist(), *qs, *ns, lifted, 1.0 if lifted else 0.0]
+        return [*x.tolist(), *qs, *ns, lifted, 1.0 if lifted >= 2.0 else 0.0]
 
     def energy(self, x: np.ndarray, u: np.ndarray) -> float:
         """Kinetic + soil spring energy [J] minus the work of the constant loads (derived; conserved when

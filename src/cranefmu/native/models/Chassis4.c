@@ -15,10 +15,13 @@
    boom_inertia = carried, the boom's [[m_b, -S_x, -S_z], [-S_x, J_p, J_pr], [-S_z, J_pr, J_r]].
    Soil (seed 000 "C0 = q0 F"): each pad c = q0 F, damping b = (damping per outrigger position) / 2;
    unilateral: N_i = max(0, c q_i + b q_i') while q_i > 0, else 0.  Integrated with rk4 (no closed form).
+   The crane rocks on three pads (one pad off, free above the soil: the model runs on); tipping is 1 while
+   two pads or more carry nothing (the resultant outside the support polygon: it overturns); pads_lifted
+   counts the pads carrying nothing.
 
    Statics (initial state): the rigid chassis on the pads in contact (four, else each set of three) with
-   every N_i >= 0 and every other pad clear of the soil; without one (the resultant outside the pads) it
-   rests on the two pads of the edge the resultant lies beyond (it starts to tip). */
+   every N_i >= 0 and every other pad clear of the soil; without one (the resultant outside the support
+   polygon) it rests on the two pads of the edge the resultant lies beyond (it starts to overturn). */
 #include <math.h>
 #include <string.h>
 
@@ -302,7 +305,7 @@ void cf_outputs(const CfModel *m, double t, const double *x, const double *u, do
             lifted += 1.0;
     }
     y[OUT_pads_lifted] = lifted;
-    y[OUT_tipping] = lifted != 0.0 ? 1.0 : 0.0;
+    y[OUT_tipping] = lifted >= 2.0 ? 1.0 : 0.0;   /* a second pad off: the crane overturns */
 }
 
 int cf_frozen(const CfModel *m)
