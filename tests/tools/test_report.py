@@ -67,7 +67,7 @@ def test_report_of_a_million_rows_is_a_few_mb_and_keeps_the_peak(tmp_path):
     assert size < 3e6, size
     data = _data(path.read_text())
     tension = next(p for p in data["plots"] if p["series"][0]["name"] == "rope.tension")["series"][0]
-    assert max(tension["v"]) == 20000.0
+    assert max(tension["v"]) == 20.0   # kN
     theta = next(p for p in data["plots"] if p["series"][0]["name"] == "pendulum.theta")
     assert theta["unit"] == "deg" and max(theta["series"][0]["v"]) == pytest.approx(0.1 * 180 / math.pi, rel=1e-5)
     assert 2000 <= len(data["frames"]["t"]) <= 20_000
@@ -107,8 +107,53 @@ def test_axes_say_the_unit_in_degrees_or_that_it_is_not_known():
     r = np.zeros(3, dtype=[("time", float), ("a.F", float), ("b.theta", float), ("c.n", float)])
     r["b.theta"] = [0.0, math.pi / 2, 0.0]
     specs = plot_specs(r, [("g", ["a.F", "b.theta", "c.n"])], {"b.theta": "rad", "c.n": ""})
-    assert [p["ylabel"] for p in specs] == ["[unit unknown]", "[deg]", "[1]"]
+    assert [p["ylabel"] for p in specs] == ["value [unit unknown]", "angle [deg]", "ratio [1]"]
     assert max(specs[1]["series"][0]["v"]) == 90.0
+
+
+def test_forces_in_kn_moments_in_kn_m_and_drive_speeds_in_rpm_with_their_quantity():
+    """Issue 37: force axes showed 100000-N ticks without a quantity; motor speed was in deg/s."""
+    from cranefmu.report.page import plot_specs
+
+    names = ("time", "rope.tension", "boom.Mz_base", "drive.motor_speed", "boom.slew_rate")
+    r = np.zeros(2, dtype=[(c, float) for c in names])
+    r["rope.tension"], r["boom.Mz_base"], r["drive.motor_speed"], r["boom.slew_rate"] = (
+        [109128.0, 72800.0], [2.0e5, 0.0], [2 * math.pi * 25.0, 0.0], [0.1, 0.0])
+    units = {"rope.tension": "N", "boom.Mz_base": "N.m", "drive.motor_speed": "rad/s", "boom.slew_rate": "rad/s"}
+    specs = {p["series"][0]["name"]: p for p in plot_specs(r, [(c, [c]) for c in names[1:]], units)}
+    assert specs["rope.tension"]["ylabel"] == "force [kN]" and specs["rope.tension"]["series"][0]["v"] == [109.128, 72.8]
+    assert specs["boom.Mz_base"]["ylabel"] == "moment [kN.m]" and specs["boom.Mz_base"]["series"][0]["v"][0] == 200.0
+    assert specs["drive.motor_speed"]["ylabel"] == "rotational speed [rpm]"
+    assert specs["drive.motor_speed"]["series"][0]["v"][0] == pytest.approx(1500.0, rel=1e-12)
+    assert specs["boom.slew_rate"]["ylabel"] == "angular speed [deg/s]"   # not a drive: degrees
+
+
+def test_truck_slewing_draws_the_slewing_boom_and_four_pads_from_their_own_outputs():
+    """SlewingBoom has no luff_angle_out and Chassis4 no N_front (issue 37: the boom was drawn as a horizontal
+    bar at the tip's height, no chassis): the foot from the radius and slewing angle, the pads from q1-q4."""
+    from cranefmu.physics.chassis4 import Chassis4Params, pad_positions
+    from cranefmu.report.drawing import LEG, draw
+
+    names = ["time", "boom.x_tip", "boom.y_tip", "boom.z_tip", "boom.boom_length", "boom.radius",
+             "boom.slew_angle_out", "chassis.y_base", "chassis.gamma", "chassis.beta"]
+    names += [f"chassis.{v}{i}" for v in "qN" for i in range(1, 5)]
+    r = np.zeros(1, dtype=[(c, float) for c in names])
+    L, psi, sig, yb = 10.5, math.radians(60.0), math.radians(40.0), -0.002
+    r["boom.boom_length"], r["boom.radius"], r["boom.slew_angle_out"], r["chassis.y_base"] = L, L * math.cos(psi), sig, yb
+    r["boom.x_tip"], r["boom.z_tip"] = L * math.cos(psi) * math.cos(sig), L * math.cos(psi) * math.sin(sig)
+    r["boom.y_tip"] = yb + L * math.sin(psi)
+    for i in range(1, 5):
+        r[f"chassis.q{i}"], r[f"chassis.N{i}"] = 0.001 * i, 1000.0 * i
+    d = draw(r)
+    foot = [float(v[0]) for v in d.points["boom_foot"]]
+    assert foot == pytest.approx([0.0, yb, 0.0], abs=1e-12)   # the slewing axis, at the chassis' heave
+    xs, zs = pad_positions(Chassis4Params())
+    for i in range(1, 5):
+        assert [float(v[0]) for v in d.points[f"pad{i}"]] == pytest.approx([xs[i - 1], -LEG - 0.001 * i, zs[i - 1]])
+        assert d.forces[f"N{i}"][0] == 1000.0 * i
+    kinds = [(e["kind"], e.get("cls")) for e in d.elements]
+    assert kinds.count(("pad", None)) == 4 and kinds.count(("arrow", None)) == 4 and ("line", "boom") in kinds
+    assert d.elements[0] == {"kind": "ground", "y": -LEG} and d.three_d
 
 
 def _no_external_reference(text: str) -> None:
@@ -172,11 +217,14 @@ def test_a_run_streamed_to_its_csv_is_reported_from_the_csv(pendulum_run, tmp_pa
 
 
 CHROMIUM = "/usr/bin/chromium"
-# scene -> (stop time [s], what its drawing must hold: (element class, count))
-DRAWN = {"elastic_pendulum": (None, [("rope", 1), ("anchor", 1)]),
-         "hook_sway": (0.5, [("rope", 2), ("boom", 2)]),   # side and top view
-         "overhead_lift": (0.5, [("rope", 1), ("girder", 2), ("trolley", 1), ("ground", 1)]),
-         "truck_telescope": (0.5, [("rope", 1), ("boom", 1), ("body", 1), ("arrow", 2), ("pad", 2)])}
+# scene -> (stop time [s], what its drawing must hold: (element class, count), --set values)
+DRAWN = {"elastic_pendulum": (None, [("rope", 1), ("anchor", 1)], ()),
+         "hook_sway": (0.5, [("rope", 3), ("boom", 3), ("payload", 3)], ()),   # side, top and close-up views
+         "overhead_lift": (0.5, [("rope", 1), ("girder", 2), ("trolley", 1), ("ground", 1)], ()),
+         "truck_telescope": (0.5, [("rope", 1), ("boom", 1), ("body", 1), ("arrow", 2), ("pad", 2), ("leg", 2)], ()),
+         # slewed to 40 deg and luffed at 60: side and top views, four pads and their reactions in the side view
+         "truck_slewing": (0.3, [("rope", 2), ("boom", 2), ("body", 2), ("arrow", 4), ("pad", 8), ("leg", 8),
+                                 ("beam", 4)], ("boom.slew_angle_start=0.6981317007977318",))}
 
 
 def _open(html, t: float, profile) -> str:
@@ -202,8 +250,16 @@ def _check_hook(dom: str, rows, t: float) -> None:
     assert float(attr["hook-y"]) == pytest.approx(rows["pendulum.y"][i], rel=1e-5, abs=1e-6)
     assert 'id="drawn-hook"' in dom
     plots = re.findall(r'<svg[^>]*id="plot-\d+".*?</svg>', dom, re.S)
-    assert plots and all("time [s]</text>" in p and re.search(r">\[[^\]]+\]</text>", p) for p in plots)
-    assert "[rad]" not in dom   # angles in degrees
+    assert plots and all("time [s]</text>" in p and re.search(r">[a-z ]+ \[[^\]]+\]</text>", p) for p in plots)
+    assert "[rad]" not in dom and "[N]" not in dom   # angles in degrees, forces in kN
+    for p in plots:   # the legend inside the plot (issue 37: an entry was cut at its edge)
+        svg = re.search(r"<svg[^>]*>", p).group(0)
+        assert float(re.search(r'data-legend-right="([^"]+)"', svg).group(1)) <= float(
+            re.search(r'width="([^"]+)"', svg).group(1))
+        ticks = re.findall(r'class="ytick">(-?[\d.]+)</text>', p)   # uniform number formatting per axis
+        assert ticks and len({len(t.partition(".")[2]) for t in ticks}) == 1, ticks
+    views = re.findall(r'<svg[^>]*class="view"', dom)
+    assert len(re.findall(r'class="scalebar"', dom)) == len(views)   # a scale bar in every crane view
 
 
 needs_chromium = pytest.mark.skipif(not __import__("os").path.exists(CHROMIUM),
@@ -223,17 +279,47 @@ def test_headless_chromium_draws_the_hook_at_the_csv_position(pendulum_run, tmp_
 @needs_chromium
 @pytest.mark.parametrize("scene", [s for s in DRAWN if s != "elastic_pendulum"])
 def test_headless_chromium_draws_each_scene(built, scene, tmp_path):
-    stop, parts = DRAWN[scene]
+    stop, parts, sets = DRAWN[scene]
     csv_path, html = tmp_path / "r.csv", tmp_path / "r.html"
-    p = cranefmu("run", scene, "--stop-time", str(stop), "--output", str(csv_path), "--report", str(html))
+    p = cranefmu("run", scene, "--stop-time", str(stop), "--output", str(csv_path), "--report", str(html),
+                 *(a for v in sets for a in ("--set", v)))
     assert p.returncode == 0, p.stderr
     rows = read_csv(csv_path)
-    t = float(rows["time"][len(rows) // 2])
+    i = len(rows) // 2
+    t = float(rows["time"][i])
     dom = _open(html, t, tmp_path / "profile")
     _check_hook(dom, rows, t)
     for cls, count in parts:
         assert len(re.findall(rf'class="{cls}"', dom)) == count, cls
     assert dom.count("<polyline") >= 2
+    views = {v: dict(re.findall(r'data-([a-z-]+)="([^"]*)"', re.search(rf'<svg[^>]*id="view-{v}"[^>]*>', dom).group(0)))
+             for v in ("side", "top", "close") if f'id="view-{v}"' in dom}
+    if "boom" in dict(parts):   # the boom's tip drawn where the CSV row puts it, in every view
+        for v, (a, b) in (("side", ("y", "y")), ("top", ("z", "z")), ("close", ("y", "y"))):
+            if v in views:
+                x, y = (float(c) for c in views[v]["boom-tip"].split(","))
+                assert x == pytest.approx(rows["boom.x_tip"][i], rel=1e-5, abs=1e-6), v
+                assert y == pytest.approx(rows[f"boom.{a}_tip"][i], rel=1e-5, abs=1e-6), v
+    if scene == "truck_slewing":   # slewed: the top view turns with it, the foot on the slewing axis
+        assert float(views["top"]["boom-tip"].split(",")[1]) > 3.0
+        assert [float(c) for c in views["top"]["boom-foot"].split(",")] == pytest.approx([0.0, 0.0], abs=1e-4)
+    side = re.search(r'<svg[^>]*id="view-side".*?</svg>', dom, re.S).group(0)
+    labels = re.findall(r"<text[^>]*>(N\d? ?[a-z-]*) (-?[\d.]+) kN</text>", side)
+    assert len(labels) == dict(parts).get("arrow", 0)
+    for label, value in labels:
+        column = {"N front": "chassis.N_front", "N rear": "chassis.N_rear"}.get(label, f"chassis.{label.split()[0]}")
+        assert value == f"{rows[column][i] / 1e3:.1f}", label   # the arrows' reactions at the slider's row
+    if scene in ("truck_telescope", "truck_slewing"):   # the load hangs above the ground line
+        ground = float(re.search(r'<line class="ground"[^>]*y1="([^"]+)"', side).group(1))
+        box = re.search(r'<rect class="payload"[^>]*>', side).group(0)
+        bottom = float(re.search(r' y="([^"]+)"', box).group(1)) + float(re.search(r'height="([^"]+)"', box).group(1))
+        assert bottom < ground - 1.0   # svg y points down
+    if scene == "hook_sway":   # the close-up: the payload box smaller than the sling it hangs on
+        assert "close" in views
+        sling = float(np.hypot(rows["pendulum.x_payload"][i] - rows["pendulum.x"][i],
+                               rows["pendulum.y_payload"][i] - rows["pendulum.y"][i]))
+        widths = {float(w) for w in re.findall(r'<rect class="payload"[^>]*width="([^"]+)"', dom)}
+        assert len(widths) == 1 and widths.pop() < 0.5 * sling
 
 
 FAILING = ('name = "tips_on_a_long_boom"\nscene = "truck_telescope"\nstop_time = 0.04\n'

@@ -19,36 +19,51 @@ def _numbers(values) -> list:
     return [float(f"{v:.6g}") if math.isfinite(v) else None for v in np.asarray(values, dtype=float).tolist()]
 
 
-def _axis(unit: str | None) -> tuple[str, float]:
-    """Display unit and factor: angles in degrees; None: the unit is not known."""
+QUANTITY = {"N": "force", "N.m": "moment", "rad": "angle", "rad/s": "angular speed", "rad/s2": "angular acceleration",
+            "m": "length", "m/s": "speed", "m/s2": "acceleration", "kg": "mass", "J": "energy", "W": "power",
+            "s": "time", "1": "ratio"}
+_DISPLAY = {"N": ("kN", 1e-3), "N.m": ("kN.m", 1e-3), "rad": ("deg", 180.0 / math.pi),
+            "rad/s": ("deg/s", 180.0 / math.pi), "rad/s2": ("deg/s2", 180.0 / math.pi)}
+
+
+def _axis(unit: str | None, column: str = "") -> tuple[str, float]:
+    """Display unit and factor: forces in kN, angles in degrees, a drive's shaft speeds in rpm; None: the unit
+    is not known."""
     if unit is None:
         return "unit unknown", 1.0
-    if unit == "rad":
-        return "deg", 180.0 / math.pi
-    if unit == "rad/s":
-        return "deg/s", 180.0 / math.pi
-    return unit or "1", 1.0
+    if unit == "rad/s" and column.startswith("drive.") and column.endswith("_speed"):
+        return "rpm", 60.0 / (2.0 * math.pi)
+    return _DISPLAY.get(unit, (unit or "1", 1.0))
+
+
+def _quantity(unit: str | None, column: str = "") -> str:
+    """The quantity an axis shows, named (force, moment, angle, rotational speed...)."""
+    if unit == "rad/s" and _axis(unit, column)[0] == "rpm":
+        return "rotational speed"
+    return QUANTITY.get(unit or "1", "value") if unit is not None else "value"
 
 
 def plot_specs(result: np.ndarray, groups: list[tuple[str, list[str]]], units: dict[str, str],
                lines: dict[str, list[tuple[str, float]]] | None = None) -> list[dict]:
-    """One plot per (group, unit): the series decimated keeping each bucket's extremes, in display units."""
+    """One plot per (group, display unit): the series decimated keeping each bucket's extremes, in display units
+    (kN, deg, rpm), the axis named by its quantity."""
     t = np.asarray(result["time"], dtype=float)
     out = []
     for title, cols in groups:
-        by_unit: dict[str | None, list[str]] = {}
+        by_unit: dict[tuple[str, str], list[str]] = {}
         for c in cols:
-            by_unit.setdefault(units.get(c), []).append(c)
-        for unit, names in by_unit.items():
-            shown, factor = _axis(unit)
+            by_unit.setdefault((_axis(units.get(c), c)[0], _quantity(units.get(c), c)), []).append(c)
+        for (shown, quantity), names in by_unit.items():
             series = []
             for c in names:
+                factor = _axis(units.get(c), c)[1]
                 v = np.asarray(result[c], dtype=float) * factor
                 keep = extremes(v)
                 series.append({"name": c, "t": _numbers(t[keep]), "v": _numbers(v[keep])})
-            refs = [{"label": label, "v": value * factor} for c in names for label, value in (lines or {}).get(c, [])]
+            refs = [{"label": label, "v": value * _axis(units.get(c), c)[1]}
+                    for c in names for label, value in (lines or {}).get(c, [])]
             out.append({"title": title if len(by_unit) == 1 else f"{title} ({shown})", "unit": shown,
-                        "ylabel": f"[{shown}]", "series": series, "lines": refs})
+                        "ylabel": f"{quantity} [{shown}]", "series": series, "lines": refs})
     return out
 
 
@@ -93,7 +108,7 @@ def page(result: np.ndarray, *, title: str, plots: list[dict], sections: list[tu
         "frames": {"t": _numbers(t[idx]),
                    "points": {k: [_numbers(a[idx]) for a in xyz] for k, xyz in d.points.items()},
                    "forces": {k: _numbers(v[idx]) for k, v in d.forces.items()}},
-        "elements": d.elements, "threeD": d.three_d, "arrow": FORCE_ARROW, "plots": plots,
+        "elements": d.elements, "threeD": d.three_d, "closeup": d.closeup, "arrow": FORCE_ARROW, "plots": plots,
         "t0": float(t[0]) if len(t) else 0.0, "t1": float(t[-1]) if len(t) else 1.0,
         "speed": max(1.0, duration / PLAY_SECONDS),
     }

@@ -10,7 +10,8 @@ table{border-collapse:collapse}td,th{padding:2px 10px;border-bottom:1px solid #e
 svg .body{stroke:#555;stroke-width:8}svg .leg{stroke:#555;stroke-width:4}svg .boom{stroke:#e0a000;stroke-width:7}
 svg .girder{stroke:#3a6ea5;stroke-width:8}svg .rope{stroke:#333;stroke-width:1.5}svg .sling{stroke:#333;stroke-width:1}
 svg .trolley{fill:#3a6ea5}svg .payload{fill:#8a5a2b}svg .hook{fill:#c00}svg .pad{fill:#777}
-svg .ground{stroke:#6b4;stroke-width:2}svg .arrow{stroke:#080;stroke-width:2.5;fill:none}svg .anchor{fill:#555}
+svg .ground{stroke:#6b4;stroke-width:2}svg .beam{stroke:#555;stroke-width:4}
+svg .scalebar{stroke:#000;stroke-width:2}svg .scalebar-text{fill:#000}svg .arrow{stroke:#080;stroke-width:2.5;fill:none}svg .anchor{fill:#555}
 svg line,svg polyline,svg path{vector-effect:non-scaling-stroke}
 .verdict{font-size:1.3em;padding:.4em .8em;margin:.5em 0;border-left:8px solid}
 .verdict.pass{background:#e6f4ea;border-color:#1e8e3e;color:#0d5c25}.verdict.fail{background:#fce8e6;border-color:#d93025;color:#a50e0e}
@@ -26,6 +27,7 @@ var D = JSON.parse(document.getElementById("report-data").textContent);
 var NS = "http://www.w3.org/2000/svg";
 var T = D.frames.t, N = T.length, frame = 0, playing = null;
 function el(tag, attrs, parent){var e=document.createElementNS(NS,tag);for(var k in attrs)if(attrs[k]!==null)e.setAttribute(k,attrs[k]);if(parent)parent.appendChild(e);return e;}
+function fixed(v, d){return (v===null||!isFinite(v))?"-":v.toFixed(d);}
 function fmt(v){if(v===null||!isFinite(v))return "-";var a=Math.abs(v);return (a!==0&&(a<1e-3||a>=1e6))?v.toExponential(4):(+v.toPrecision(6)).toString();}
 function nearest(arr, t){var lo=0,hi=arr.length-1;if(hi<0)return -1;while(hi-lo>1){var m=(lo+hi)>>1;if(arr[m]<=t)lo=m;else hi=m;}return (Math.abs(arr[hi]-t)<Math.abs(arr[lo]-t))?hi:lo;}
 
@@ -33,36 +35,49 @@ function nearest(arr, t){var lo=0,hi=arr.length-1;if(hi<0)return -1;while(hi-lo>
 var P = D.frames.points, F = D.frames.forces, fmax = 0;
 for (var f in F) F[f].forEach(function(v){if(v!==null&&Math.abs(v)>fmax)fmax=Math.abs(v);});
 var arrowScale = fmax > 0 ? D.arrow / fmax : 0;
-function coords(view, name, i){var p=P[name];return view==="side"?[p[0][i],p[1][i]]:[p[0][i],p[2][i]];}
+function coords(view, name, i){var p=P[name];return view==="top"?[p[0][i],p[2][i]]:[p[0][i],p[1][i]];}
 function bounds(view){
-  var b=[Infinity,Infinity,-Infinity,-Infinity];
-  for (var name in P) for (var i=0;i<N;i++){var c=coords(view,name,i);if(c[0]===null||c[1]===null)continue;
-    b[0]=Math.min(b[0],c[0]);b[1]=Math.min(b[1],c[1]);b[2]=Math.max(b[2],c[0]);b[3]=Math.max(b[3],c[1]);}
-  if (view==="side" && arrowScale>0) b[1]=Math.min(b[1],-D.arrow-0.5);
+  var b=[Infinity,Infinity,-Infinity,-Infinity], names=view==="close"?D.closeup:Object.keys(P);
+  names.forEach(function(name){for (var i=0;i<N;i++){var c=coords(view,name,i);if(c[0]===null||c[1]===null)continue;
+    b[0]=Math.min(b[0],c[0]);b[1]=Math.min(b[1],c[1]);b[2]=Math.max(b[2],c[0]);b[3]=Math.max(b[3],c[1]);}});
+  D.elements.forEach(function(e){if(view==="side"&&e.kind==="ground"){b[1]=Math.min(b[1],e.y);b[3]=Math.max(b[3],e.y);}});
+  if (view==="side" && arrowScale>0) b[1]=Math.min(b[1],b[1]-D.arrow-0.5);
   if (!isFinite(b[0])) b=[-1,-1,1,1];
-  var pad=Math.max(1,0.08*Math.max(b[2]-b[0],b[3]-b[1]));
+  var size=Math.max(b[2]-b[0],b[3]-b[1]), pad=view==="close"?Math.max(0.1,0.15*size):Math.max(1,0.08*size);
   return [b[0]-pad,b[1]-pad,b[2]+pad,b[3]+pad];
+}
+function scaleBar(svg, b, scale){
+  // a bar of a round length near a fifth of the view's width, at its lower left
+  var w=b[2]-b[0], want=w/5, step=Math.pow(10,Math.floor(Math.log10(want)));
+  var len=[1,2,5,10].map(function(m){return m*step;}).filter(function(v){return v<=want;}).pop()||step;
+  var x0=b[0]+0.04*w, y0=-b[1]-0.04*(b[3]-b[1]), tick=0.01*w;
+  var g=el("g",{"class":"scalebar-group","data-length":len},svg);
+  el("path",{"class":"scalebar",fill:"none",d:"M"+x0+","+(y0-tick)+"V"+y0+"H"+(x0+len)+"V"+(y0-tick)},g);
+  var t=el("text",{"class":"scalebar-text",x:x0+len+tick,y:y0},g);t.style.fontSize=(12*scale)+"px";
+  t.textContent=(+len.toPrecision(3))+" m";
 }
 var views = [];
 function makeView(view, title){
-  var b=bounds(view), w=b[2]-b[0], h=b[3]-b[1], px=D.threeD?520:720, py=Math.max(160,Math.min(600,px*h/w));
+  var b=bounds(view), w=b[2]-b[0], h=b[3]-b[1], px=(D.threeD||D.closeup.length)?520:720, py=Math.max(160,Math.min(600,px*h/w));
   var box=document.createElement("div");box.className="viewbox";
   var cap=document.createElement("div");cap.className="note";cap.textContent=title;box.appendChild(cap);
   var svg=el("svg",{"class":"view",id:"view-"+view,width:px,height:py,viewBox:[b[0],-b[3],w,h].join(" "),preserveAspectRatio:"xMidYMid meet"});
   box.appendChild(svg);document.getElementById("views").appendChild(box);
   var parts=[];
   D.elements.forEach(function(e){
-    if (view!=="side" && (e.kind==="arrow"||e.kind==="ground")) return;
+    if (view==="top" && (e.kind==="arrow"||e.kind==="ground")) return;
+    if (view==="close" && e.kind==="arrow") return;
     var g={e:e};
-    if (e.kind==="ground"){el("line",{"class":"ground",x1:b[0],x2:b[2],y1:0,y2:0},svg);return;}
+    if (e.kind==="ground"){el("line",{"class":"ground",x1:b[0],x2:b[2],y1:-e.y,y2:-e.y},svg);return;}
     if (e.kind==="line") g.n=el("line",{"class":e.cls},svg);
     else if (e.kind==="dot") g.n=el("circle",{"class":e.cls,r:e.r,id:view==="side"?"drawn-"+e.id:null},svg);
     else if (e.kind==="box") g.n=el("rect",{"class":e.cls,width:e.w,height:e.h},svg);
-    else if (e.kind==="pad") g.n=el("rect",{"class":"pad",width:0.6,height:0.2},svg);
+    else if (e.kind==="pad") g.n=el("rect",{"class":"pad",width:e.w,height:view==="top"?e.w:0.15},svg);
     else if (e.kind==="anchor") g.n=el("path",{"class":"anchor"},svg);
     else if (e.kind==="arrow"){g.n=el("path",{"class":"arrow"},svg);g.t=el("text",{},svg);}
     parts.push(g);
   });
+  scaleBar(svg, b, Math.max(w/px,h/py));
   views.push({view:view,svg:svg,parts:parts,scale:Math.max(w/px,h/py)});
 }
 function drawFrame(v, i){
@@ -73,13 +88,15 @@ function drawFrame(v, i){
     var p=coords(v.view,e.at,i);
     if (e.kind==="dot"){n.setAttribute("cx",p[0]);n.setAttribute("cy",-p[1]);}
     else if (e.kind==="box"){n.setAttribute("x",p[0]-e.w/2);n.setAttribute("y",-p[1]-e.h/2);}
-    else if (e.kind==="pad"){n.setAttribute("x",p[0]-0.3);n.setAttribute("y",-p[1]);}
+    else if (e.kind==="pad"){n.setAttribute("x",p[0]-e.w/2);n.setAttribute("y",v.view==="top"?-p[1]-e.w/2:-p[1]);}
     else if (e.kind==="anchor"){var s=0.3;n.setAttribute("d","M"+p[0]+","+(-p[1])+"l"+(-s)+","+(-s)+"h"+(2*s)+"z");}
     else if (e.kind==="arrow"){var f=F[e.force][i]||0, L=f*arrowScale, y0=-p[1]+0.2+L, s=Math.min(0.3,Math.abs(L)/3);
       // the reaction pushes the pad up: the arrow ends at the pad, pointing up
       n.setAttribute("d","M"+p[0]+","+y0+"V"+(-p[1]+0.2)+"m"+(-s)+","+s+"l"+s+","+(-s)+"l"+s+","+s);
-      g.t.setAttribute("x",p[0]+0.15);g.t.setAttribute("y",y0);g.t.style.fontSize=(12*v.scale)+"px";
-      g.t.textContent=e.label+" "+fmt(f/1e3)+" kN";}
+      // labels of the front pads to the left of their arrow, the rear pads' to the right, one row per pad
+      g.t.setAttribute("x",p[0]+(e.side<0?-0.15:0.15));g.t.setAttribute("text-anchor",e.side<0?"end":"start");
+      g.t.setAttribute("y",-p[1]+0.2+D.arrow*0.5+(e.row||0)*14*v.scale);g.t.style.fontSize=(12*v.scale)+"px";
+      g.t.textContent=e.label+" "+fixed(f/1e3,1)+" kN";}
   });
 }
 
@@ -87,7 +104,8 @@ function drawFrame(v, i){
 var plots = [], W=720, H=200, L0=70, R0=10, T0=10, B0=36;
 function ticks(lo, hi, n){var span=hi-lo;if(!(span>0))return [lo];var step=Math.pow(10,Math.floor(Math.log10(span/n)));
   [1,2,5,10].some(function(m){if(span/(step*m)<=n){step*=m;return true;}return false;});
-  var out=[];for(var v=Math.ceil(lo/step)*step;v<=hi+step*1e-9;v+=step)out.push(Math.abs(v)<step*1e-9?0:v);return out;}
+  var out=[];for(var v=Math.ceil(lo/step)*step;v<=hi+step*1e-9;v+=step)out.push(Math.abs(v)<step*1e-9?0:v);
+  out.decimals=Math.max(0,-Math.floor(Math.log10(step)+1e-9));return out;}
 var COLORS=["#1f77b4","#d62728","#2ca02c","#9467bd","#ff7f0e","#8c564b","#17becf","#7f7f7f"];
 function makePlot(spec, idx){
   var box=document.createElement("div");box.className="plot";
@@ -107,25 +125,41 @@ function makePlot(spec, idx){
 function xToT(p,x){return p.t0+(x-L0)/(W-L0-R0)*(p.t1-p.t0);}
 function render(p){
   var svg=p.svg;while(svg.firstChild)svg.removeChild(svg.firstChild);
+  var legend=layoutLegend(p), top=T0+legend.height;
   var lo=Infinity,hi=-Infinity;
   p.spec.series.forEach(function(s){for(var k=0;k<s.t.length;k++){if(s.t[k]<p.t0||s.t[k]>p.t1||s.v[k]===null)continue;lo=Math.min(lo,s.v[k]);hi=Math.max(hi,s.v[k]);}});
   (p.spec.lines||[]).forEach(function(r){lo=Math.min(lo,r.v);hi=Math.max(hi,r.v);});
   if(!isFinite(lo)){lo=0;hi=1;}if(hi-lo<1e-12*Math.max(1,Math.abs(hi))){lo-=0.5*Math.max(1e-9,Math.abs(lo)||1);hi+=0.5*Math.max(1e-9,Math.abs(hi)||1);}
   var m=0.05*(hi-lo);lo-=m;hi+=m;p.lo=lo;p.hi=hi;
-  var X=function(t){return L0+(t-p.t0)/((p.t1-p.t0)||1)*(W-L0-R0);}, Y=function(v){return T0+(hi-v)/(hi-lo)*(H-T0-B0);};
+  var X=function(t){return L0+(t-p.t0)/((p.t1-p.t0)||1)*(W-L0-R0);}, Y=function(v){return top+(hi-v)/(hi-lo)*(H-top-B0);};
   p.X=X;
-  ticks(lo,hi,5).forEach(function(v){el("line",{"class":"grid",x1:L0,x2:W-R0,y1:Y(v),y2:Y(v)},svg);
-    el("text",{x:L0-4,y:Y(v)+4,"text-anchor":"end"},svg).textContent=fmt(v);});
-  ticks(p.t0,p.t1,8).forEach(function(t){el("text",{x:X(t),y:H-B0+14,"text-anchor":"middle"},svg).textContent=fmt(t);});
-  el("line",{"class":"axis",x1:L0,x2:L0,y1:T0,y2:H-B0},svg);el("line",{"class":"axis",x1:L0,x2:W-R0,y1:H-B0,y2:H-B0},svg);
+  var yt=ticks(lo,hi,5), tt=ticks(p.t0,p.t1,8);
+  yt.forEach(function(v){el("line",{"class":"grid",x1:L0,x2:W-R0,y1:Y(v),y2:Y(v)},svg);
+    el("text",{x:L0-4,y:Y(v)+4,"text-anchor":"end","class":"ytick"},svg).textContent=fixed(v,yt.decimals);});
+  tt.forEach(function(t){el("text",{x:X(t),y:H-B0+14,"text-anchor":"middle"},svg).textContent=fixed(t,tt.decimals);});
+  el("line",{"class":"axis",x1:L0,x2:L0,y1:top,y2:H-B0},svg);el("line",{"class":"axis",x1:L0,x2:W-R0,y1:H-B0,y2:H-B0},svg);
   el("text",{x:(L0+W)/2,y:H-4,"text-anchor":"middle"},svg).textContent="time [s]";
-  el("text",{x:12,y:(H-B0)/2,"text-anchor":"middle",transform:"rotate(-90 12 "+(H-B0)/2+")"},svg).textContent=p.spec.ylabel;
+  el("text",{x:12,y:(H-B0+top)/2,"text-anchor":"middle",transform:"rotate(-90 12 "+(H-B0+top)/2+")"},svg).textContent=p.spec.ylabel;
   (p.spec.lines||[]).forEach(function(r){el("line",{x1:L0,x2:W-R0,y1:Y(r.v),y2:Y(r.v),stroke:"#888","stroke-dasharray":"4 3"},svg);
     el("text",{x:W-R0-2,y:Y(r.v)-3,"text-anchor":"end",fill:"#666"},svg).textContent=r.label;});
   p.spec.series.forEach(function(s,k){var pts=[];for(var j=0;j<s.t.length;j++){if(s.v[j]===null||s.t[j]<p.t0||s.t[j]>p.t1)continue;pts.push(X(s.t[j]).toFixed(1)+","+Y(s.v[j]).toFixed(1));}
-    el("polyline",{points:pts.join(" "),fill:"none",stroke:COLORS[k%COLORS.length],"stroke-width":1.3},svg);
-    el("text",{x:L0+8+k*150,y:T0+12,fill:COLORS[k%COLORS.length]},svg).textContent=s.name;});
-  p.cursor=el("line",{"class":"cursor",y1:T0,y2:H-B0},svg);placeCursor(p);
+    el("polyline",{points:pts.join(" "),fill:"none",stroke:COLORS[k%COLORS.length],"stroke-width":1.3},svg);});
+  legend.place(svg);
+  p.cursor=el("line",{"class":"cursor",y1:top,y2:H-B0},svg);placeCursor(p);
+}
+function layoutLegend(p){
+  // the series' names in rows above the plot area, inside the svg: each entry measured, a row wrapped
+  // before it would pass the right edge (the svg's data-legend-right records the widest row's end)
+  var svg=p.svg, x=L0+8, row=0, items=[], right=0;
+  p.spec.series.forEach(function(s,k){
+    var t=el("text",{"class":"legend",fill:COLORS[k%COLORS.length]},svg);t.textContent=s.name;
+    var w=t.getComputedTextLength();svg.removeChild(t);
+    if (x+w>W-R0 && x>L0+8){row++;x=L0+8;}
+    items.push({k:k,name:s.name,x:x,row:row});right=Math.max(right,x+w);x+=w+16;});
+  var height=items.length?(row+1)*14:0;
+  return {height:height,place:function(svg){
+    items.forEach(function(it){el("text",{"class":"legend",x:it.x,y:T0+11+14*it.row,fill:COLORS[it.k%COLORS.length]},svg).textContent=it.name;});
+    svg.setAttribute("data-legend-right",right.toFixed(1));svg.setAttribute("width",W);}};
 }
 function placeCursor(p){var x=p.X(T[frame]);p.cursor.setAttribute("x1",x);p.cursor.setAttribute("x2",x);
   p.cursor.setAttribute("visibility",(T[frame]>=p.t0&&T[frame]<=p.t1)?"visible":"hidden");}
@@ -140,6 +174,9 @@ function seek(i){
   views.forEach(function(v){drawFrame(v,frame);});
   plots.forEach(placeCursor);
   readout.textContent="t = "+fmt(T[frame])+" s (frame "+(frame+1)+" of "+N+")";
+  views.forEach(function(v){v.parts.forEach(function(g){if(g.e.kind==="line"&&g.e.cls==="boom"){
+    v.svg.setAttribute("data-boom-tip",g.n.getAttribute("x2")+","+(-g.n.getAttribute("y2")));
+    v.svg.setAttribute("data-boom-foot",g.n.getAttribute("x1")+","+(-g.n.getAttribute("y1")));}});});
   var side=document.getElementById("view-side"), hook=document.getElementById("drawn-hook");
   side.setAttribute("data-frame",frame);side.setAttribute("data-t",T[frame]);
   if(hook){side.setAttribute("data-hook-x",hook.getAttribute("cx"));side.setAttribute("data-hook-y",-hook.getAttribute("cy"));}
@@ -155,6 +192,7 @@ slider.max=N-1;slider.addEventListener("input",function(){seek(+slider.value);})
 window.addEventListener("hashchange",fromHash);
 makeView("side", "side view (x right, y up) [m], to scale");
 if (D.threeD) makeView("top", "top view (x right, z up) [m], to scale");
+if (D.closeup.length) makeView("close", "close-up of "+D.closeup.join(", ").replace(/_/g," ")+", side view [m], to scale");
 D.plots.forEach(makePlot);
 seek(0);fromHash();
 document.body.setAttribute("data-ready","1");
