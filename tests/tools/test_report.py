@@ -219,7 +219,7 @@ def test_a_run_streamed_to_its_csv_is_reported_from_the_csv(pendulum_run, tmp_pa
 CHROMIUM = "/usr/bin/chromium"
 # scene -> (stop time [s], what its drawing must hold: (element class, count), --set values)
 DRAWN = {"elastic_pendulum": (None, [("rope", 1), ("anchor", 1)], ()),
-         "hook_sway": (0.5, [("rope", 3), ("boom", 3), ("payload", 3)], ()),   # side, top and close-up views
+         "hook_sway": (0.5, [("rope", 4), ("boom", 4), ("payload", 4)], ()),   # side, top, two close-ups
          "overhead_lift": (0.5, [("rope", 1), ("girder", 2), ("trolley", 1), ("ground", 1)], ()),
          "truck_telescope": (0.5, [("rope", 1), ("boom", 1), ("body", 1), ("arrow", 2), ("pad", 2), ("leg", 2)], ()),
          # slewed to 40 deg and luffed at 60: side and top views, four pads and their reactions in the side view
@@ -293,9 +293,9 @@ def test_headless_chromium_draws_each_scene(built, scene, tmp_path):
         assert len(re.findall(rf'class="{cls}"', dom)) == count, cls
     assert dom.count("<polyline") >= 2
     views = {v: dict(re.findall(r'data-([a-z-]+)="([^"]*)"', re.search(rf'<svg[^>]*id="view-{v}"[^>]*>', dom).group(0)))
-             for v in ("side", "top", "close") if f'id="view-{v}"' in dom}
+             for v in ("side", "top", "close", "close-top") if f'id="view-{v}"' in dom}
     if "boom" in dict(parts):   # the boom's tip drawn where the CSV row puts it, in every view
-        for v, (a, b) in (("side", ("y", "y")), ("top", ("z", "z")), ("close", ("y", "y"))):
+        for v, a in (("side", "y"), ("top", "z"), ("close", "y"), ("close-top", "z")):
             if v in views:
                 x, y = (float(c) for c in views[v]["boom-tip"].split(","))
                 assert x == pytest.approx(rows["boom.x_tip"][i], rel=1e-5, abs=1e-6), v
@@ -315,7 +315,7 @@ def test_headless_chromium_draws_each_scene(built, scene, tmp_path):
         bottom = float(re.search(r' y="([^"]+)"', box).group(1)) + float(re.search(r'height="([^"]+)"', box).group(1))
         assert bottom < ground - 1.0   # svg y points down
     if scene == "hook_sway":   # the close-up: the payload box smaller than the sling it hangs on
-        assert "close" in views
+        assert "close" in views and "close-top" in views
         sling = float(np.hypot(rows["pendulum.x_payload"][i] - rows["pendulum.x"][i],
                                rows["pendulum.y_payload"][i] - rows["pendulum.y"][i]))
         widths = {float(w) for w in re.findall(r'<rect class="payload"[^>]*width="([^"]+)"', dom)}

@@ -11,7 +11,8 @@ svg .body{stroke:#555;stroke-width:8}svg .leg{stroke:#555;stroke-width:4}svg .bo
 svg .girder{stroke:#3a6ea5;stroke-width:8}svg .rope{stroke:#333;stroke-width:1.5}svg .sling{stroke:#333;stroke-width:1}
 svg .trolley{fill:#3a6ea5}svg .payload{fill:#8a5a2b}svg .hook{fill:#c00}svg .pad{fill:#777}
 svg .ground{stroke:#6b4;stroke-width:2}svg .beam{stroke:#555;stroke-width:4}
-svg .scalebar{stroke:#000;stroke-width:2}svg .scalebar-text{fill:#000}svg .arrow{stroke:#080;stroke-width:2.5;fill:none}svg .anchor{fill:#555}
+svg .scalebar{stroke:#000;stroke-width:2}svg .trail{stroke-width:1}svg .trail-hook{stroke:#c00}
+svg .trail-payload{stroke:#8a5a2b}svg .scalebar-text{fill:#000}svg .arrow{stroke:#080;stroke-width:2.5;fill:none}svg .anchor{fill:#555}
 svg line,svg polyline,svg path{vector-effect:non-scaling-stroke}
 .verdict{font-size:1.3em;padding:.4em .8em;margin:.5em 0;border-left:8px solid}
 .verdict.pass{background:#e6f4ea;border-color:#1e8e3e;color:#0d5c25}.verdict.fail{background:#fce8e6;border-color:#d93025;color:#a50e0e}
@@ -35,20 +36,21 @@ function nearest(arr, t){var lo=0,hi=arr.length-1;if(hi<0)return -1;while(hi-lo>
 var P = D.frames.points, F = D.frames.forces, fmax = 0;
 for (var f in F) F[f].forEach(function(v){if(v!==null&&Math.abs(v)>fmax)fmax=Math.abs(v);});
 var arrowScale = fmax > 0 ? D.arrow / fmax : 0;
-function coords(view, name, i){var p=P[name];return view==="top"?[p[0][i],p[2][i]]:[p[0][i],p[1][i]];}
+function isTop(view){return view==="top"||view==="close-top";}
+function coords(view, name, i){var p=P[name];return isTop(view)?[p[0][i],p[2][i]]:[p[0][i],p[1][i]];}
 function bounds(view){
-  var b=[Infinity,Infinity,-Infinity,-Infinity], names=view==="close"?D.closeup:Object.keys(P);
+  var close=view.indexOf("close")===0, b=[Infinity,Infinity,-Infinity,-Infinity], names=close?D.closeup:Object.keys(P);
   names.forEach(function(name){for (var i=0;i<N;i++){var c=coords(view,name,i);if(c[0]===null||c[1]===null)continue;
     b[0]=Math.min(b[0],c[0]);b[1]=Math.min(b[1],c[1]);b[2]=Math.max(b[2],c[0]);b[3]=Math.max(b[3],c[1]);}});
   D.elements.forEach(function(e){if(view==="side"&&e.kind==="ground"){b[1]=Math.min(b[1],e.y);b[3]=Math.max(b[3],e.y);}});
   if (view==="side" && arrowScale>0) b[1]=Math.min(b[1],b[1]-D.arrow-0.5);
   if (!isFinite(b[0])) b=[-1,-1,1,1];
-  var size=Math.max(b[2]-b[0],b[3]-b[1]), pad=view==="close"?Math.max(0.1,0.15*size):Math.max(1,0.08*size);
+  var size=Math.max(b[2]-b[0],b[3]-b[1]), pad=close?Math.max(0.1,0.15*size):Math.max(1,0.08*size);
   return [b[0]-pad,b[1]-pad,b[2]+pad,b[3]+pad];
 }
 function scaleBar(svg, b, scale){
   // a bar of a round length near a fifth of the view's width, at its lower left
-  var w=b[2]-b[0], want=w/5, step=Math.pow(10,Math.floor(Math.log10(want)));
+  var w=b[2]-b[0], want=Math.min(0.8*w,Math.max(w,b[3]-b[1])/5), step=Math.pow(10,Math.floor(Math.log10(want)));
   var len=[1,2,5,10].map(function(m){return m*step;}).filter(function(v){return v<=want;}).pop()||step;
   var x0=b[0]+0.04*w, y0=-b[1]-0.04*(b[3]-b[1]), tick=0.01*w;
   var g=el("g",{"class":"scalebar-group","data-length":len},svg);
@@ -63,16 +65,21 @@ function makeView(view, title){
   var cap=document.createElement("div");cap.className="note";cap.textContent=title;box.appendChild(cap);
   var svg=el("svg",{"class":"view",id:"view-"+view,width:px,height:py,viewBox:[b[0],-b[3],w,h].join(" "),preserveAspectRatio:"xMidYMid meet"});
   box.appendChild(svg);document.getElementById("views").appendChild(box);
-  var parts=[];
+  var parts=[], scale=Math.max(w/px,h/py);
+  if (view==="close-top") ["hook","payload"].forEach(function(name){
+    // seen from above the sway is centimetres: the paths of hook and payload over the whole run
+    var pts=[];for(var i=0;i<N;i++){var c=coords(view,name,i);if(c[0]!==null&&c[1]!==null)pts.push(c[0]+","+(-c[1]));}
+    el("polyline",{"class":"trail trail-"+name,points:pts.join(" "),fill:"none"},svg);});
   D.elements.forEach(function(e){
-    if (view==="top" && (e.kind==="arrow"||e.kind==="ground")) return;
+    if (isTop(view) && (e.kind==="arrow"||e.kind==="ground")) return;
     if (view==="close" && e.kind==="arrow") return;
     var g={e:e};
     if (e.kind==="ground"){el("line",{"class":"ground",x1:b[0],x2:b[2],y1:-e.y,y2:-e.y},svg);return;}
     if (e.kind==="line") g.n=el("line",{"class":e.cls},svg);
-    else if (e.kind==="dot") g.n=el("circle",{"class":e.cls,r:e.r,id:view==="side"?"drawn-"+e.id:null},svg);
+    else if (e.kind==="dot") g.n=el("circle",{"class":e.cls,r:view==="close-top"?4*scale:e.r,id:view==="side"?"drawn-"+e.id:null},svg);
+    else if (e.kind==="box" && view==="close-top") g.n=el("circle",{"class":e.cls,r:5*scale},svg);
     else if (e.kind==="box") g.n=el("rect",{"class":e.cls,width:e.w,height:e.h},svg);
-    else if (e.kind==="pad") g.n=el("rect",{"class":"pad",width:e.w,height:view==="top"?e.w:0.15},svg);
+    else if (e.kind==="pad") g.n=el("rect",{"class":"pad",width:e.w,height:isTop(view)?e.w:0.15},svg);
     else if (e.kind==="anchor") g.n=el("path",{"class":"anchor"},svg);
     else if (e.kind==="arrow"){g.n=el("path",{"class":"arrow"},svg);g.t=el("text",{},svg);}
     parts.push(g);
@@ -87,8 +94,9 @@ function drawFrame(v, i){
       n.setAttribute("x1",a[0]);n.setAttribute("y1",-a[1]);n.setAttribute("x2",c[0]);n.setAttribute("y2",-c[1]);return;}
     var p=coords(v.view,e.at,i);
     if (e.kind==="dot"){n.setAttribute("cx",p[0]);n.setAttribute("cy",-p[1]);}
+    else if (e.kind==="box" && v.view==="close-top"){n.setAttribute("cx",p[0]);n.setAttribute("cy",-p[1]);}
     else if (e.kind==="box"){n.setAttribute("x",p[0]-e.w/2);n.setAttribute("y",-p[1]-e.h/2);}
-    else if (e.kind==="pad"){n.setAttribute("x",p[0]-e.w/2);n.setAttribute("y",v.view==="top"?-p[1]-e.w/2:-p[1]);}
+    else if (e.kind==="pad"){n.setAttribute("x",p[0]-e.w/2);n.setAttribute("y",isTop(v.view)?-p[1]-e.w/2:-p[1]);}
     else if (e.kind==="anchor"){var s=0.3;n.setAttribute("d","M"+p[0]+","+(-p[1])+"l"+(-s)+","+(-s)+"h"+(2*s)+"z");}
     else if (e.kind==="arrow"){var f=F[e.force][i]||0, L=f*arrowScale, y0=-p[1]+0.2+L, s=Math.min(0.3,Math.abs(L)/3);
       // the reaction pushes the pad up: the arrow ends at the pad, pointing up
@@ -193,6 +201,7 @@ window.addEventListener("hashchange",fromHash);
 makeView("side", "side view (x right, y up) [m], to scale");
 if (D.threeD) makeView("top", "top view (x right, z up) [m], to scale");
 if (D.closeup.length) makeView("close", "close-up of "+D.closeup.join(", ").replace(/_/g," ")+", side view [m], to scale");
+if (D.closeup.length && D.threeD) makeView("close-top", "close-up from above (x, z) [m]: hook, payload, their paths");
 D.plots.forEach(makePlot);
 seek(0);fromHash();
 document.body.setAttribute("data-ready","1");
