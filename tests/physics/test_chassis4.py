@@ -87,7 +87,8 @@ def test_resultant_outside_the_pads_has_no_equilibrium():
     y = dict(zip(OUT, model.output_list(0.0, model.initial_state(u), u)))
     assert y["pads_lifted"] == 2.0 and y["tipping"] == 1.0
     assert y["N2"] + y["N4"] == pytest.approx(w, rel=1e-12) and y["N1"] == y["N3"] == 0.0
-    assert max(y["q1"], y["q3"]) == pytest.approx(0.0, abs=1e-15)
+    # the lower of them just clear: 1e-9 of the +z pads' larger settlement, so that round-off cannot press it
+    assert -1.01e-9 * max(y["q2"], y["q4"]) < max(y["q1"], y["q3"]) < 0.0
 
 
 def test_a_second_pad_off_is_tipping_and_a_diagonal_pair_never_lifts_alone():

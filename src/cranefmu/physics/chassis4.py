@@ -231,7 +231,8 @@ class Chassis4Model(Model):
 
     def _tipping_settlements(self, w: float, x_r: float, z_r: float) -> np.ndarray:
         """Pad settlements [m] with the load w [N] on the edge pads beyond which the resultant (x_r, z_r) [m]
-        lies, split by the lever along the edge; the opposite pads on the same plane, the lower one at q = 0."""
+        lies, split by the lever along the edge; the opposite pads on the same plane, the lower one just clear
+        of the soil (q = -1e-9 of the edge's larger settlement, so that it carries nothing: tipping)."""
         xs, zs, half = self.xs, self.zs, 0.5 * self.p.outrigger_width
         edges = ((x_r - xs[2], (2, 3), zs, z_r), (xs[0] - x_r, (0, 1), zs, z_r),
                  (z_r - half, (1, 3), xs, x_r), (-half - z_r, (0, 2), xs, x_r))
@@ -242,7 +243,7 @@ class Chassis4Model(Model):
         k, m = (k for k in range(4) if k not in (i, j))
         if abs(xs[k] - xs[i]) + abs(zs[k] - zs[i]) > abs(xs[k] - xs[j]) + abs(zs[k] - zs[j]):
             k, m = m, k                      # k opposite i, m opposite j
-        lift = -max(q[i], q[j])
+        lift = -max(q[i], q[j]) * (1.0 + 1e-9)   # 1e-9 of it clear: the plane's round-off cannot press it
         q[k], q[m] = q[i] + lift, q[j] + lift
         return q
 

@@ -153,7 +153,7 @@ static int contact_statics(const Chassis4Data *d, double w, double m_gamma, doub
 
 /* _tipping_settlements: pad settlements [m] with the load w on the edge pads beyond which the resultant
    (x_r, z_r) lies, split by the lever along the edge; the opposite pads on the same plane, the lower
-   one at q = 0 */
+   one just clear of the soil (q = -1e-9 of the edge's larger settlement: it carries nothing) */
 static void tipping_settlements(const CfModel *m, double w, double x_r, double z_r, double *q)
 {
     const Chassis4Data *d = CDATA(m);
@@ -187,7 +187,7 @@ static void tipping_settlements(const CfModel *m, double w, double x_r, double z
         k = other[1];   /* k opposite i, m opposite j */
         mm = other[0];
     }
-    lift = -py_max(q[i], q[j]);
+    lift = -py_max(q[i], q[j]) * (1.0 + 1e-9);   /* 1e-9 of it clear: round-off cannot press it */
     q[k] = q[i] + lift;
     q[mm] = q[j] + lift;
 }
