@@ -394,11 +394,69 @@ def static_pad_reactions(boom_length: float, angle_deg: float, load: float, slew
 
 
 def pad_tipping_load(boom_length: float, angle_deg: float, slew_deg: float, retracted: float | None = None) -> float:
-    """Hook load [kg] at which the truck crane on four outriggers tips (rigid statics, no tilt): the resultant
-    of all weights reaches an edge of the pad rectangle, so the two pads on that edge carry everything (over
-    the side, 90 deg: the two +z pads).  W x_R = M_gamma, W z_R = M_beta with W, M linear in the load: each
-    edge gives load = (edge W0 - M0) / (g L cos phi1 d - edge g) along the slewing direction d.  inf if the
-    boom never tips that way."""
+    """Hook load [kg] at which the truck crane on four outriggers tips (Chassis4 and Boom defaults,
+    truck_slewing's statics with the settled tilt, the scene's own tipping): the resultant of all weights
+    reaches an edge of the pad rectangle, the two pads on that edge carry everything (over the side, 90 deg:
+    the two +z pads) and a second pad lifts (``chassis.tipping``).  The soil springs (c = q0 F per pad) tilt
+    the chassis toward the load and the boom with it (psi = phi1 - gamma_e, as :func:`static_pad_reactions`),
+    which moves the load out: at 60 deg, 10.5 m 0.5 % (over the rear) and 0.6 % (over the side) below the
+    tilt-free load (:func:`pad_tipping_load_tilt_free`).  At the edge the tilt is that of the pads'
+    settlements there: the edge pads' q = N / c (the vertical load split by the resultant's place along the
+    edge), the last pad off the edge at q = 0 (the opposite of the edge pad carrying more), the fourth on
+    their plane (Chassis4Model's tipping rest); each edge's load and tilt are solved together by fixed-point
+    iteration (a contraction of about 1e-3 a step).  inf if the boom never tips that way."""
+    cp, xs, zs, mass, moment, ms = _pad_geometry(retracted, boom_length, angle_deg)
+    sig, phi, c = math.radians(slew_deg), math.radians(angle_deg), cp.soil_coefficient * cp.pad_area
+    half = 0.5 * cp.outrigger_width
+    plane = np.column_stack([np.ones(4), xs, zs])
+    out = math.inf
+    # edges: the pads on it, which coordinate it crosses (0: x, 1: z), where, and from which side (+1: beyond
+    # it the coordinate is larger)
+    for pads, axis, edge, side in (((2, 3), 0, xs[2], 1.0), ((0, 1), 0, xs[0], -1.0),
+                                   ((1, 3), 1, half, 1.0), ((0, 2), 1, -half, -1.0)):
+        gamma = beta = 0.0
+        m = math.inf
+        for _ in range(60):
+            psi = phi - (gamma * math.cos(sig) + beta * math.sin(sig))
+            dirn = side * (math.cos(sig) if axis == 0 else math.sin(sig))
+            # the resultant's coordinate across the edge (m0 + g m L cos psi dirn) / (w0 + g m) = edge -> m
+            w0 = G * (mass + ms.mass)
+            m0 = side * ((G * moment if axis == 0 else 0.0) + G * ms.S * math.cos(psi) * dirn * side)
+            denom = G * (ms.length * math.cos(psi) * dirn - side * edge)
+            if not denom > 0.0:
+                m = math.inf
+                break
+            m_new = max(float((side * edge * w0 - m0) / denom), 0.0)
+            # the settled tilt there: the edge pads carry w, split by the resultant's place along the edge
+            w = w0 + G * m_new
+            reach = G * (ms.S + m_new * ms.length) * math.cos(psi)
+            r_along = (reach * math.sin(sig) if axis == 0 else G * moment + reach * math.cos(sig)) / w
+            along = zs if axis == 0 else xs
+            i, j = pads
+            share = min(max((r_along - along[i]) / (along[j] - along[i]), 0.0), 1.0)   # of w on pad j
+            q = np.zeros(4)
+            q[i], q[j] = (1.0 - share) * w / c, share * w / c
+            k, n = (p for p in range(4) if p not in pads)
+            if abs(xs[k] - xs[i]) + abs(zs[k] - zs[i]) > abs(xs[k] - xs[j]) + abs(zs[k] - zs[j]):
+                k, n = n, k                  # k opposite i, n opposite j
+            lift = -max(q[i], q[j])
+            q[k], q[n] = q[i] + lift, q[j] + lift
+            _, g_new, b_new = np.linalg.lstsq(plane, q, rcond=None)[0]
+            done = abs(m_new - m) <= 1e-12 * max(m_new, 1.0)
+            m, gamma, beta = m_new, float(g_new), float(b_new)
+            if done:
+                break
+        out = min(out, m)
+    return out
+
+
+def pad_tipping_load_tilt_free(boom_length: float, angle_deg: float, slew_deg: float,
+                               retracted: float | None = None) -> float:
+    """Hook load [kg] at which the resultant of all weights reaches an edge of the pad rectangle in rigid
+    statics without the soil's tilt (the chassis level): W x_R = M_gamma, W z_R = M_beta with W, M linear
+    in the load: each edge gives load = (edge W0 - M0) / (g L cos phi1 d - edge g) along the slewing
+    direction d.  Above the scene's tipping (:func:`pad_tipping_load`) by the tilt's 0.5-0.6 % at 60 deg,
+    10.5 m: on the unsafe side.  inf if the boom never tips that way."""
     cp, xs, zs, mass, moment, ms = _pad_geometry(retracted, boom_length, angle_deg)
     sig, phi = math.radians(slew_deg), math.radians(angle_deg)
     w0 = G * (mass + ms.mass)
