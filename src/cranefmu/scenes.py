@@ -191,16 +191,19 @@ def hook_sway_metrics(r, window: float = 2.0) -> dict[str, float]:
 
 
 def truck_slewing_metrics(r) -> dict[str, float]:
-    """Largest sway [deg] of the line tip -> hook, smallest and largest pad reaction [N], tipping (a pad
-    without load: 1.0 or 0.0) and its time [s]."""
+    """Largest sway [deg] of the line tip -> hook, smallest and largest pad reaction [N], the most pads off at
+    once, the first time [s] a pad lifted (the crane rocks on three pads), tipping (a second pad off: the
+    resultant outside the support polygon, as Chassis4's ``tipping``; 1.0 or 0.0) and its time [s]."""
     t = _col(r, "time")
     sway = np.degrees(np.arctan2(np.hypot(_col(r, "pendulum.x") - _col(r, "boom.x_tip"),
                                           _col(r, "pendulum.z") - _col(r, "boom.z_tip")),
                                  _col(r, "boom.y_tip") - _col(r, "pendulum.y")))
     pads = np.column_stack([_col(r, f"chassis.N{i}") for i in range(1, 5)])
-    off = np.flatnonzero(pads.min(axis=1) <= 0.0)
+    off = np.count_nonzero(pads <= 0.0, axis=1)
+    lifted, tipped = np.flatnonzero(off >= 1), np.flatnonzero(off >= 2)
     return {"max_sway_deg": float(sway.max()), "N_min": float(pads.min()), "N_max": float(pads.max()),
-            "tipping": float(len(off) > 0), "tipping_time": float(t[off[0]]) if len(off) else math.nan}
+            "pads_lifted_max": float(off.max()), "lift_time": float(t[lifted[0]]) if len(lifted) else math.nan,
+            "tipping": float(len(tipped) > 0), "tipping_time": float(t[tipped[0]]) if len(tipped) else math.nan}
 
 
 def elastic_pendulum_metrics(r) -> dict[str, float]:
@@ -245,7 +248,10 @@ def summary(name: str, result) -> list[tuple[str, str]]:
     elif name == "truck_slewing" and m:
         lines += [("max sway", f"{m['max_sway_deg']:.3f} deg"),
                   ("pad reactions", f"{m['N_min'] / 1e3:.2f} .. {m['N_max'] / 1e3:.2f} kN"),
-                  ("tipping", f"yes: a pad lifted off at t = {m['tipping_time']:.3f} s" if m["tipping"] else "no")]
+                  ("pads lifted", f"at most {m['pads_lifted_max']:g}, the first at t = {m['lift_time']:.3f} s"
+                   if m["pads_lifted_max"] else "none"),
+                  ("tipping", f"yes: a second pad lifted off at t = {m['tipping_time']:.3f} s" if m["tipping"]
+                   else "no")]
     elif name == "hook_sway" and m:
         lines += [("payload sway", f"first 2 s {m['sway_first_deg']:.3f} deg, last 2 s {m['sway_last_deg']:.3f} deg "
                                    f"(ratio {m['sway_ratio']:.3f}); smallest swing {m['min_peak_ratio']:.3f} of "

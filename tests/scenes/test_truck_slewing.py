@@ -216,3 +216,24 @@ def test_two_and_a_half_tonnes_slewed_over_the_side_run_to_the_end_with_a_pad_br
     downs = np.flatnonzero(np.diff(res["chassis.pads_lifted"]) < 0)
     assert len(ups) >= 2 and len(downs) >= 1                         # briefly: it lands between the lifts
     assert len(rock["rows"]) < 0.5 * np.count_nonzero(res["time"] >= rock["first"])
+
+
+def test_metrics_call_one_pad_off_a_lift_and_a_second_pad_off_tipping():
+    """scenes.truck_slewing_metrics counts pads off per row: one is the crane rocking on three pads (lift_time),
+    two is tipping (tipping_time), as Chassis4's outputs."""
+    from cranefmu.scenes import truck_slewing_metrics
+
+    t = np.arange(5) * 0.1
+    cols = {"time": t, **{f"{c}.{a}": np.zeros(5) for c in ("pendulum", "boom") for a in ("x", "z")},
+            "pendulum.x": np.zeros(5), "boom.x_tip": np.zeros(5), "boom.z_tip": np.zeros(5),
+            "boom.y_tip": np.full(5, 10.0), "pendulum.y": np.zeros(5)}
+    n = np.full((5, 4), 1.0e4)
+    n[2, 2] = 0.0                 # one pad off at 0.2 s
+    cols.update({f"chassis.N{i + 1}": n[:, i] for i in range(4)})
+    m = truck_slewing_metrics(cols)
+    assert m["pads_lifted_max"] == 1.0 and m["lift_time"] == pytest.approx(0.2) and m["tipping"] == 0.0
+    assert math.isnan(m["tipping_time"])
+    n[4, 0] = n[4, 2] = 0.0       # a second pad off at 0.4 s
+    cols.update({f"chassis.N{i + 1}": n[:, i] for i in range(4)})
+    m = truck_slewing_metrics(cols)
+    assert m["pads_lifted_max"] == 2.0 and m["tipping"] == 1.0 and m["tipping_time"] == pytest.approx(0.4)

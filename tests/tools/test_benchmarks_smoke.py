@@ -76,6 +76,8 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
     "truck_full_run.py": (["--smoke"], ["benchmarks/results/truck_full_run_smoke.md"]),
     "truck_load_inertia.py": (["--smoke"], ["benchmarks/results/truck_load_inertia_smoke.md"]),
     "truck_slewing.py": (["--smoke"], ["benchmarks/results/truck_slewing_smoke.md"]),
+    "truck_slewing_rocking.py": (["--smoke"], ["benchmarks/results/truck_slewing_rocking_smoke.md"]),
+    "truck_slewing_tipping.py": ([], ["benchmarks/results/truck_slewing_tipping.md"]),
     "truck_slewing_bonds.py": (["--smoke"], ["benchmarks/results/truck_slewing_bonds_smoke.md"]),
     "truck_modes.py": (["--smoke", "--output", "{tmp}/truck_modes.md"], ["{tmp}/truck_modes.md"]),
     "implicit_group_steps.py": (["--steps", "0.04", "--stop", "0.4", "--output", "{tmp}/igs.md"], ["{tmp}/igs.md"]),
