@@ -30,10 +30,11 @@ Soil (seed 000 "C0 = q0 F"): each pad c = q0 F = 20.25 MN/m, damping b = (dampin
 position) / 2, so two pads at one position equal :mod:`.chassis`' outrigger.  Unilateral: N_i = max(0,
 c q_i + b q_i') while q_i > 0, else 0.  A crane on four outriggers rocks on three pads: with one pad off
 (it carries nothing, free above the soil) the other three carry the loads and the model runs on.  It
-overturns when the resultant of all weights leaves the support polygon, where a second pad lifts (the two
-of one edge: it turns about that edge; or a diagonal pair: it rests on the other diagonal's line):
-``tipping`` is 1 while two pads or more carry nothing (beyond that the small tilts have no overturning
-kinematics), ``pads_lifted`` counts the pads carrying nothing.  Integrated with rk4 (no closed-form step).
+overturns when the resultant of all weights leaves the support polygon, where a second pad lifts: the two
+of one edge, about which it turns (a diagonal pair cannot lift alone: on the rectangle q1 + q4 = q2 + q3,
+and so c q + b q').  ``tipping`` is 1 while two pads or more carry nothing (beyond that the small tilts have
+no overturning kinematics), ``pads_lifted`` counts the pads carrying nothing.  Integrated with rk4 (no
+closed-form step).
 
 Statics (:meth:`Chassis4Model.static_reactions`, rigid chassis on four equal springs): three balances
 (force, two moments) for four reactions; compatibility (the pads' settlements lie on the chassis' plane,
