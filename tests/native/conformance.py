@@ -371,6 +371,20 @@ MODEL_CASES: dict[str, list[Case]] = {
         Case({"s_k": 0.05}, refused=True, label="Drive s_k refused"),
         Case({"mode": 2}, refused=True, label="Drive mode code refused"),
     ],
+    # Chassis4 under a lateral moment whose rest is on three pads: pushed by the wiggle it rocks, the -z pad
+    # lifting and landing (pads_lifted 0/1, not tipping); the tipping rest (the resultant 0.2 m beyond the +z
+    # edge: two pads off, tipping 1); the carried boom inertia; a refusal
+    "Chassis4": [
+        Case({}, inputs={"Fy_base": -3.0e4, "Mx_base": 2.6e5, "Mz_base": -1.0e5}, wiggle={"Mx_base": 6e4},
+             steps=60, h=2e-3, tunable={"damping": 1e5}, label="Chassis4 rocking on three pads"),
+        Case({"boom_inertia": "carried"}, inputs={"Fy_base": -3.0e4, "Mx_base": 2.72e5, "Mz_base": -1.0e5,
+                                                   "m_boom": 3000.0, "Sx_boom": 8000.0, "Sz_boom": 4000.0,
+                                                   "Jp_boom": 6e4, "Jr_boom": 5e4, "Jpr_boom": 1e3},
+             wiggle={"Mz_base": 3e4, "Sz_boom": 500.0}, steps=40, h=2e-3, label="Chassis4 carried, three pads"),
+        Case({}, inputs={"Fy_base": -3.0e4, "Mx_base": 2.82e5, "Mz_base": 1.6e5}, steps=20, h=2e-3,
+             label="Chassis4 tipping rest"),
+        Case({"pads_per_outrigger": 3}, refused=True, label="Chassis4 pads_per_outrigger refused"),
+    ],
 }
 #: the tolerance of a model where libm or LAPACK and numpy differ (measured; default RTOL)
 MODEL_RTOL: dict[str, float] = {"Girder": 1e-11}
