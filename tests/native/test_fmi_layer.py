@@ -245,3 +245,13 @@ def test_model_conforms(name, build_dir):
         pytest.skip(f"no native {name}")
     rtol = MODEL_RTOL.get(name, RTOL)
     assert max(conform(name, MODEL_CASES[name], build_dir, rtol=rtol)) <= rtol
+
+
+def test_prepare_exact_step_hook_is_found_in_a_model_source():
+    """The optional cf_prepare_exact_step (include/cf_model.h) is called only where a model defines it."""
+    from cranefmu.native.description import defines_prepare_exact_step
+
+    assert defines_prepare_exact_step("static int x;\nint cf_prepare_exact_step(CfModel *m) {\n    return 0;\n}\n")
+    assert defines_prepare_exact_step("int cf_prepare_exact_step(CfModel *m)\n{\n")
+    assert not defines_prepare_exact_step("int cf_prepare_exact_step(CfModel *m);\n")   # a declaration only
+    assert not defines_prepare_exact_step((HERE / "models" / "OscMass.c").read_text())

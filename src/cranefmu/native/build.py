@@ -88,7 +88,8 @@ def assemble_source_fmu(name: str, unzipdir: Path, *, script: Path | None = None
         digest.update(fname.encode() + b"\0" + texts[fname])
     c_files = sorted(f for f in texts if f.endswith(".c"))
     xml, guid = native_description(cls, c_files, digest.hexdigest())
-    texts["cf_fmu_variables.h"] = variables_header(cls, name, guid).encode()
+    texts["cf_fmu_variables.h"] = variables_header(
+        cls, name, guid, model_source=texts[model_c.name].decode(errors="replace")).encode()
     for fname, data in texts.items():
         (sources / fname).write_bytes(data)
     (unzipdir / "modelDescription.xml").write_bytes(xml)

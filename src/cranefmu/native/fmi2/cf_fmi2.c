@@ -430,6 +430,10 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
     if (rebuild(c, &kind)) return fail(c, "initialization refused", kind);
     if (cf_initial_state(&v->model, v->u, v->x)) return fail(c, "initialization refused", "ValueError");
     if (check_state(c, v->t, v->x)) return fail(c, "initialization refused", "FloatingPointError");
+#if CF_HAS_PREPARE_EXACT_STEP
+    if (v->solver == CF_EXACT && cf_prepare_exact_step(&v->model))
+        return fail(c, "initialization refused", "ParameterError");
+#endif
     v->initialized = 1;
     v->init_error = 0;
     memcpy(v->fixed, v->pv, sizeof v->fixed);
