@@ -255,3 +255,22 @@ def test_prepare_exact_step_hook_is_found_in_a_model_source():
     assert defines_prepare_exact_step("int cf_prepare_exact_step(CfModel *m)\n{\n")
     assert not defines_prepare_exact_step("int cf_prepare_exact_step(CfModel *m);\n")   # a declaration only
     assert not defines_prepare_exact_step((HERE / "models" / "OscMass.c").read_text())
+
+
+def test_parameter_fixed_during_initialization_mode_is_accepted(osc_pair):
+    """A value refused at fmi2EnterInitializationMode but corrected before fmi2ExitInitializationMode
+    initializes, and the outputs are computed from it (the pythonfmu adapter kept its enter-time error
+    and never refreshed the outputs again)."""
+    slave, vr = _native_calls(osc_pair[0])
+    slave.instantiate()
+    try:
+        slave.setupExperiment(startTime=0.0)
+        slave.setReal([vr["m"]], [-1.0])
+        slave.enterInitializationMode()
+        slave.setReal([vr["m"], vr["x0"], vr["F"]], [2.0, 0.25, 3.0])
+        slave.exitInitializationMode()
+        x, a = slave.getReal([vr["x"], vr["a"]])
+        assert (x, a) == (0.25, (3.0 + 0.0 - 40.0 * 0.25 - 0.0 * 0.0) / 2.0)
+    finally:
+        slave.terminate()
+        slave.freeInstance()
