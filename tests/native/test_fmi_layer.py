@@ -274,3 +274,20 @@ def test_parameter_fixed_during_initialization_mode_is_accepted(osc_pair):
     finally:
         slave.terminate()
         slave.freeInstance()
+
+
+def test_setuptools_build_equals_the_cmake_build(osc_pair, build_dir):
+    """Without CMake the same sources are compiled by setuptools' compiler: an FMU that validates, links no
+    Python, and gives the CMake-built FMU's bits."""
+    from dataclasses import asdict
+
+    from fmpy.validation import validate_fmu
+
+    from cranefmu.native.build import build_native_fmu
+
+    other = build_native_fmu("OscMass", build_dir / "setuptools", tool="setuptools", **OSC)
+    assert validate_fmu(str(other)) == []
+    cases = [asdict(Case({"x0": 0.1, "d": 0.5, "solver": s}, **WIGGLE)) for s in ("rk4", "rk45", "trbdf2")]
+    a, b = (in_child(drive_all, str(f), cases) for f in (osc_pair[0], other))
+    assert [r["rows"] for r in a] == [r["rows"] for r in b]
+    assert all(r["error"] is None and len(r["rows"]) > 30 for r in b)
