@@ -17,11 +17,11 @@ __version__ = "0.1.0"
 __all__ = ["simulate", "run", "resolve", "RunSpec", "build", "sweep", "fmu_path", "__version__"]
 
 
-def _resolve_scene_name(name: str) -> Path:
+def _resolve_scene_name(name: str, fmus: str | None = None) -> Path:
     # imported on first use: `import cranefmu` stays light (the physics runs without fmpy or pythonfmu)
     from .scene_catalog import resolve
 
-    return resolve(name)
+    return resolve(name, fmus)
 
 
 _register_scene_resolver(_resolve_scene_name)

@@ -71,7 +71,7 @@ def execute(ssp: SspFile, run: Run, metrics: list[Metric | Custom], results_dir:
                        **{"progress": False, **run.settings})   # in this worker process, rows kept
         res = execute(spec)
         row.update(measure(metrics, run.scene, res.result, run.inputs))
-        row.update(steps=res.stats.steps, rejections=res.stats.rejections, wall_time=res.stats.wall_time, stopped=_one_line(res.stats.stopped or ""))
+        row.update(fmus=spec.settings.fmus or "", steps=res.stats.steps, rejections=res.stats.rejections, wall_time=res.stats.wall_time, stopped=_one_line(res.stats.stopped or ""))
         if results_dir is not None:
             import numpy as np
 
