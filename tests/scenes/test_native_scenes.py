@@ -1,0 +1,113 @@
+"""Both kinds of FMU, one choice (issue 33): every scene and parameter set runs with the native FMUs and
+with the pythonfmu FMUs and they agree to 1e-9 of each column's range; the ``fmus`` setting chooses the
+kind, says which kind ran and refuses a bad value or a scene file of the other kind.
+
+The short windows here keep a scene to seconds; benchmarks/native_conformance.py compares every scene's
+natural length (and the slow test below runs it)."""
+from __future__ import annotations
+
+import pytest
+
+from cranefmu.errors import SettingsError
+from cranefmu.studies.kinds import TOLERANCE, agreement, relative_difference
+
+SCENES = ("elastic_pendulum", "overhead_lift", "hook_sway", "truck_telescope", "truck_slewing")
+WINDOW = 0.05   # [s]: 10 to 25 macro steps at the stored steps
+
+
+@pytest.fixture(scope="module")
+def native_built():
+    from cranefmu.fmu_kinds import compiler_reason
+
+    if compiler_reason():
+        pytest.skip(compiler_reason())
+
+
+@pytest.mark.parametrize("scene", SCENES)
+def test_every_parameter_set_agrees(native_built, scene):
+    from cranefmu.master.run import preview
+
+    sets = preview(scene, "python").parameter_sets
+    for name in sets:
+        found = agreement(scene, None if name == "default" else name, stop_time=WINDOW)
+        assert found.rows[0] == found.rows[1] > 5, (scene, name, found.rows)
+        assert found.worst <= TOLERANCE, (scene, name, found.column, found.worst)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scene", SCENES)
+def test_natural_length_agrees(native_built, scene):
+    from cranefmu.master.run import preview
+
+    for name in preview(scene, "python").parameter_sets:
+        found = agreement(scene, None if name == "default" else name)
+        assert found.ok, (scene, name, found.rows, found.column, found.worst)
+
+
+def test_relative_difference_finds_the_worst_column():
+    import numpy as np
+
+    a = np.zeros(3, dtype=[("time", float), ("x", float), ("flat", float)])
+    a["time"], a["x"], a["flat"] = [0, 1, 2], [0.0, 2.0, 4.0], 5.0
+    b = a.copy()
+    b["x"][1] += 4e-9            # 1e-9 of the range 4
+    b["flat"][2] = 5.0 + 5e-9    # a constant column: against its magnitude 5
+    worst, column = relative_difference(a, b)
+    assert column == "flat" and worst == pytest.approx(1e-9, rel=1e-6)
+    b["x"][0] = np.nan
+    assert relative_difference(a, b) == (float("inf"), "x")
+
+
+def test_header_says_which_kind_ran(native_built):
+    from cranefmu.master.runspec import resolve
+
+    native = resolve("elastic_pendulum", stop_time=WINDOW, fmus="native")
+    python = resolve("elastic_pendulum", stop_time=WINDOW, fmus="python")
+    assert native.settings.fmus == "native" and native.sources["fmus"] == "given"
+    assert python.settings.fmus == "python" and python.ssp != native.ssp
+    assert "fmus = 'python' (given)" in python.describe()[0]
+    chosen = resolve("elastic_pendulum", stop_time=WINDOW)
+    assert (chosen.settings.fmus, chosen.sources["fmus"]) == ("native", "default")
+    assert "fmus = 'native' (default)" in chosen.describe()[0]
+    held = resolve(python.ssp, stop_time=WINDOW)   # a scene file: the FMUs it holds
+    assert (held.settings.fmus, held.sources["fmus"]) == ("python", "scene")
+
+
+def test_a_bad_kind_is_refused_by_name():
+    from cranefmu.master.runspec import resolve
+
+    with pytest.raises(SettingsError, match=r"^fmus = 'c' is not allowed: native or python$"):
+        resolve("elastic_pendulum", fmus="c")
+
+
+def test_a_scene_file_of_the_other_kind_is_refused(native_built):
+    from cranefmu.master.runspec import resolve
+
+    python = resolve("elastic_pendulum", fmus="python").ssp
+    with pytest.raises(SettingsError, match=r"fmus = 'native' is not allowed for the scene file .*its FMUs are python"):
+        resolve(python, fmus="native")
+
+
+def test_without_a_compiler_a_run_takes_python_after_one_line(monkeypatch, capsys):
+    """The fallback: no compiler (and no native scene built in this folder) -> python, one line why."""
+    import cranefmu.fmu_kinds as kinds
+
+    monkeypatch.setattr(kinds, "native_ssp_is_stale", lambda scene_dir: True)
+    monkeypatch.setattr(kinds, "compiler_reason", lambda: "no C compiler and CMake found on PATH (test)")
+    monkeypatch.setattr(kinds, "_TOLD", set())
+    from cranefmu.master.runspec import resolve
+
+    spec = resolve("elastic_pendulum", stop_time=WINDOW)
+    assert spec.settings.fmus == "python"
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["cranefmu: scene elastic_pendulum runs with the pythonfmu FMUs: no C compiler and CMake found "
+                   "on PATH (test)"]
+    with pytest.raises(SettingsError, match="fmus = 'native' is not allowed for scene elastic_pendulum: no C compiler"):
+        resolve("elastic_pendulum", fmus="native")
+
+
+def test_sweep_rows_say_which_kind_ran():
+    from cranefmu.sweep.table import header
+
+    assert "fmus" in header(["rope.E"], ["max:rope.tension"])
+    assert header(["fmus"], []).count("fmus") == 1   # given as an input: its one column
