@@ -33,7 +33,9 @@ BAD = {"OscMass": ("m", -1.0), "Girder": ("c1", -1.0), "Boom": ("telescope_speed
 
 @pytest.fixture(scope="module")
 def build_dir(tmp_path_factory) -> Path:
-    return tmp_path_factory.mktemp("native_drop_in")
+    shared = tmp_path_factory.getbasetemp() / "native_fmus"   # one build of each FMU per test session
+    shared.mkdir(exist_ok=True)
+    return shared
 
 
 def _fmu(name: str, build_dir: Path) -> Path:

@@ -27,7 +27,9 @@ WIGGLE = dict(inputs={"F": 0.5}, wiggle={"F": 2.0})
 
 @pytest.fixture(scope="module")
 def build_dir(tmp_path_factory) -> Path:
-    return tmp_path_factory.mktemp("native_layer")
+    shared = tmp_path_factory.getbasetemp() / "native_fmus"   # one build of each FMU per test session
+    shared.mkdir(exist_ok=True)
+    return shared
 
 
 @pytest.fixture(scope="module")
