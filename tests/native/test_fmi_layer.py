@@ -293,3 +293,30 @@ def test_setuptools_build_equals_the_cmake_build(osc_pair, build_dir):
     a, b = (in_child(drive_all, str(f), cases) for f in (osc_pair[0], other))
     assert [r["rows"] for r in a] == [r["rows"] for r in b]
     assert all(r["error"] is None and len(r["rows"]) > 30 for r in b)
+
+
+def test_a_state_of_another_fmu_is_refused(osc_pair, build_dir):
+    """fmi2SetFMUstate with a state of another native FMU (Girder's, set into OscMass): status error and a
+    line, the instance unchanged."""
+    from fmpy.fmi1 import FMICallException
+
+    if not (Path(__file__).parents[2] / "src/cranefmu/native/models/Girder.c").exists():
+        pytest.skip("no native Girder")
+    osc, vr = _native_calls(osc_pair[0])
+    girder, _ = _native_calls(fmu_pair("Girder", build_dir)[0])
+    for s in (osc, girder):
+        s.instantiate()
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        s.exitInitializationMode()
+    try:
+        foreign = girder.getFMUstate()
+        with pytest.raises(FMICallException):
+            osc.setFMUstate(foreign)
+        girder.freeFMUstate(foreign)
+        osc.doStep(0.0, 1e-3)
+        assert osc.getReal([vr["x"]]) == [0.0]
+    finally:
+        for s in (osc, girder):
+            s.terminate()
+            s.freeInstance()
