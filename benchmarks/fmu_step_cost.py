@@ -18,7 +18,11 @@ For each scene, at the scene's macro step H (Jacobi, zero-order hold):
 
 Usage:
     .venv/bin/python benchmarks/fmu_step_cost.py [--label after] [--scenes truck_telescope,hook_sway]
-        [--stop 30] [--cpu 1]
+        [--stop 30] [--cpu 1] [--fmus python|native]
+
+``--fmus native`` times the native (C) FMUs (``fmus/native/``, cranefmu build) instead of the pythonfmu ones, fed
+the inputs of a co-simulation of the same kind; the label then defaults to ``native`` and the report adds a
+python / native table (the pythonfmu rows of label ``after``).
 
 Writes benchmarks/results/fmu_step_cost_<label>.csv and benchmarks/results/fmu_step_cost.md (a table
 per label found, and the before/after ratio per row when both "before" and "after" exist).  Times are
@@ -68,14 +72,14 @@ def in_child(fn, *args):
 
 
 # --- 1. the co-simulation ---------------------------------------------------------------------------
-def record(scene: str, h: float, stop: float) -> dict:
+def record(scene: str, h: float, stop: float, fmus: str = "python") -> dict:
     from cranefmu.master.run import run
 
     # Jacobi, zero-order hold, no implicit group, whatever the scene stores: the replay feeds each FMU the
     # outputs at the step start, which is what such a run fed it (the stored extrapolation 1 of hook_sway
     # fed the pendulum other inputs: replay dev 3e-2 instead of 1e-14)
     res = run(scene, stop_time=stop, step_size=h, algorithm="jacobi", extrapolation=0, implicit=[], keep=True,
-              isolate=False, progress=False)
+              isolate=False, progress=False, fmus=fmus)
     r = res.result
     return {"columns": list(r.dtype.names), "rows": np.column_stack([r[n] for n in r.dtype.names]),
             "fmu_time": dict(res.stats.fmu_time), "wall": res.stats.wall_time, "steps": res.stats.steps}
@@ -213,12 +217,12 @@ def config_text(model_cls, comp, parameters, switches, settings) -> str:
     return " ".join([f"solver={settings['solver']}", f"max_step={settings['max_step']}"] + modes)
 
 
-def study(scene: str, stop: float | None, say) -> list[dict]:
+def study(scene: str, stop: float | None, say, fmus: str = "python") -> list[dict]:
     h, default_stop = SCENES[scene]
     stop = stop or default_stop
     steps = int(round(stop / h))
     say(f"{scene}: co-simulation H={h:g} s, {stop:g} s ...")
-    rec = in_child(record, scene, h, stop)
+    rec = in_child(record, scene, h, stop, fmus)
     columns, rows = rec["columns"], rec["rows"]
     col = {c: i for i, c in enumerate(columns)}
     out = []
@@ -226,7 +230,7 @@ def study(scene: str, stop: float | None, say) -> list[dict]:
         lay = scene_layout(scene, tmp)
         for comp, fmu_name in lay["components"].items():
             model_cls = physics_class(fmu_name)
-            fmu_path = ROOT / "fmus" / f"{fmu_name}.fmu"
+            fmu_path = ROOT / "fmus" / ("native" if fmus == "native" else "") / f"{fmu_name}.fmu"
             settings, switches = solver_settings(fmu_path), switch_texts(fmu_path)
             u = input_series(model_cls, lay["connections"][comp], columns, rows)
             phys = physics_replay(model_cls, comp, lay["parameters"], switches, settings, u, h, steps)
@@ -289,6 +293,18 @@ def write_report(labels: list[str], notes: dict[str, str]) -> None:
             lines.append(f"\n{scene}: all FMUs {tot:.0f} us per macro step of {h * 1e3:g} ms (physics {phys:.0f} us); "
                          f"the FMUs alone bound the real-time factor at {h / (tot * 1e-6):.1f}.")
         lines.append("")
+    if tables.get("after") and tables.get("native"):
+        lines += ["## pythonfmu / native (labels after, native)", "", "| scene | component | pythonfmu FMU [us] | "
+                  "native FMU [us] (set / doStep / get) | ratio |", "| --- | --- | --- | --- | --- |"]
+        python = {(r["scene"], r["component"]): r for r in tables["after"]}
+        for r in tables["native"]:
+            p = python.get((r["scene"], r["component"]))
+            if p is None:
+                continue
+            fp, fn = float(p["fmu_us"]), float(r["fmu_us"])
+            lines.append(f"| {r['scene']} | {r['component']} | {fp:.0f} | {fn:.1f} ({float(r['fmu_set_us']):.1f} / "
+                         f"{float(r['fmu_dostep_us']):.1f} / {float(r['fmu_get_us']):.1f}) | {fp / fn:.0f} |")
+        lines.append("")
     if tables.get("before") and tables.get("after"):
         lines += ["## before / after", "", "| scene | component | FMU before [us] | FMU after [us] | ratio | "
                   "physics before | physics after | ratio |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
@@ -306,11 +322,14 @@ def write_report(labels: list[str], notes: dict[str, str]) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--label", default="after", help="name of this measurement (before, after, ...)")
+    ap.add_argument("--label", default=None, help="name of this measurement (before, after, ...; default after, "
+                    "with --fmus native: native)")
+    ap.add_argument("--fmus", default="python", choices=("python", "native"), help="the kind of FMU timed")
     ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated scene names")
     ap.add_argument("--stop", type=float, default=None, help="simulated time [s] (default: per scene)")
     ap.add_argument("--cpu", type=int, default=None, help="pin this process and its children to one core")
     args = ap.parse_args(argv)
+    args.label = args.label or ("native" if args.fmus == "native" else "after")
     if args.cpu is not None:
         os.sched_setaffinity(0, {args.cpu})
 
@@ -320,7 +339,7 @@ def main(argv: list[str] | None = None) -> int:
     RESULTS.mkdir(parents=True, exist_ok=True)
     rows = []
     for scene in args.scenes.split(","):
-        rows += study(scene, args.stop, say)
+        rows += study(scene, args.stop, say, args.fmus)
     with (RESULTS / f"fmu_step_cost_{args.label}.csv").open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
@@ -336,7 +355,7 @@ def main(argv: list[str] | None = None) -> int:
                          f"work), python {platform.python_version()}, numpy {np.__version__}, "
                          f"{os.cpu_count()} cores shared, pinned to {sorted(os.sched_getaffinity(0))}")
     note_path.write_text("".join(f"{k}\t{v}\n" for k, v in notes.items()))
-    labels = ["before", "after"] + [k for k in notes if k not in ("before", "after")]
+    labels = ["before", "after", "native"] + [k for k in notes if k not in ("before", "after", "native")]
     write_report(labels, notes)
     say(f"wrote {RESULTS / 'fmu_step_cost.md'}")
     return 0

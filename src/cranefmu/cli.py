@@ -273,8 +273,7 @@ def build_parser() -> argparse.ArgumentParser:
                                      "pythonfmu ones and, where a C compiler is found, the native ones in native/")
     b.add_argument("--force", action="store_true", help="rebuild everything")
     b.add_argument("--python-only", action="store_true", help="build the pythonfmu FMUs and scenes only, not the "
-                   "native (C) ones beside them (fmus/native/, ssp/native/; built where a C compiler and CMake "
-                   "are found)")
+                   "native (C) ones beside them (fmus/native/, ssp/native/; built where a C compiler is found)")
     b.add_argument("--where", action="store_true", help="print the folders the FMUs and the scenes are built in "
                    "(two lines), build nothing")
     b.add_argument("--clear-cache", action="store_true", help="remove every build in the user cache (all versions; "

@@ -15,8 +15,7 @@ give the generated tables) is newer than it and the source FMU assembled now dif
 missing, or older than its scene sources, its native FMUs or the files that write an .ssp.
 
 A run names its kind (``fmus="native"`` or ``"python"``, ``--fmus``); without one it takes the native
-FMUs where they are built or can be built (a C compiler and CMake on PATH, a C model of every FMU of the
-scene), else the pythonfmu FMUs after one line on stderr saying why.
+FMUs where they are built or can be built (a C compiler, a C model of every FMU of the scene), else the pythonfmu FMUs after one line on stderr saying why.
 """
 from __future__ import annotations
 
@@ -54,12 +53,12 @@ def check_kind(fmus: object) -> None:
 
 
 def compiler_reason() -> str | None:
-    """Why no native FMU can be compiled here (None: a C compiler and CMake are on PATH)."""
+    """Why no native FMU can be compiled here (None: :func:`cranefmu.native.build.compiler_available`)."""
     from .native.build import compiler_available
 
     if compiler_available():
         return None
-    return "no C compiler and CMake found on PATH (install gcc or clang and cmake, then run cranefmu build)"
+    return "no C compiler found (cc, gcc or clang on PATH, or $CC): install one, then run cranefmu build"
 
 
 def has_c_model(name: str) -> bool:
