@@ -320,3 +320,30 @@ def test_a_state_of_another_fmu_is_refused(osc_pair, build_dir):
         for s in (osc, girder):
             s.terminate()
             s.freeInstance()
+
+
+def _cpu_has_fma() -> bool:
+    try:
+        return " fma " in " " + Path("/proc/cpuinfo").read_text().replace("\n", " ") + " "
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not _cpu_has_fma(), reason="the CPU has no fused multiply-add")
+def test_sources_keep_pythons_arithmetic_when_a_tool_contracts(osc_pair, build_dir):
+    """A tool compiling sources/ with its own flags, fused multiply-adds allowed (-mfma -ffp-contract=fast),
+    gets the same bits: every source file starts with the pragma that turns contraction off."""
+    import zipfile
+    from dataclasses import asdict
+
+    from cranefmu.native.build import compile_binary, zip_fmu
+
+    unzipdir = build_dir / "contracting" / "OscMass"
+    with zipfile.ZipFile(osc_pair[0]) as zf:
+        zf.extractall(unzipdir)
+    (unzipdir / "binaries" / "linux64" / "OscMass.so").unlink()
+    compile_binary(unzipdir, "cmake", c_flags="-O3 -mfma -ffp-contract=fast")
+    other = zip_fmu(unzipdir, build_dir / "contracting" / "OscMass.fmu")
+    cases = [asdict(Case({"x0": 0.1, "d": 0.5, "solver": s}, **WIGGLE)) for s in ("rk4", "rk45")]
+    a, b = (in_child(drive_all, str(f), cases) for f in (osc_pair[0], other))
+    assert [r["rows"] for r in a] == [r["rows"] for r in b]

@@ -10,8 +10,9 @@
   ``sources/`` and its FMI 2 headers on the include path;
 - ``binaries/linux64/<name>.so``, compiled from exactly those sources by fmpy's own source-FMU build
   (``fmpy.build``: fmpy's CMakeLists.txt and its shipped FMI 2 headers, through CMake), with
-  ``-std=c99 -ffp-contract=off`` (no fused multiply-add: the arithmetic of Python's floats) and hidden
-  symbols but the fmi2 functions.
+  ``-std=c99 -ffp-contract=off`` (no fused multiply-add: the arithmetic of Python's floats; every .c in
+  ``sources/`` also starts with the pragma that says so, for a tool that compiles it with its own flags)
+  and hidden symbols but the fmi2 functions.
 
 Why CMake through fmpy: it is the build a tool on another platform runs on this FMU's sources
 (``fmpy compile``), so the shipped binary comes out of the same path; the FMI headers come from fmpy,
@@ -39,6 +40,16 @@ LAYER_DIR = HERE / "fmi2"
 INCLUDE_DIR = HERE / "include"
 MODELS_DIR = HERE / "models"
 C_FLAGS = "-std=c99 -ffp-contract=off -fvisibility=hidden -Wall"
+#: put before every .c file in sources/: a tool that compiles the FMU with its own flags (fmpy compile,
+#: another platform's compiler, where contraction into fused multiply-adds may be on by default) keeps
+#: Python's arithmetic: no fused multiply-add (GCC's pragma; the C99 pragma for the others)
+NO_CONTRACTION = b"""/* added by cranefmu.native.build: no fused multiply-add, the arithmetic of Python's floats */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("fp-contract=off")
+#else
+#pragma STDC FP_CONTRACT OFF
+#endif
+"""
 
 
 class NativeBuildError(RuntimeError):
@@ -101,7 +112,8 @@ def assemble_source_fmu(name: str, unzipdir: Path, *, script: Path | None = None
                                f"{', '.join(native_models()) or 'no model yet'}")
     sources = unzipdir / "sources"
     sources.mkdir(parents=True, exist_ok=True)
-    texts = {fname: path.read_bytes() for fname, path in _copied_sources(model_c, helpers_dir).items()}
+    texts = {fname: (NO_CONTRACTION if fname.endswith(".c") else b"") + path.read_bytes()
+             for fname, path in _copied_sources(model_c, helpers_dir).items()}
     texts[f"{name}_tables.h"] = model_header(cls.physics, name).encode()
     digest = hashlib.sha256()
     for fname in sorted(texts):
@@ -116,9 +128,10 @@ def assemble_source_fmu(name: str, unzipdir: Path, *, script: Path | None = None
     return unzipdir
 
 
-def compile_binary(unzipdir: Path, tool: str = "auto") -> Path:
+def compile_binary(unzipdir: Path, tool: str = "auto", c_flags: str = C_FLAGS) -> Path:
     """Compile ``unzipdir``'s sources into ``binaries/<platform>/<id>.so`` (``tool``: "cmake", fmpy's
-    CMake build; "setuptools", setuptools' compiler; "auto", CMake where usable); returns the binary."""
+    CMake build; "setuptools", setuptools' compiler; "auto", CMake where usable) with ``c_flags``;
+    returns the binary."""
     import fmpy
     from fmpy import read_model_description
 
@@ -132,15 +145,15 @@ def compile_binary(unzipdir: Path, tool: str = "auto") -> Path:
     binary = unzipdir / "binaries" / fmpy.platform / f"{identifier}{fmpy.sharedLibraryExtension}"
     if tool == "setuptools" or (tool == "auto" and not cmake_usable()):
         sources = [unzipdir / "sources" / f for f in md.buildConfigurations[0].sourceFileSets[0].sourceFiles]
-        _compile_with_setuptools(sources, binary)
+        _compile_with_setuptools(sources, binary, c_flags)
     else:
-        _compile_with_cmake(unzipdir, identifier)
+        _compile_with_cmake(unzipdir, identifier, c_flags)
     if not binary.is_file():
         raise NativeBuildError(f"{identifier}: the build wrote no {binary.relative_to(unzipdir)}")
     return binary
 
 
-def _compile_with_setuptools(sources: list[Path], binary: Path) -> None:
+def _compile_with_setuptools(sources: list[Path], binary: Path, c_flags: str) -> None:
     """Compile and link ``sources`` into ``binary`` with setuptools' C compiler (as for a C extension, but
     linked with libm only: no Python library and no run path)."""
     import setuptools  # noqa: F401  (provides distutils on Python 3.12+)
@@ -158,20 +171,20 @@ def _compile_with_setuptools(sources: list[Path], binary: Path) -> None:
         try:
             objects = cc.compile([str(s) for s in sources], output_dir=tmp,
                                  include_dirs=[str(sources[0].parent), str(Path(fmpy.__file__).parent / "c-code")],
-                                 extra_postargs=[*C_FLAGS.split(), "-O2", "-fPIC"])
+                                 extra_postargs=[*c_flags.split(), "-O2", "-fPIC"])
             cc.link_shared_object(objects, str(binary), libraries=["m"])
         except (CCompilerError, DistutilsExecError) as err:
             raise NativeBuildError(f"{binary.stem}: compiling with setuptools' compiler failed: {err}") from None
 
 
-def _compile_with_cmake(unzipdir: Path, identifier: str) -> None:
+def _compile_with_cmake(unzipdir: Path, identifier: str, c_flags: str) -> None:
     """fmpy's source-FMU build (its CMakeLists.txt, through CMake), output captured."""
     import fmpy
     from fmpy.build import create_cmake_settings
 
     with tempfile.TemporaryDirectory(prefix="cranefmu_native_cmake_") as build_dir:
         create_cmake_settings(unzipdir, build_dir, configuration="Release", cmake_options={
-            "CMAKE_C_FLAGS:STRING": C_FLAGS, "CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm"})
+            "CMAKE_C_FLAGS:STRING": c_flags, "CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm"})
         c_code = Path(fmpy.__file__).parent / "c-code"
         for step in (["cmake", "-S", str(c_code), "-B", build_dir],
                      ["cmake", "--build", build_dir, "--target", "install", "--config", "Release"]):
