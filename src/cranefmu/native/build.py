@@ -60,9 +60,12 @@ CMAKE_MINIMUM = (3, 15)   # fmpy's c-code/CMakeLists.txt
 
 
 def compiler_available() -> bool:
-    """True when this machine can compile a native FMU: a C compiler on PATH (with CMake, or setuptools)."""
+    """True when this machine can compile a native FMU: a C compiler on PATH, and CMake >= 3.15 or setuptools."""
+    import importlib.util
+
     cc = os.environ.get("CC")
-    return bool(cc and shutil.which(cc.split()[0])) or any(shutil.which(c) for c in ("cc", "gcc", "clang"))
+    has_cc = bool(cc and shutil.which(cc.split()[0])) or any(shutil.which(c) for c in ("cc", "gcc", "clang"))
+    return has_cc and (cmake_usable() or importlib.util.find_spec("setuptools") is not None)
 
 
 @functools.lru_cache(maxsize=None)
@@ -138,8 +141,9 @@ def compile_binary(unzipdir: Path, tool: str = "auto", c_flags: str = C_FLAGS) -
     if tool not in ("auto", "cmake", "setuptools"):
         raise ValueError(f"tool = {tool!r} is not allowed: auto, cmake or setuptools")
     if not compiler_available():
-        raise NativeBuildError("no C compiler on PATH (cc, gcc, clang or $CC): native FMUs cannot be built here "
-                               "(install gcc, or run the pythonfmu FMUs: --fmus python)")
+        raise NativeBuildError("no C compiler on PATH (cc, gcc, clang or $CC), or neither CMake >= 3.15 nor "
+                               "setuptools: native FMUs cannot be built here (install gcc and cmake, or run the "
+                               "pythonfmu FMUs: --fmus python)")
     md = read_model_description(str(unzipdir))
     identifier = md.coSimulation.modelIdentifier
     binary = unzipdir / "binaries" / fmpy.platform / f"{identifier}{fmpy.sharedLibraryExtension}"
