@@ -20,6 +20,8 @@ Usage:
     .venv/bin/python benchmarks/fmu_step_cost.py [--label after] [--scenes truck_telescope,hook_sway]
         [--stop 30] [--cpu 1] [--fmus python|native]
 
+``--stored``: every shipped scene at its stored macro step (``cranefmu info``), over ``--stop`` (default
+min(natural length, 10 s)), instead of the fixed H of SCENES below (kept so that before/after compare).
 ``--fmus native`` times the native (C) FMUs (``fmus/native/``, cranefmu build) instead of the pythonfmu ones, fed
 the inputs of a co-simulation of the same kind; the label then defaults to ``native`` and the report adds a
 python / native table (the pythonfmu rows of label ``after``).
@@ -57,13 +59,16 @@ FIELDS = ("scene", "component", "fmu", "config", "H", "steps", "physics_step_us"
 def physics_class(fmu_name: str):
     from cranefmu.physics.boom import BoomModel
     from cranefmu.physics.chassis import ChassisModel
+    from cranefmu.physics.chassis4 import Chassis4Model
     from cranefmu.physics.drive import DriveModel
     from cranefmu.physics.girder import GirderModel
     from cranefmu.physics.pendulum import PendulumModel
     from cranefmu.physics.rope import RopeModel
+    from cranefmu.physics.slewing import SlewingBoomModel
 
-    return {"Boom": BoomModel, "Chassis": ChassisModel, "Drive": DriveModel, "Girder": GirderModel,
-            "Pendulum": PendulumModel, "Rope": RopeModel}[fmu_name]
+    return {"Boom": BoomModel, "Chassis": ChassisModel, "Chassis4": Chassis4Model, "Drive": DriveModel,
+            "Girder": GirderModel, "Pendulum": PendulumModel, "Rope": RopeModel,
+            "SlewingBoom": SlewingBoomModel}[fmu_name]
 
 
 def in_child(fn, *args):
@@ -217,8 +222,16 @@ def config_text(model_cls, comp, parameters, switches, settings) -> str:
     return " ".join([f"solver={settings['solver']}", f"max_step={settings['max_step']}"] + modes)
 
 
-def study(scene: str, stop: float | None, say, fmus: str = "python") -> list[dict]:
-    h, default_stop = SCENES[scene]
+def stored_step(scene: str) -> tuple[float, float]:
+    """(the scene's stored macro step [s], min(its natural length, 10 s))."""
+    from cranefmu.master.runspec import resolve
+
+    s = resolve(scene, fmus="python").settings
+    return s.step_size, min(s.stop_time, 10.0)
+
+
+def study(scene: str, stop: float | None, say, fmus: str = "python", stored: bool = False) -> list[dict]:
+    h, default_stop = stored_step(scene) if stored else SCENES[scene]
     stop = stop or default_stop
     steps = int(round(stop / h))
     say(f"{scene}: co-simulation H={h:g} s, {stop:g} s ...")
@@ -293,16 +306,20 @@ def write_report(labels: list[str], notes: dict[str, str]) -> None:
             lines.append(f"\n{scene}: all FMUs {tot:.0f} us per macro step of {h * 1e3:g} ms (physics {phys:.0f} us); "
                          f"the FMUs alone bound the real-time factor at {h / (tot * 1e-6):.1f}.")
         lines.append("")
-    if tables.get("after") and tables.get("native"):
-        lines += ["## pythonfmu / native (labels after, native)", "", "| scene | component | pythonfmu FMU [us] | "
-                  "native FMU [us] (set / doStep / get) | ratio |", "| --- | --- | --- | --- | --- |"]
-        python = {(r["scene"], r["component"]): r for r in tables["after"]}
-        for r in tables["native"]:
+    for py_label, native_label in (("after", "native"), ("after_stored", "native_stored")):
+        if not (tables.get(py_label) and tables.get(native_label)):
+            continue
+        lines += [f"## pythonfmu / native (labels {py_label}, {native_label})", "", "| scene | component | H [s] | "
+                  "pythonfmu FMU [us] | native FMU [us] (set / doStep / get) | ratio |",
+                  "| --- | --- | --- | --- | --- | --- |"]
+        python = {(r["scene"], r["component"]): r for r in tables[py_label]}
+        for r in tables[native_label]:
             p = python.get((r["scene"], r["component"]))
             if p is None:
                 continue
             fp, fn = float(p["fmu_us"]), float(r["fmu_us"])
-            lines.append(f"| {r['scene']} | {r['component']} | {fp:.0f} | {fn:.1f} ({float(r['fmu_set_us']):.1f} / "
+            lines.append(f"| {r['scene']} | {r['component']} | {float(r['H']):g} | {fp:.0f} | {fn:.1f} "
+                         f"({float(r['fmu_set_us']):.1f} / "
                          f"{float(r['fmu_dostep_us']):.1f} / {float(r['fmu_get_us']):.1f}) | {fp / fn:.0f} |")
         lines.append("")
     if tables.get("before") and tables.get("after"):
@@ -325,11 +342,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--label", default=None, help="name of this measurement (before, after, ...; default after, "
                     "with --fmus native: native)")
     ap.add_argument("--fmus", default="python", choices=("python", "native"), help="the kind of FMU timed")
+    ap.add_argument("--stored", action="store_true", help="every scene at its stored step (default scenes: all)")
     ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated scene names")
     ap.add_argument("--stop", type=float, default=None, help="simulated time [s] (default: per scene)")
     ap.add_argument("--cpu", type=int, default=None, help="pin this process and its children to one core")
     args = ap.parse_args(argv)
-    args.label = args.label or ("native" if args.fmus == "native" else "after")
+    args.label = args.label or ("native" if args.fmus == "native" else "after") + ("_stored" if args.stored else "")
+    if args.stored and args.scenes == ",".join(SCENES):
+        from cranefmu.scene_catalog import scene_names
+
+        args.scenes = ",".join(scene_names())
     if args.cpu is not None:
         os.sched_setaffinity(0, {args.cpu})
 
@@ -339,7 +361,7 @@ def main(argv: list[str] | None = None) -> int:
     RESULTS.mkdir(parents=True, exist_ok=True)
     rows = []
     for scene in args.scenes.split(","):
-        rows += study(scene, args.stop, say, args.fmus)
+        rows += study(scene, args.stop, say, args.fmus, args.stored)
     with (RESULTS / f"fmu_step_cost_{args.label}.csv").open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
@@ -355,7 +377,8 @@ def main(argv: list[str] | None = None) -> int:
                          f"work), python {platform.python_version()}, numpy {np.__version__}, "
                          f"{os.cpu_count()} cores shared, pinned to {sorted(os.sched_getaffinity(0))}")
     note_path.write_text("".join(f"{k}\t{v}\n" for k, v in notes.items()))
-    labels = ["before", "after", "native"] + [k for k in notes if k not in ("before", "after", "native")]
+    main_labels = ("before", "after", "native", "after_stored", "native_stored")
+    labels = list(main_labels) + [k for k in notes if k not in main_labels]
     write_report(labels, notes)
     say(f"wrote {RESULTS / 'fmu_step_cost.md'}")
     return 0
