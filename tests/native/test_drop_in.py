@@ -28,7 +28,8 @@ OSC = dict(script=OSC_DIR / "OscMass.py", model_c=HERE / "models" / "OscMass.c")
 MODELS = ["OscMass", *[n for n in MODEL_CASES if (MODELS_DIR / f"{n}.c").exists()]]
 # a Real parameter each model refuses at this value (cycle_host's failure path)
 BAD = {"OscMass": ("m", -1.0), "Girder": ("c1", -1.0), "Boom": ("telescope_speed", -1.0),
-       "SlewingBoom": ("slew_speed", -1.0), "Rope": ("E", -1.0), "Drive": ("J_w", -1.0)}
+       "SlewingBoom": ("slew_speed", -1.0), "Rope": ("E", -1.0), "Drive": ("J_w", -1.0),
+       "Chassis": ("soil_coefficient", -1.0), "Chassis4": ("J_roll", -1.0)}
 
 
 @pytest.fixture(scope="module")
