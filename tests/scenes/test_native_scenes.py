@@ -13,10 +13,11 @@ from cranefmu.studies.kinds import TOLERANCE, agreement, relative_difference
 
 SCENES = ("elastic_pendulum", "overhead_lift", "hook_sway", "truck_telescope", "truck_slewing")
 WINDOW = 0.05   # [s]: 10 to 25 macro steps at the stored steps
-# the smallest range of a column in the short window [its SI unit]: a scene starts at rest, where its outputs move
-# by roundoff only and the two kinds differ by roundoff (measured: 1.1e-14 m/s in overhead_lift's pendulum.vy, whose
-# 0.05 s range is 1e-12); over the natural length (the slow test) every column's own range counts
-WINDOW_FLOOR = 1e-4
+# the smallest range of a column in the short window: 1e-4 in its SI unit and 1e-3 of its magnitude.  A scene starts
+# at rest, where its outputs move by round-off only and the two kinds differ by round-off (measured in overhead_lift:
+# 1.1e-14 m/s in pendulum.vy, whose 0.05 s range is 1e-12; 7e-11 N in a rope tension of 294 N); over the natural
+# length (the slow test, benchmarks/native_conformance.py) every column's own range counts
+WINDOW_FLOOR, WINDOW_FLOOR_REL = 1e-4, 1e-3
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +34,8 @@ def test_every_parameter_set_agrees(native_built, scene):
 
     sets = preview(scene, "python").parameter_sets
     for name in sets:
-        found = agreement(scene, None if name == "default" else name, stop_time=WINDOW, floor=WINDOW_FLOOR)
+        found = agreement(scene, None if name == "default" else name, stop_time=WINDOW, floor=WINDOW_FLOOR,
+                          floor_rel=WINDOW_FLOOR_REL)
         assert found.rows[0] == found.rows[1] > 5, (scene, name, found.rows)
         assert found.worst <= TOLERANCE, (scene, name, found.column, found.worst)
 
@@ -58,7 +60,7 @@ def test_relative_difference_finds_the_worst_column():
     assert relative_difference(a, b) == (pytest.approx(1e-9, rel=1e-6), "x")
     b["flat"][2] = 5.0 + 1e-14   # a constant column: against 1e-6 of its magnitude 5
     worst, column = relative_difference(a, b)
-    assert column == "flat" and worst == pytest.approx(2e-9, rel=1e-3)
+    assert column == "flat" and worst == pytest.approx(2e-9, rel=0.05)   # 5 + 1e-14 is 5 + 9.77e-15
     b["x"][0] = np.nan
     assert relative_difference(a, b) == (float("inf"), "x")
 
