@@ -113,8 +113,21 @@ def test_without_a_compiler_a_run_takes_python_after_one_line(monkeypatch, capsy
         resolve("elastic_pendulum", fmus="native")
 
 
-def test_sweep_rows_say_which_kind_ran():
+def test_sweep_rows_say_which_kind_ran(native_built, tmp_path):
+    import cranefmu
+    from cranefmu.sweep.engine import connect
     from cranefmu.sweep.table import header
 
-    assert "fmus" in header(["rope.E"], ["max:rope.tension"])
     assert header(["fmus"], []).count("fmus") == 1   # given as an input: its one column
+    client, cluster = connect(workers=1)
+    try:
+        rows = {kind: cranefmu.sweep("elastic_pendulum", ["rope.E=5e10,1e11"], ["max:rope.tension"],
+                                     tmp_path / f"{kind}.csv", client=client, stop_time=WINDOW, fmus=kind).rows
+                for kind in ("native", "python")}
+    finally:
+        client.close()
+        cluster.close()
+    assert [r["fmus"] for r in rows["native"]] == ["native", "native"]
+    assert [r["fmus"] for r in rows["python"]] == ["python", "python"]
+    for a, b in zip(rows["native"], rows["python"]):   # the same runs with either kind
+        assert a["max:rope.tension"] == pytest.approx(b["max:rope.tension"], rel=1e-12)
