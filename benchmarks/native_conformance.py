@@ -41,7 +41,7 @@ def main(argv: list[str] | None = None) -> int:
     lines = ["# Native against pythonfmu FMUs, every scene and parameter set", "", head, "",
              f"Largest |native - python| over a column's range (at least 1e-6 of its magnitude and 1e-9), of the "
              f"FMUs' outputs (limit {TOLERANCE:g}) and of the power bonds' energy residuals; run wall time of "
-             "each kind (the master loop, isolated runs).", "",
+             "each kind (the master loop; both runs in one process).", "",
              "| scene | set | T [s] | rows | outputs | worst column | bonds | wall python / native [s] | within |",
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- |", *rows]
     save("native_conformance_smoke" if args.smoke else "native_conformance", lines, t0)
