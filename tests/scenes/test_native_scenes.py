@@ -131,3 +131,13 @@ def test_sweep_rows_say_which_kind_ran(native_built, tmp_path):
     assert [r["fmus"] for r in rows["python"]] == ["python", "python"]
     for a, b in zip(rows["native"], rows["python"]):   # the same runs with either kind
         assert a["max:rope.tension"] == pytest.approx(b["max:rope.tension"], rel=1e-12)
+
+
+def test_the_report_says_which_kind_ran(native_built, tmp_path):
+    from cranefmu.master.run import run
+    from cranefmu.report import write_report
+
+    res = run("elastic_pendulum", stop_time=WINDOW, fmus="native", progress=False)
+    text = write_report(tmp_path / "r.html", res).read_text()
+    assert "cranefmu run of elastic_pendulum with the native FMUs" in text
+    assert "<td>fmus</td><td>&#x27;native&#x27;</td><td>given</td>" in text.replace("\n", "")
