@@ -141,3 +141,29 @@ def test_the_report_says_which_kind_ran(native_built, tmp_path):
     text = write_report(tmp_path / "r.html", res).read_text()
     assert "cranefmu run of elastic_pendulum with the native FMUs" in text
     assert "<td>fmus</td><td>&#x27;native&#x27;</td><td>given</td>" in text.replace("\n", "")
+
+
+def test_a_native_fmu_is_stale_when_its_sources_or_tables_change(tmp_path, monkeypatch):
+    """Touched sources that assemble to the same files: current (and its time renewed); changed
+    generated tables: stale; missing: stale.  The FMU is the assembled source FMU (no binary needed)."""
+    import os
+
+    import cranefmu.native.build as nb
+    from cranefmu import build as b
+    from cranefmu import fmu_kinds
+
+    before = (b.FMU_DIR, b.SSP_DIR)
+    b.set_build_dirs(tmp_path / "fmus", tmp_path / "ssp")
+    try:
+        assert fmu_kinds.native_fmu_is_stale("Girder")                      # missing
+        fmu = nb.zip_fmu(nb.assemble_source_fmu("Girder", tmp_path / "src" / "Girder"),
+                         fmu_kinds.native_fmu_dir() / "Girder.fmu")
+        os.utime(fmu, (1e9, 1e9))                                          # older than every source: checked
+        assert not fmu_kinds.native_fmu_is_stale("Girder")
+        assert fmu.stat().st_mtime > 1e9                                   # renewed: not assembled again
+        os.utime(fmu, (1e9, 1e9))
+        real = nb.model_header
+        monkeypatch.setattr(nb, "model_header", lambda *a, **k: real(*a, **k) + "\n/* changed table */\n")
+        assert fmu_kinds.native_fmu_is_stale("Girder")
+    finally:
+        b.set_build_dirs(*before)
