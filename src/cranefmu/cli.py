@@ -415,6 +415,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"cranefmu {__version__}")
             return 0
         args = build_parser().parse_args(argv)
+        if args.func in (_cmd_run, _cmd_converge):
+            _one_blas_thread()
         if args.func is _cmd_run:
             from .master.interrupt import stop_on
 
@@ -439,6 +441,18 @@ def main(argv: list[str] | None = None) -> int:
         _quiet_streams()
         for signum, handler in old.items():   # as the program: it ends now, a late signal must not replace
             signal.signal(signum, signal.SIG_IGN if argv is None else handler)   # its exit code
+
+
+def _one_blas_thread() -> None:
+    """Pin this process's BLAS and OpenMP pools (numpy's) to one thread: the master's arrays are small, and
+    a pythonfmu FMU run here pins the libraries it loads itself (``fmi_adapter.one_blas_thread``).  Nothing
+    without threadpoolctl."""
+    try:
+        import numpy  # noqa: F401 - its BLAS must be loaded to be pinned
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        return
+    threadpool_limits(1)
 
 
 def _check_working_directory() -> None:
