@@ -25,7 +25,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .errors import SettingsError
+from .errors import CraneFmuError, SettingsError
 
 KINDS = ("native", "python")
 NATIVE_FOLDER = "native"   # the sub-folder of the build folders holding the native FMUs and scenes
@@ -206,6 +206,7 @@ def scene_path(name: str, fmus: str | None = None) -> Path:
     """The built .ssp of shipped scene ``name`` with FMUs of kind ``fmus`` (None: native where built or
     buildable, else python after one line on stderr).  The pythonfmu scene is built first if stale."""
     from . import build as b
+    from .native.build import NativeBuildError
 
     check_kind(fmus)
     if b.is_stale([name]):
@@ -227,8 +228,16 @@ def scene_path(name: str, fmus: str | None = None) -> Path:
     if any(native_fmu_is_stale(f.stem) for f in b.scene_fmus(staged)) or native_ssp_is_stale(staged):
         print(f"cranefmu: building scene {name} with native FMUs into {native_ssp_dir()}", file=sys.stderr,
               flush=True)
-        with b.cache.locked(b.FMU_DIR.parent) if b.in_cache() else contextlib.nullcontext():
-            build_native(verbose=False, only=[name])
+        try:
+            with b.cache.locked(b.FMU_DIR.parent) if b.in_cache() else contextlib.nullcontext():
+                build_native(verbose=False, only=[name])
+        except NativeBuildError as err:   # a C source that does not compile here: the reference still runs
+            first = str(err).strip().splitlines()[0]
+            if fmus == "native":
+                raise CraneFmuError(f"scene {name}: the native FMUs could not be built: {first}") from None
+            print(f"cranefmu: scene {name} runs with the pythonfmu FMUs: its native FMUs could not be built "
+                  f"({first})", file=sys.stderr, flush=True)
+            return b.SSP_DIR / f"{name}.ssp"
     return native_ssp_dir() / f"{name}.ssp"
 
 

@@ -167,3 +167,22 @@ def test_a_native_fmu_is_stale_when_its_sources_or_tables_change(tmp_path, monke
         assert fmu_kinds.native_fmu_is_stale("Girder")
     finally:
         b.set_build_dirs(*before)
+
+
+def test_a_native_build_that_fails_falls_back_to_python_in_one_line(monkeypatch, capsys):
+    import cranefmu.fmu_kinds as kinds
+    from cranefmu.errors import CraneFmuError
+    from cranefmu.native.build import NativeBuildError
+
+    def broken(**kw):
+        raise NativeBuildError("Rope: cmake --build failed:\nRope.c:1: error: expected ';'")
+
+    monkeypatch.setattr(kinds, "native_reason", lambda scene: None)
+    monkeypatch.setattr(kinds, "native_ssp_is_stale", lambda scene_dir: True)
+    monkeypatch.setattr(kinds, "build_native", broken)
+    assert kinds.scene_path("elastic_pendulum").parent.name != "native"
+    assert capsys.readouterr().err.strip().splitlines()[-1] == (
+        "cranefmu: scene elastic_pendulum runs with the pythonfmu FMUs: its native FMUs could not be built "
+        "(Rope: cmake --build failed:)")
+    with pytest.raises(CraneFmuError, match="^scene elastic_pendulum: the native FMUs could not be built: Rope: cmake"):
+        kinds.scene_path("elastic_pendulum", "native")
