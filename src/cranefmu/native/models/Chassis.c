@@ -213,7 +213,8 @@ static double modes_radius(const ChassisData *d)
 /* per mode: lambda, beta, shape a, b, particular p0, p1, p2, free eta - P and eta' - P' at s = 0 */
 typedef struct { double lam, beta, a, b, p0, p1, p2, e0, e1; } Prepared;
 
-static void modes_prepare(const ChassisData *d, const double *q, const double *v, const double f[3][2],
+/* f: the force polynomial's coefficients f0, f1, f2 (two components each) */
+static void modes_prepare(const ChassisData *d, const double *q, const double *v, const double *f,
                           Prepared *out)
 {
     double m11 = d->modes_mass[0], m12 = d->modes_mass[1], m22 = d->modes_mass[2];
@@ -223,7 +224,7 @@ static void modes_prepare(const ChassisData *d, const double *q, const double *v
     for (i = 0; i < 2; i++) {
         double lam = d->modes[i][0], a = d->modes[i][1], b = d->modes[i][2];
         double beta = d->modes_r * lam;
-        double g0 = a * f[0][0] + b * f[0][1], g1 = a * f[1][0] + b * f[1][1], g2 = a * f[2][0] + b * f[2][1];
+        double g0 = a * f[0] + b * f[1], g1 = a * f[2] + b * f[3], g2 = a * f[4] + b * f[5];
         double p2 = g2 / (2.0 * lam);
         double p1 = (g1 - 2.0 * beta * p2) / lam;
         double p0 = (g0 - beta * p1 - 2.0 * p2) / lam;
@@ -316,7 +317,7 @@ static int modal_step(CfModel *m, const double *x, double h, const double *u0, c
     q[1] = x[1];
     v[0] = x[2];
     v[1] = x[3];
-    modes_prepare(d, q, v, f, pr);
+    modes_prepare(d, q, v, &f[0][0], pr);
     xs[0] = d->x1;
     xs[1] = d->x2;
     for (j = 0; j <= k; j++) {
