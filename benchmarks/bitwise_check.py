@@ -3,6 +3,11 @@ when the master's code is reshaped (not a timing; prints a table).
 
     python benchmarks/bitwise_check.py save DIR       # run every check run, save its arrays and stats
     python benchmarks/bitwise_check.py compare DIR    # run again, compare bit for bit with DIR
+    ... --fmus python|native|python,native            # the kind(s) of FMU the runs take (default python)
+
+``--fmus``: each run with the pythonfmu FMUs (key ``scene/mode``; the default, so a baseline saved before
+native FMUs existed still compares), the native ones (key ``native/scene/mode``) or both.  With both,
+the table also gives each run's largest native-python difference relative to the column's range.
 
 Every run is ``cranefmu.master.run.run(..., isolate=False, progress=False)`` (in-process), each in
 a fresh spawned child: pythonfmu FMUs do not survive a second instantiation in one process.  The
@@ -44,13 +49,17 @@ EXTRA = {"elastic_pendulum/waveform_m2": dict(algorithm="iterative", extrapolati
                                               implicit=["foot_heave", "foot_tilt", "tip", "hook", "drum"])}
 
 
-def check_runs() -> dict[str, tuple[str, dict]]:
-    runs = {f"{scene}/{mode}": (scene, dict(kw, stop_time=stop, step_size=1e-3))
+KINDS = ("python", "native")
+
+
+def check_runs(kinds: tuple[str, ...] = ("python",)) -> dict[str, tuple[str, dict]]:
+    base = {f"{scene}/{mode}": (scene, dict(kw, stop_time=stop, step_size=1e-3))
             for scene, stop in SCENES.items() for mode, kw in MODES.items()}
     for key, kw in EXTRA.items():
         scene = key.partition("/")[0]
-        runs[key] = (scene, dict(kw, stop_time=SCENES[scene], step_size=1e-3))
-    return runs
+        base[key] = (scene, dict(kw, stop_time=SCENES[scene], step_size=1e-3))
+    return {("" if kind == "python" else f"{kind}/") + key: (scene, dict(kw, fmus=kind))
+            for kind in kinds for key, (scene, kw) in base.items()}
 
 
 def _one(scene: str, kwargs: dict) -> dict:
@@ -65,10 +74,10 @@ def _one(scene: str, kwargs: dict) -> dict:
                                             "iterations": s.iterations, "stopped": s.stopped}}
 
 
-def execute() -> dict[str, dict]:
+def execute(kinds: tuple[str, ...] = ("python",)) -> dict[str, dict]:
     ctx = multiprocessing.get_context("spawn")
     out = {}
-    for key, (scene, kwargs) in check_runs().items():
+    for key, (scene, kwargs) in check_runs(kinds).items():
         with ProcessPoolExecutor(1, mp_context=ctx) as pool:
             out[key] = pool.submit(_one, scene, kwargs).result()
     return out
@@ -121,12 +130,42 @@ def compare(folder: Path, runs: dict[str, dict]) -> bool:
     return ok_all
 
 
+def kinds_agreement(runs: dict[str, dict]) -> None:
+    """Each run's largest |native - python| over a column's range (both kinds in ``runs``)."""
+    pairs = [(k, f"native/{k}") for k in runs if not k.startswith("native/") and f"native/{k}" in runs]
+    if not pairs:
+        return
+    print(f"\n{'run':45s} {'native vs python, max |diff| / range':>38s}  worst column")
+    for py, nat in pairs:
+        a, b = runs[py].get("result"), runs[nat].get("result")
+        if a is None or b is None or len(a) != len(b):
+            print(f"{py:45s} {'-':>38s}  rows {0 if a is None else len(a)} vs {0 if b is None else len(b)}")
+            continue
+        worst, column = 0.0, ""
+        for n in a.dtype.names:
+            x, y = np.asarray(a[n], float), np.asarray(b[n], float)
+            span = max(float(np.ptp(x)), float(np.max(np.abs(x))) * 1e-12, 1e-300)
+            err = float(np.max(np.abs(x - y))) / span
+            if err > worst:
+                worst, column = err, n
+        print(f"{py:45s} {worst:38.3g}  {column}")
+
+
 def main(argv: list[str]) -> int:
+    kinds: tuple[str, ...] = ("python",)
+    if "--fmus" in argv:
+        at = argv.index("--fmus")
+        kinds = tuple(k.strip() for k in argv[at + 1].split(",")) if at + 1 < len(argv) else ()
+        argv = argv[:at] + argv[at + 2:]
+        if not kinds or any(k not in KINDS for k in kinds):
+            print(f"--fmus {','.join(kinds)!r} is not allowed: python, native or python,native")
+            return 2
     if len(argv) != 2 or argv[0] not in ("save", "compare"):
         print(__doc__)
         return 2
     folder = Path(argv[1])
-    runs = execute()
+    runs = execute(kinds)
+    kinds_agreement(runs)
     if argv[0] == "save":
         save(folder, runs)
         for key, r in runs.items():

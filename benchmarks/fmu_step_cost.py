@@ -18,7 +18,13 @@ For each scene, at the scene's macro step H (Jacobi, zero-order hold):
 
 Usage:
     .venv/bin/python benchmarks/fmu_step_cost.py [--label after] [--scenes truck_telescope,hook_sway]
-        [--stop 30] [--cpu 1]
+        [--stop 30] [--cpu 1] [--fmus python|native]
+
+``--stored``: every shipped scene at its stored macro step (``cranefmu info``), over ``--stop`` (default
+min(natural length, 10 s)), instead of the fixed H of SCENES below (kept so that before/after compare).
+``--fmus native`` times the native (C) FMUs (``fmus/native/``, cranefmu build) instead of the pythonfmu ones, fed
+the inputs of a co-simulation of the same kind; the label then defaults to ``native`` and the report adds a
+python / native table (the pythonfmu rows of label ``after``).
 
 Writes benchmarks/results/fmu_step_cost_<label>.csv and benchmarks/results/fmu_step_cost.md (a table
 per label found, and the before/after ratio per row when both "before" and "after" exist).  Times are
@@ -53,13 +59,16 @@ FIELDS = ("scene", "component", "fmu", "config", "H", "steps", "physics_step_us"
 def physics_class(fmu_name: str):
     from cranefmu.physics.boom import BoomModel
     from cranefmu.physics.chassis import ChassisModel
+    from cranefmu.physics.chassis4 import Chassis4Model
     from cranefmu.physics.drive import DriveModel
     from cranefmu.physics.girder import GirderModel
     from cranefmu.physics.pendulum import PendulumModel
     from cranefmu.physics.rope import RopeModel
+    from cranefmu.physics.slewing import SlewingBoomModel
 
-    return {"Boom": BoomModel, "Chassis": ChassisModel, "Drive": DriveModel, "Girder": GirderModel,
-            "Pendulum": PendulumModel, "Rope": RopeModel}[fmu_name]
+    return {"Boom": BoomModel, "Chassis": ChassisModel, "Chassis4": Chassis4Model, "Drive": DriveModel,
+            "Girder": GirderModel, "Pendulum": PendulumModel, "Rope": RopeModel,
+            "SlewingBoom": SlewingBoomModel}[fmu_name]
 
 
 def in_child(fn, *args):
@@ -68,14 +77,14 @@ def in_child(fn, *args):
 
 
 # --- 1. the co-simulation ---------------------------------------------------------------------------
-def record(scene: str, h: float, stop: float) -> dict:
+def record(scene: str, h: float, stop: float, fmus: str = "python") -> dict:
     from cranefmu.master.run import run
 
     # Jacobi, zero-order hold, no implicit group, whatever the scene stores: the replay feeds each FMU the
     # outputs at the step start, which is what such a run fed it (the stored extrapolation 1 of hook_sway
     # fed the pendulum other inputs: replay dev 3e-2 instead of 1e-14)
     res = run(scene, stop_time=stop, step_size=h, algorithm="jacobi", extrapolation=0, implicit=[], keep=True,
-              isolate=False, progress=False)
+              isolate=False, progress=False, fmus=fmus)
     r = res.result
     return {"columns": list(r.dtype.names), "rows": np.column_stack([r[n] for n in r.dtype.names]),
             "fmu_time": dict(res.stats.fmu_time), "wall": res.stats.wall_time, "steps": res.stats.steps}
@@ -213,12 +222,20 @@ def config_text(model_cls, comp, parameters, switches, settings) -> str:
     return " ".join([f"solver={settings['solver']}", f"max_step={settings['max_step']}"] + modes)
 
 
-def study(scene: str, stop: float | None, say) -> list[dict]:
-    h, default_stop = SCENES[scene]
+def stored_step(scene: str) -> tuple[float, float]:
+    """(the scene's stored macro step [s], min(its natural length, 10 s))."""
+    from cranefmu.master.runspec import resolve
+
+    s = resolve(scene, fmus="python").settings
+    return s.step_size, min(s.stop_time, 10.0)
+
+
+def study(scene: str, stop: float | None, say, fmus: str = "python", stored: bool = False) -> list[dict]:
+    h, default_stop = stored_step(scene) if stored else SCENES[scene]
     stop = stop or default_stop
     steps = int(round(stop / h))
     say(f"{scene}: co-simulation H={h:g} s, {stop:g} s ...")
-    rec = in_child(record, scene, h, stop)
+    rec = in_child(record, scene, h, stop, fmus)
     columns, rows = rec["columns"], rec["rows"]
     col = {c: i for i, c in enumerate(columns)}
     out = []
@@ -226,7 +243,7 @@ def study(scene: str, stop: float | None, say) -> list[dict]:
         lay = scene_layout(scene, tmp)
         for comp, fmu_name in lay["components"].items():
             model_cls = physics_class(fmu_name)
-            fmu_path = ROOT / "fmus" / f"{fmu_name}.fmu"
+            fmu_path = ROOT / "fmus" / ("native" if fmus == "native" else "") / f"{fmu_name}.fmu"
             settings, switches = solver_settings(fmu_path), switch_texts(fmu_path)
             u = input_series(model_cls, lay["connections"][comp], columns, rows)
             phys = physics_replay(model_cls, comp, lay["parameters"], switches, settings, u, h, steps)
@@ -289,6 +306,22 @@ def write_report(labels: list[str], notes: dict[str, str]) -> None:
             lines.append(f"\n{scene}: all FMUs {tot:.0f} us per macro step of {h * 1e3:g} ms (physics {phys:.0f} us); "
                          f"the FMUs alone bound the real-time factor at {h / (tot * 1e-6):.1f}.")
         lines.append("")
+    for py_label, native_label in (("after", "native"), ("after_stored", "native_stored")):
+        if not (tables.get(py_label) and tables.get(native_label)):
+            continue
+        lines += [f"## pythonfmu / native (labels {py_label}, {native_label})", "", "| scene | component | H [s] | "
+                  "pythonfmu FMU [us] | native FMU [us] (set / doStep / get) | ratio |",
+                  "| --- | --- | --- | --- | --- | --- |"]
+        python = {(r["scene"], r["component"]): r for r in tables[py_label]}
+        for r in tables[native_label]:
+            p = python.get((r["scene"], r["component"]))
+            if p is None:
+                continue
+            fp, fn = float(p["fmu_us"]), float(r["fmu_us"])
+            lines.append(f"| {r['scene']} | {r['component']} | {float(r['H']):g} | {fp:.0f} | {fn:.1f} "
+                         f"({float(r['fmu_set_us']):.1f} / "
+                         f"{float(r['fmu_dostep_us']):.1f} / {float(r['fmu_get_us']):.1f}) | {fp / fn:.0f} |")
+        lines.append("")
     if tables.get("before") and tables.get("after"):
         lines += ["## before / after", "", "| scene | component | FMU before [us] | FMU after [us] | ratio | "
                   "physics before | physics after | ratio |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
@@ -306,11 +339,19 @@ def write_report(labels: list[str], notes: dict[str, str]) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--label", default="after", help="name of this measurement (before, after, ...)")
+    ap.add_argument("--label", default=None, help="name of this measurement (before, after, ...; default after, "
+                    "with --fmus native: native)")
+    ap.add_argument("--fmus", default="python", choices=("python", "native"), help="the kind of FMU timed")
+    ap.add_argument("--stored", action="store_true", help="every scene at its stored step (default scenes: all)")
     ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated scene names")
     ap.add_argument("--stop", type=float, default=None, help="simulated time [s] (default: per scene)")
     ap.add_argument("--cpu", type=int, default=None, help="pin this process and its children to one core")
     args = ap.parse_args(argv)
+    args.label = args.label or ("native" if args.fmus == "native" else "after") + ("_stored" if args.stored else "")
+    if args.stored and args.scenes == ",".join(SCENES):
+        from cranefmu.scene_catalog import scene_names
+
+        args.scenes = ",".join(scene_names())
     if args.cpu is not None:
         os.sched_setaffinity(0, {args.cpu})
 
@@ -320,7 +361,7 @@ def main(argv: list[str] | None = None) -> int:
     RESULTS.mkdir(parents=True, exist_ok=True)
     rows = []
     for scene in args.scenes.split(","):
-        rows += study(scene, args.stop, say)
+        rows += study(scene, args.stop, say, args.fmus, args.stored)
     with (RESULTS / f"fmu_step_cost_{args.label}.csv").open("w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
@@ -336,7 +377,8 @@ def main(argv: list[str] | None = None) -> int:
                          f"work), python {platform.python_version()}, numpy {np.__version__}, "
                          f"{os.cpu_count()} cores shared, pinned to {sorted(os.sched_getaffinity(0))}")
     note_path.write_text("".join(f"{k}\t{v}\n" for k, v in notes.items()))
-    labels = ["before", "after"] + [k for k in notes if k not in ("before", "after")]
+    main_labels = ("before", "after", "native", "after_stored", "native_stored")
+    labels = list(main_labels) + [k for k in notes if k not in main_labels]
     write_report(labels, notes)
     say(f"wrote {RESULTS / 'fmu_step_cost.md'}")
     return 0

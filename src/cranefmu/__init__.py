@@ -17,28 +17,47 @@ __version__ = "0.1.0"
 __all__ = ["simulate", "run", "resolve", "RunSpec", "build", "sweep", "fmu_path", "__version__"]
 
 
-def _resolve_scene_name(name: str) -> Path:
+def _resolve_scene_name(name: str, fmus: str | None = None) -> Path:
     # imported on first use: `import cranefmu` stays light (the physics runs without fmpy or pythonfmu)
     from .scene_catalog import resolve
 
-    return resolve(name)
+    return resolve(name, fmus)
 
 
 _register_scene_resolver(_resolve_scene_name)
 
 
-def fmu_path(name: str) -> Path:
-    """The built ``<name>.fmu`` (``"Rope"``), built first if missing or stale: in ``fmus/`` of a checkout,
-    in the user cache when installed (``cranefmu build --where`` prints the folder)."""
+def fmu_path(name: str, fmus: str | None = None) -> Path:
+    """The built ``<name>.fmu`` (``"Rope"``) of kind ``fmus`` (``native``: C, ``python``: pythonfmu; None:
+    native where it is built or a C compiler builds it, else python), built first if missing or stale: in
+    ``fmus/`` (native: ``fmus/native/``) of a checkout, in the user cache when installed (``cranefmu build
+    --where`` prints the folder)."""
     from . import build as b
-    from .errors import CraneFmuError
+    from . import fmu_kinds
+    from .errors import CraneFmuError, SettingsError
     from .sources import fmu_scripts
 
+    fmu_kinds.check_kind(fmus)
     known = sorted(s.stem for s in fmu_scripts())
     if name not in known:
         raise CraneFmuError(f"FMU {name!r} is unknown: one of {', '.join(known)}")
     b.build(verbose=False, only=[name])
-    return b.FMU_DIR / f"{name}.fmu"
+    if fmus == "python":
+        return b.FMU_DIR / f"{name}.fmu"
+    native = fmu_kinds.native_fmu_dir() / f"{name}.fmu"
+    stale = fmu_kinds.native_fmu_is_stale(name) if fmu_kinds.has_c_model(name) else True
+    reason = None if not stale else f"no C model of {name} yet" if not fmu_kinds.has_c_model(name) \
+        else fmu_kinds.compiler_reason()
+    if reason is not None:
+        if fmus == "native":
+            raise SettingsError(f"fmus = 'native' is not allowed for FMU {name}: {reason}; use fmus = 'python'")
+        return b.FMU_DIR / f"{name}.fmu"
+    if stale:
+        from .native.build import build_native_fmu
+
+        build_native_fmu(name, native.parent)
+        b.write_osp_description(native)
+    return native
 
 
 def __getattr__(name: str):

@@ -153,19 +153,21 @@ def _ensure_binaries(fmu: Path, model_identifier: str) -> None:
             zf.write(lib, f"binaries/{lib.parent.name}/{model_identifier}{lib.suffix}")
 
 
-def scene_fmus(scene_dir: Path) -> list[Path]:
-    """FMUs a scene's SSD refers to (``source="resources/<Name>.fmu"``), as paths under fmus/."""
+def scene_fmus(scene_dir: Path, fmu_dir: Path | None = None) -> list[Path]:
+    """FMUs a scene's SSD refers to (``source="resources/<Name>.fmu"``), as paths under ``fmu_dir``
+    (default :data:`FMU_DIR`, the pythonfmu FMUs; :mod:`cranefmu.fmu_kinds` passes the native folder)."""
+    fmu_dir = Path(fmu_dir) if fmu_dir is not None else FMU_DIR
     ssd = Path(scene_dir) / "SystemStructure.ssd"
     if not ssd.is_file() and compose.has_source(scene_dir):   # a new scene source, its SSD not written yet
-        return sorted({FMU_DIR / c.fmu_file for c in compose.read_source(scene_dir).components})
+        return sorted({fmu_dir / c.fmu_file for c in compose.read_source(scene_dir).components})
     try:
-        key = (str(scene_dir), str(FMU_DIR), ssd.stat().st_mtime_ns)
+        key = (str(scene_dir), str(fmu_dir), ssd.stat().st_mtime_ns)
     except OSError:
         key = None
     if key is None or key not in _SCENE_FMUS:
         from .master.scene import read_scene_folder
 
-        found = sorted({c.fmu for c in read_scene_folder(scene_dir, FMU_DIR).components})
+        found = sorted({c.fmu for c in read_scene_folder(scene_dir, fmu_dir).components})
         if key is None:
             return found
         _SCENE_FMUS[key] = found
@@ -195,7 +197,8 @@ def ssp_generators() -> list[Path]:
             PACKAGE_DIR / "master" / "initialization.py", *sorted((PACKAGE_DIR / "compose").glob("*.py"))]
 
 
-def ssd_with_component_bindings(scene_dir: Path, start: dict[str, float] | None = None) -> bytes:
+def ssd_with_component_bindings(scene_dir: Path, start: dict[str, float] | None = None,
+                                fmu_dir: Path | None = None) -> bytes:
     """The scene's SystemStructure.ssd with each component's values of the default set added as the
     component's own inline ParameterBinding, with bare variable names: the form libcosim reads
     (it ignores System-level bindings).  Generated from the .ssv files, so it cannot drift; the
@@ -206,7 +209,7 @@ def ssd_with_component_bindings(scene_dir: Path, start: dict[str, float] | None 
     from .master.scene import SSD_NS, SSV_NS, Parameter, read_scene_folder
     from .master.untrusted import parse_xml
 
-    scene = read_scene_folder(scene_dir, FMU_DIR)
+    scene = read_scene_folder(scene_dir, fmu_dir or FMU_DIR)
     bound = {**scene.bound, **{k: Parameter(k, "Real", v) for k, v in (start or {}).items()}}
     root = parse_xml(scene_dir / "SystemStructure.ssd")
     for el in root.iter(f"{{{SSD_NS}}}Component"):
@@ -226,40 +229,42 @@ def ssd_with_component_bindings(scene_dir: Path, start: dict[str, float] | None 
     return etree.tostring(root.getroottree(), xml_declaration=True, encoding="UTF-8")
 
 
-def build_ssp(scene_dir: Path, dest: Path | None = None) -> Path:
+def build_ssp(scene_dir: Path, dest: Path | None = None, fmu_dir: Path | None = None) -> Path:
     """Zip SystemStructure.ssd (with generated component bindings), its .ssv parameter sets and its
     FMUs into ``dest`` (default ``ssp/<scene>.ssp``), each set with its settled start: the
     connected inputs as our initialization settles them for that set (:mod:`cranefmu.settled_start`),
-    so a host that does not settle the scene itself starts at rest as loaded."""
+    so a host that does not settle the scene itself starts at rest as loaded.  ``fmu_dir``: the FMUs
+    zipped in (default :data:`FMU_DIR`; the native ones for a native scene, :mod:`cranefmu.fmu_kinds`)."""
     from .master.scene import read_scene_folder
     from .settled_start import settled_starts
 
     ssp = Path(dest) if dest is not None else scene_dir.with_suffix(".ssp")
     tmp = ssp.with_name(f".{ssp.stem}.{os.getpid()}.tmp.ssp")   # our master runs it: it must end in .ssp
     try:
-        _zip_scene(scene_dir, tmp, {})
-        sets = [None, *read_scene_folder(scene_dir, FMU_DIR).sets]
+        _zip_scene(scene_dir, tmp, {}, fmu_dir)
+        sets = [None, *read_scene_folder(scene_dir, fmu_dir or FMU_DIR).sets]
         starts = dict(zip(sets, settled_starts(tmp, [(name, None) for name in sets])))
-        _zip_scene(scene_dir, tmp, starts)
+        _zip_scene(scene_dir, tmp, starts, fmu_dir)
         tmp.replace(ssp)
     finally:
         tmp.unlink(missing_ok=True)
     return ssp
 
 
-def _zip_scene(scene_dir: Path, target: Path, starts: dict[str | None, dict[str, float]]) -> None:
+def _zip_scene(scene_dir: Path, target: Path, starts: dict[str | None, dict[str, float]],
+               fmu_dir: Path | None = None) -> None:
     """The .ssp of ``scene_dir`` with each .ssv's settled start (``starts[set name]``, None: the
     default set, which the SSD binds) added to it and, for the default set, to the component bindings."""
     bound = _bound_files(scene_dir)
     with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as zf:
-        zf.writestr("SystemStructure.ssd", ssd_with_component_bindings(scene_dir, starts.get(None)))
+        zf.writestr("SystemStructure.ssd", ssd_with_component_bindings(scene_dir, starts.get(None), fmu_dir))
         for f in sorted(scene_dir.glob("*.ssv")):
             start = starts.get(None if f.name in bound else f.stem)
             if start:
                 zf.writestr(f"resources/{f.name}", ssv_with_start(f, start))
             else:
                 zf.write(f, f"resources/{f.name}")
-        for fmu in scene_fmus(scene_dir):
+        for fmu in scene_fmus(scene_dir, fmu_dir):
             zf.write(fmu, f"resources/{fmu.name}")
 
 

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import builtins
+import contextlib
 import sys
 from pathlib import Path
 
@@ -20,9 +21,16 @@ def _cmd_build(args: argparse.Namespace) -> int:
         removed = clear()
         print("\n".join(f"removed {p}" for p in removed) or "the cache holds no builds")
         return 0
+    from .fmu_kinds import build_line, build_native
+
     where = b.FMU_DIR.parent if b.in_cache() else f"{b.FMU_DIR} and {b.SSP_DIR}"
     done = b.build(force=args.force, only=args.only or None)
+    if not args.python_only:
+        with b.cache.locked(b.FMU_DIR.parent) if b.in_cache() else contextlib.nullcontext():
+            done += build_native(force=args.force, only=args.only or None)
     print(f"{len(done)} file(s) built in {where}" if done else f"everything in {where} is up to date")
+    print(build_line(args.only or None) if not args.python_only else
+          "FMU kinds: python (pythonfmu) only, as asked (--python-only); cranefmu build without it adds the native FMUs")
     return 0
 
 
@@ -178,8 +186,11 @@ def _cmd_info(args: argparse.Namespace) -> int:
     from .master.run import resolve_scene
     from .scene_info import describe
 
-    _, scene = extracted_scene(resolve_scene(args.scene))   # the guarded extract a run uses
-    print("\n".join(describe(scene)))
+    from .fmu_kinds import info_line
+
+    ssp = resolve_scene(args.scene, getattr(args, "fmus", None))
+    workdir, scene = extracted_scene(ssp)   # the guarded extract a run uses
+    print("\n".join([*describe(scene), info_line(args.scene, ssp, workdir, scene)]))
     return 0
 
 
@@ -191,7 +202,8 @@ def _cmd_converge(args: argparse.Namespace) -> int:
     s = study(args.scene, steps, algorithm=args.algorithm, extrapolation=args.extrapolation,
               reference=args.reference, tolerances=tolerances, target=args.target, stop_time=args.stop_time,
               parameter_set=args.parameter_set, parameters=_parse_set(args.set), modes=not args.no_modes,
-              progress=lambda text: print(text, file=sys.stderr, flush=True))
+              progress=lambda text: print(text, file=sys.stderr, flush=True),
+              **({"fmus": args.fmus} if args.fmus else {}))
     print(format_report(s))
     table, png = write_outputs(s, Path(args.output or f"converge_{args.scene}"))
     print(f"results: {table} and {png}")
@@ -257,8 +269,11 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
 
     b = sub.add_parser("build", help="build the FMUs and .ssp scenes that are missing or older than their sources "
-                                     "(a checkout: into fmus/ and ssp/; installed: into the user cache)")
+                                     "(a checkout: into fmus/ and ssp/; installed: into the user cache), the "
+                                     "pythonfmu ones and, where a C compiler is found, the native ones in native/")
     b.add_argument("--force", action="store_true", help="rebuild everything")
+    b.add_argument("--python-only", action="store_true", help="build the pythonfmu FMUs and scenes only, not the "
+                   "native (C) ones beside them (fmus/native/, ssp/native/; built where a C compiler is found)")
     b.add_argument("--where", action="store_true", help="print the folders the FMUs and the scenes are built in "
                    "(two lines), build nothing")
     b.add_argument("--clear-cache", action="store_true", help="remove every build in the user cache (all versions; "
@@ -295,6 +310,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
     i.add_argument("scene")
+    add_arguments(i, ("fmus",))   # which kind's scene file it describes (the FMUs' descriptions differ)
     i.set_defaults(func=_cmd_info)
 
     c = sub.add_parser("converge", help="error of the key outputs against a reference at several steps; "
@@ -306,7 +322,7 @@ def build_parser() -> argparse.ArgumentParser:
                    "supports adaptive stepping)")
     from .master.settings import add_arguments as add_settings
 
-    add_settings(c, ("stop_time", "algorithm", "extrapolation"), absent=False)   # the run's own definitions
+    add_settings(c, ("stop_time", "algorithm", "extrapolation", "fmus"), absent=False)   # the run's own definitions
     c.add_argument("--reference", default="monolithic", help="monolithic (the scene's scipy solve) or finest "
                    "(a co-simulation at min(H)/4)")
     c.add_argument("--target", type=float, default=1e-2, help="largest error / signal range accepted (default 1e-2)")
@@ -399,6 +415,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"cranefmu {__version__}")
             return 0
         args = build_parser().parse_args(argv)
+        if args.func in (_cmd_run, _cmd_converge):
+            _one_blas_thread()
         if args.func is _cmd_run:
             from .master.interrupt import stop_on
 
@@ -423,6 +441,18 @@ def main(argv: list[str] | None = None) -> int:
         _quiet_streams()
         for signum, handler in old.items():   # as the program: it ends now, a late signal must not replace
             signal.signal(signum, signal.SIG_IGN if argv is None else handler)   # its exit code
+
+
+def _one_blas_thread() -> None:
+    """Pin this process's BLAS and OpenMP pools (numpy's) to one thread: the master's arrays are small, and
+    a pythonfmu FMU run here pins the libraries it loads itself (``fmi_adapter.one_blas_thread``).  Nothing
+    without threadpoolctl."""
+    try:
+        import numpy  # noqa: F401 - its BLAS must be loaded to be pinned
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        return
+    threadpool_limits(1)
 
 
 def _check_working_directory() -> None:

@@ -18,11 +18,14 @@ from .master.scene import Parameter, Scene, typed_value
 
 
 def export_scene(scene: str, output: str | Path, parameter_set: str | None = None,
-                 parameters: dict[str, object] | None = None) -> Path:
+                 parameters: dict[str, object] | None = None, fmus: str | None = None) -> Path:
     """Write ``output`` (.ssp): ``scene`` with ``parameter_set`` and ``parameters`` ({"comp.var": value or
-    text}) over its default set as its one bound set, with the settled start of those values.
+    text}) over its default set as its one bound set, with the settled start of those values, holding
+    FMUs of kind ``fmus`` (native or python; None: native where built or buildable, see
+    :mod:`cranefmu.fmu_kinds`; :func:`exported_kind` reads it back).
     Returns the path written.  Raises a :class:`CraneFmuError` naming a bad scene, set, value or target."""
     from . import build as b
+    from .fmu_kinds import check_kind, native_fmu_dir, native_ssp_dir, scene_path
     from .master.scene import read_scene_folder
 
     output = Path(output)
@@ -33,7 +36,9 @@ def export_scene(scene: str, output: str | Path, parameter_set: str | None = Non
     names = [d.name for d in b.scene_dirs()]
     if scene not in names:
         raise SceneError(f"scene {scene!r} is not allowed: one of {', '.join(names)}")
+    check_kind(fmus)
     b.build(verbose=False, only=[scene])
+    native = scene_path(scene, fmus).parent == native_ssp_dir()   # builds the native scene if it is chosen
     folder = b.SSP_DIR / scene
     loaded = read_scene_folder(folder, b.FMU_DIR)
     values = variant_values(loaded, parameter_set, parameters or {})
@@ -46,9 +51,25 @@ def export_scene(scene: str, output: str | Path, parameter_set: str | None = Non
         variant.mkdir()
         (variant / "SystemStructure.ssd").write_bytes(variant_ssd(folder / "SystemStructure.ssd", parameter_set))
         (variant / bound.pop()).write_bytes(b.ssv_of(values, label))
-        written = b.build_ssp(variant, dest=Path(tmp) / output.name)
+        written = b.build_ssp(variant, dest=Path(tmp) / output.name, fmu_dir=native_fmu_dir() if native else None)
         shutil.move(str(written), str(output))
     return output
+
+
+def exported_kind(ssp: Path) -> str | None:
+    """The kind of FMU an .ssp holds (native, python, None: neither or mixed), from its FMUs' generationTool."""
+    import re
+    import zipfile
+
+    from .master.fmu_kind import kind_of_tool
+
+    kinds = set()
+    with zipfile.ZipFile(ssp) as zf:
+        for name in (n for n in zf.namelist() if n.endswith(".fmu")):
+            with zf.open(name) as inner, zipfile.ZipFile(inner) as fmu:
+                found = re.search(rb'generationTool\s*=\s*"([^"]*)"', fmu.read("modelDescription.xml")[:8192])
+                kinds.add(kind_of_tool(found.group(1).decode()) if found else None)
+    return kinds.pop() if len(kinds) == 1 else None
 
 
 def variant_ssd(ssd: Path, parameter_set: str | None) -> bytes:
@@ -130,12 +151,14 @@ def add_parser(sub) -> None:
     e.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
                    help="change a parameter (repeatable; not a connected input)")
     e.add_argument("--output", required=True, help="the .ssp file to write")
+    e.add_argument("--fmus", default=None, choices=("native", "python"), help="the kind of FMU the file holds "
+                   "(default: native where built or buildable, else python; cranefmu build)")
     e.set_defaults(func=_cmd_export)
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
     from .cli import _parse_set
 
-    path = export_scene(args.scene, args.output, args.parameter_set, _parse_set(args.set))
-    print(f"wrote {path}")
+    path = export_scene(args.scene, args.output, args.parameter_set, _parse_set(args.set), args.fmus)
+    print(f"wrote {path} (FMUs: {exported_kind(path) or 'neither cranefmu kind'})")
     return 0

@@ -38,6 +38,27 @@ ENUMERATIONS_TOOL = "org.cranefmu.enumerations"  # VendorAnnotations tool listin
 PORTS_TOOL = "org.cranefmu.ports"  # VendorAnnotations tool declaring the mechanical ports (docs/composition.md)
 
 
+_PINNED_LIBRARIES: set[str] = set()   # BLAS/OpenMP libraries of this process already pinned to one thread
+
+
+def one_blas_thread() -> None:
+    """Pin every BLAS and OpenMP thread pool loaded in this process to one thread (threadpoolctl, where
+    the host's Python has it; else nothing).  The FMUs' matrices are small: with OpenBLAS's default
+    threads the Chassis's matrix exponential cost 3.7x the CPU of one thread (issue 33).  A library
+    loaded later (scipy's own OpenBLAS on a first scipy import) is pinned by the next call; a call
+    that finds nothing new costs only the scan of the loaded libraries."""
+    try:
+        from threadpoolctl import ThreadpoolController
+    except ImportError:
+        return
+    controller = ThreadpoolController()
+    fresh = [lib for lib in controller.lib_controllers if lib.filepath not in _PINNED_LIBRARIES]
+    for lib in fresh:
+        if lib.num_threads != 1:
+            lib.set_num_threads(1)
+        _PINNED_LIBRARIES.add(lib.filepath)
+
+
 def solvers(model: type[Model]) -> tuple[str, ...]:
     """The internal solvers an FMU of ``model`` offers: every integrator, ``exact`` where the model has a
     closed-form step (:meth:`Model.exact_step` overridden), and ``auto`` where that step applies to some
@@ -119,6 +140,7 @@ class CraneSlave(Fmi2Slave):
         self._t = 0.0
         self._initialized = False
         self._outputs_stale = True
+        self._pin_after_step = False
         self._init_error: Exception | None = None
         # per-step caches of the hot path: the input vector and the input rates, rebuilt only after
         # a set touches them; a set that touches no parameter and no rate input (the master's
@@ -269,6 +291,8 @@ class CraneSlave(Fmi2Slave):
         except (ParameterError, FloatingPointError, ValueError) as err:
             self._fail("initialization refused", err)
             raise
+        one_blas_thread()   # after the model is built: its libraries (scipy's expm) are loaded
+        self._pin_after_step = True   # a solver may load one at its first step (scipy's solve_ivp)
         self._initialized = True
         self._fixed_values = self._fixed_parameters()
         self._outputs_stale = True
@@ -337,6 +361,9 @@ class CraneSlave(Fmi2Slave):
                               self._solver, self.rtol, self.max_step)
             self._t = current_time + step_size
             self._outputs_stale = True
+            if self._pin_after_step:
+                self._pin_after_step = False
+                one_blas_thread()
             return True
         except Exception as err:  # never let an exception escape into the C layer
             return self._fail(f"step at t = {current_time:.9g} s failed", err)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 from pathlib import Path
 
 from .errors import SceneError
@@ -21,9 +20,12 @@ def scene_names() -> list[str]:
     return [d.name for d in scene_dirs()]
 
 
-def resolve(name: str) -> Path:
-    """The built ``<name>.ssp`` of a shipped scene, built first if missing or stale."""
+def resolve(name: str, fmus: str | None = None) -> Path:
+    """The built ``<name>.ssp`` of a shipped scene with FMUs of kind ``fmus`` (``native`` or ``python``;
+    None: native where built or buildable, else python), built first if missing or stale
+    (:func:`cranefmu.fmu_kinds.scene_path`)."""
     from . import build as b
+    from .fmu_kinds import scene_path
 
     names = scene_names()
     if name not in names:
@@ -32,11 +34,7 @@ def resolve(name: str) -> Path:
                              f"(none under {b.SSP_SOURCES}); reinstall it from its wheel or sdist, or give a "
                              "path to an .ssp file")
         raise SceneError(f"scene {name!r} is unknown: one of {', '.join(names)} or a path to an .ssp file")
-    if b.is_stale([name]):
-        print(f"cranefmu: building scene {name} and its FMUs into {b.SSP_DIR.parent} (once per version)",
-              file=sys.stderr, flush=True)
-        b.build(verbose=False, only=[name])
-    return b.SSP_DIR / f"{name}.ssp"
+    return scene_path(name, fmus)
 
 
 FIDELITY = Path(__file__).with_name("fidelity.json")   # written by benchmarks/scene_defaults.py

@@ -255,6 +255,60 @@ _ROPE_WIGGLE = {"y_hook": 3e-3, "vy_hook": 0.05, "x_hook": 0.05, "vx_hook": 0.1,
                 "vy_top": 0.01, "payout": 1e-3, "payout_rate": 0.01}
 
 
+# Girder, Chassis, Chassis4: the scenes' sets (ssp/overhead_lift, truck_telescope, truck_slewing) and the events
+#: overhead_lift default and loose (the same girder): the beam's reduced mass, Table 6's stiffnesses
+_LIFT_GIRDER = {"mass_model": "beam", "girder_mass": 5000.0, "c1": 4.6e6, "b1": 2.3e4, "c3": 1.8e8, "m3": 280.0,
+                "height": 11.005884098464119}
+#: the boom's loads and carried inertia on the chassis in truck_telescope (its 40 s run: early, retracted
+#: boom; extended boom), swaying with the load
+_TT_EARLY = {"Fx_base": 0.0, "Fy_base": -31939.4, "M_base": -149314.8, "m_boom": 755.8, "Sx_boom": 2090.9,
+             "J_boom": 32079.3}
+_TT_LATE = {"Fx_base": 340.8, "Fy_base": -31953.3, "M_base": -329841.7, "m_boom": 755.8, "Sx_boom": 4877.9,
+            "J_boom": 161072.0}
+_TT_WIGGLE = {"Fx_base": 300.0, "Fy_base": 3e3, "M_base": 3e4, "Sx_boom": 20.0, "J_boom": 800.0}
+#: truck_slewing: the slewing boom's loads on the four pads (roll moment and lateral force while slewing)
+_TS = {"Fx_base": 500.0, "Fy_base": -32000.0, "Fz_base": 300.0, "Mx_base": 2e4, "Mz_base": -1.5e5,
+       "m_boom": 755.8, "Sx_boom": 2090.9, "Sz_boom": 500.0, "Jp_boom": 3.2e4, "Jr_boom": 5e3, "Jpr_boom": 2e3}
+_TS_WIGGLE = {"Fx_base": 300.0, "Fy_base": 3e3, "Fz_base": 300.0, "Mx_base": 3e4, "Mz_base": 3e4, "Sx_boom": 20.0,
+              "Sz_boom": 50.0, "Jp_boom": 800.0, "Jr_boom": 500.0, "Jpr_boom": 100.0}
+_STRUCTURE_CASES: dict[str, list[Case]] = {
+    "Girder": [
+        Case(dict(_LIFT_GIRDER), inputs={"Fy_rope": 9810.0}, wiggle={"Fy_rope": 3e3, "Fx_rope": 500.0}, h=2e-3,
+             steps=45, label="Girder overhead_lift"),
+        Case(dict(_LIFT_GIRDER, solver="rk4", max_step=1e-4), inputs={"Fy_rope": 9810.0},
+             wiggle={"Fy_rope": 3e3}, h=2e-3, steps=30, label="Girder overhead_lift rk4"),
+        Case({"damping_model": "decrement", "girder_height": 0.5, "span": 20.0}, refused=True,
+             label="Girder eq. 10 decrement refused"),
+        Case({"mass_model": "beam", "m1": 4000.0}, refused=True, label="Girder m1 with beam refused"),
+    ],
+    "Chassis": [
+        Case({"boom_inertia": "carried"}, inputs=_TT_LATE, wiggle=_TT_WIGGLE, h=0.005, steps=45,
+             tunable={"damping": 3e5}, label="Chassis truck_telescope extended (modal exact step)"),
+        Case({"boom_inertia": "carried"}, inputs=_TT_EARLY, wiggle=_TT_WIGGLE, h=0.005, steps=45,
+             label="Chassis truck_telescope retracted"),
+        Case({}, inputs=_TT_LATE, wiggle=_TT_WIGGLE, h=0.005, steps=45, tunable={"damping": 3e5},
+             label="Chassis boom inertia neglected (expm exact step)"),
+        Case({"boom_inertia": "carried", "solver": "rk4", "h_foot": 2.5}, inputs=_TT_LATE, wiggle=_TT_WIGGLE,
+             h=0.005, steps=30, label="Chassis rk4"),
+        # the front pad lifting off and touching down (M_base about -3.9e5 unloads it): rk4 around lift-off
+        Case({"boom_inertia": "carried"}, inputs=dict(_TT_LATE, M_base=-3.8e5),
+             wiggle=dict(_TT_WIGGLE, M_base=4e4), h=0.005, steps=60, label="Chassis front pad lifting"),
+        Case({"x_slew": 4.0}, refused=True, label="Chassis x_slew refused"),
+        Case({"boom_inertia": 2}, refused=True, label="Chassis boom_inertia code refused"),
+    ],
+    "Chassis4": [
+        Case({"boom_inertia": "carried"}, inputs=_TS, wiggle=_TS_WIGGLE, h=0.005, steps=45,
+             tunable={"damping": 3e5}, label="Chassis4 truck_slewing"),
+        Case({}, inputs=_TS, wiggle=_TS_WIGGLE, h=0.005, steps=30, label="Chassis4 boom inertia neglected"),
+        # the left pads lifting off under the roll moment while the boom is over the side (tipping = 1)
+        Case({"boom_inertia": "carried"}, inputs=dict(_TS, Mx_base=2.3e5), wiggle=dict(_TS_WIGGLE, Mx_base=6e4),
+             h=0.005, steps=60, label="Chassis4 pads lifting"),
+        Case({"pads_per_outrigger": 3}, refused=True, label="Chassis4 pads_per_outrigger refused"),
+        Case({"x_slew": -0.5}, refused=True, label="Chassis4 x_slew refused"),
+    ],
+}
+
+
 #: the cases every model's native FMU must pass against its pythonfmu FMU (tests/native/test_fmi_layer.py);
 #: a porter adds a model here once its harness test passes
 MODEL_CASES: dict[str, list[Case]] = {
@@ -386,6 +440,8 @@ MODEL_CASES: dict[str, list[Case]] = {
         Case({"pads_per_outrigger": 3}, refused=True, label="Chassis4 pads_per_outrigger refused"),
     ],
 }
+for _name, _cases in _STRUCTURE_CASES.items():
+    MODEL_CASES.setdefault(_name, []).extend(_cases)
 #: the tolerance of a model where libm or LAPACK and numpy differ (measured; default RTOL)
 MODEL_RTOL: dict[str, float] = {"Girder": 1e-11}
 

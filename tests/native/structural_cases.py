@@ -2,15 +2,14 @@
 
 ``random_params`` draws every field of a Params class within its allowed range (switches uniformly,
 bounded numbers uniformly, positive ones log-uniformly about the default), then lets the caller
-repair the cross-field checks.  ``reference_expm`` is an independent matrix exponential in extended
-precision (Taylor series with scaling and squaring on numpy's longdouble) to measure how close the C
-and scipy exponentials come to the exact one.
+repair the cross-field checks.  ``reference_expm`` (cranefmu.native.harness) is an independent matrix
+exponential in extended precision to measure how close the C and scipy exponentials come to the exact one.
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
+
+from cranefmu.native.harness import reference_expm  # noqa: F401  (re-exported for the tests)
 
 
 def random_value(rng: np.random.Generator, default, meta: dict):
@@ -38,23 +37,6 @@ def random_params(cls, rng: np.random.Generator, **fixed):
     values = {name: random_value(rng, default, meta) for name, default, meta in cls.field_specs()}
     values.update(fixed)
     return values
-
-
-def reference_expm(a: np.ndarray) -> np.ndarray:
-    """exp(a) in numpy's longdouble (80-bit x87 on x86-64: 64-bit mantissa), Taylor to 30 terms after
-    scaling to norm <= 1/8, then squaring: an independent reference ~1000x more precise than double."""
-    a = np.asarray(a, dtype=np.longdouble)
-    norm = float(np.max(np.sum(np.abs(a), axis=0)))
-    s = max(0, math.ceil(math.log2(norm * 8.0))) if norm > 0.0 else 0
-    b = a / np.longdouble(2.0) ** s
-    term = np.eye(a.shape[0], dtype=np.longdouble)
-    total = term.copy()
-    for k in range(1, 30):
-        term = term @ b / np.longdouble(k)
-        total = total + term
-    for _ in range(s):
-        total = total @ total
-    return total
 
 
 def rk4_reference(rhs, x0: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray, r2: np.ndarray,

@@ -28,12 +28,15 @@ OSC = dict(script=OSC_DIR / "OscMass.py", model_c=HERE / "models" / "OscMass.c")
 MODELS = ["OscMass", *[n for n in MODEL_CASES if (MODELS_DIR / f"{n}.c").exists()]]
 # a Real parameter each model refuses at this value (cycle_host's failure path)
 BAD = {"OscMass": ("m", -1.0), "Girder": ("c1", -1.0), "Boom": ("telescope_speed", -1.0),
-       "SlewingBoom": ("slew_speed", -1.0), "Rope": ("E", -1.0), "Drive": ("J_w", -1.0)}
+       "SlewingBoom": ("slew_speed", -1.0), "Rope": ("E", -1.0), "Drive": ("J_w", -1.0),
+       "Chassis": ("soil_coefficient", -1.0), "Chassis4": ("J_roll", -1.0)}
 
 
 @pytest.fixture(scope="module")
 def build_dir(tmp_path_factory) -> Path:
-    return tmp_path_factory.mktemp("native_drop_in")
+    shared = tmp_path_factory.getbasetemp() / "native_fmus"   # one build of each FMU per test session
+    shared.mkdir(exist_ok=True)
+    return shared
 
 
 def _fmu(name: str, build_dir: Path) -> Path:

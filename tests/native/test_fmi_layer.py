@@ -27,7 +27,9 @@ WIGGLE = dict(inputs={"F": 0.5}, wiggle={"F": 2.0})
 
 @pytest.fixture(scope="module")
 def build_dir(tmp_path_factory) -> Path:
-    return tmp_path_factory.mktemp("native_layer")
+    shared = tmp_path_factory.getbasetemp() / "native_fmus"   # one build of each FMU per test session
+    shared.mkdir(exist_ok=True)
+    return shared
 
 
 @pytest.fixture(scope="module")
@@ -245,3 +247,103 @@ def test_model_conforms(name, build_dir):
         pytest.skip(f"no native {name}")
     rtol = MODEL_RTOL.get(name, RTOL)
     assert max(conform(name, MODEL_CASES[name], build_dir, rtol=rtol)) <= rtol
+
+
+def test_prepare_exact_step_hook_is_found_in_a_model_source():
+    """The optional cf_prepare_exact_step (include/cf_model.h) is called only where a model defines it."""
+    from cranefmu.native.description import defines_prepare_exact_step
+
+    assert defines_prepare_exact_step("static int x;\nint cf_prepare_exact_step(CfModel *m) {\n    return 0;\n}\n")
+    assert defines_prepare_exact_step("int cf_prepare_exact_step(CfModel *m)\n{\n")
+    assert not defines_prepare_exact_step("int cf_prepare_exact_step(CfModel *m);\n")   # a declaration only
+    assert not defines_prepare_exact_step((HERE / "models" / "OscMass.c").read_text())
+
+
+def test_parameter_fixed_during_initialization_mode_is_accepted(osc_pair):
+    """A value refused at fmi2EnterInitializationMode but corrected before fmi2ExitInitializationMode
+    initializes, and the outputs are computed from it (the pythonfmu adapter kept its enter-time error
+    and never refreshed the outputs again)."""
+    slave, vr = _native_calls(osc_pair[0])
+    slave.instantiate()
+    try:
+        slave.setupExperiment(startTime=0.0)
+        slave.setReal([vr["m"]], [-1.0])
+        slave.enterInitializationMode()
+        slave.setReal([vr["m"], vr["x0"], vr["F"]], [2.0, 0.25, 3.0])
+        slave.exitInitializationMode()
+        x, a = slave.getReal([vr["x"], vr["a"]])
+        assert (x, a) == (0.25, (3.0 + 0.0 - 40.0 * 0.25 - 0.0 * 0.0) / 2.0)
+    finally:
+        slave.terminate()
+        slave.freeInstance()
+
+
+def test_setuptools_build_equals_the_cmake_build(osc_pair, build_dir):
+    """Without CMake the same sources are compiled by setuptools' compiler: an FMU that validates, links no
+    Python, and gives the CMake-built FMU's bits."""
+    from dataclasses import asdict
+
+    from fmpy.validation import validate_fmu
+
+    from cranefmu.native.build import build_native_fmu
+
+    other = build_native_fmu("OscMass", build_dir / "setuptools", tool="setuptools", **OSC)
+    assert validate_fmu(str(other)) == []
+    cases = [asdict(Case({"x0": 0.1, "d": 0.5, "solver": s}, **WIGGLE)) for s in ("rk4", "rk45", "trbdf2")]
+    a, b = (in_child(drive_all, str(f), cases) for f in (osc_pair[0], other))
+    assert [r["rows"] for r in a] == [r["rows"] for r in b]
+    assert all(r["error"] is None and len(r["rows"]) > 30 for r in b)
+
+
+def test_a_state_of_another_fmu_is_refused(osc_pair, build_dir):
+    """fmi2SetFMUstate with a state of another native FMU (Girder's, set into OscMass): status error and a
+    line, the instance unchanged."""
+    from fmpy.fmi1 import FMICallException
+
+    if not (Path(__file__).parents[2] / "src/cranefmu/native/models/Girder.c").exists():
+        pytest.skip("no native Girder")
+    osc, vr = _native_calls(osc_pair[0])
+    girder, _ = _native_calls(fmu_pair("Girder", build_dir)[0])
+    for s in (osc, girder):
+        s.instantiate()
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        s.exitInitializationMode()
+    try:
+        foreign = girder.getFMUstate()
+        with pytest.raises(FMICallException):
+            osc.setFMUstate(foreign)
+        girder.freeFMUstate(foreign)
+        osc.doStep(0.0, 1e-3)
+        assert osc.getReal([vr["x"]]) == [0.0]
+    finally:
+        for s in (osc, girder):
+            s.terminate()
+            s.freeInstance()
+
+
+def _cpu_has_fma() -> bool:
+    try:
+        return " fma " in " " + Path("/proc/cpuinfo").read_text().replace("\n", " ") + " "
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not _cpu_has_fma(), reason="the CPU has no fused multiply-add")
+def test_sources_keep_pythons_arithmetic_when_a_tool_contracts(osc_pair, build_dir):
+    """A tool compiling sources/ with its own flags, fused multiply-adds allowed (-mfma -ffp-contract=fast),
+    gets the same bits: every source file starts with the pragma that turns contraction off."""
+    import zipfile
+    from dataclasses import asdict
+
+    from cranefmu.native.build import compile_binary, zip_fmu
+
+    unzipdir = build_dir / "contracting" / "OscMass"
+    with zipfile.ZipFile(osc_pair[0]) as zf:
+        zf.extractall(unzipdir)
+    (unzipdir / "binaries" / "linux64" / "OscMass.so").unlink()
+    compile_binary(unzipdir, "cmake", c_flags="-O3 -mfma -ffp-contract=fast")
+    other = zip_fmu(unzipdir, build_dir / "contracting" / "OscMass.fmu")
+    cases = [asdict(Case({"x0": 0.1, "d": 0.5, "solver": s}, **WIGGLE)) for s in ("rk4", "rk45")]
+    a, b = (in_child(drive_all, str(f), cases) for f in (osc_pair[0], other))
+    assert [r["rows"] for r in a] == [r["rows"] for r in b]

@@ -29,10 +29,8 @@ def test_pendulum_conforms(build_dir):
     assert max(worst) <= PENDULUM_RTOL
 
 
-@pytest.mark.xfail(strict=True, reason="the contract (include/cf_model.h) has no hook for Model.prepare_exact_step: "
-                   "the native FMU refuses solver = 'exact' with a payload at its first doStep, the pythonfmu FMU "
-                   "at fmi2ExitInitializationMode (same message)")
 def test_exact_with_payload_is_refused_at_initialization(build_dir):
+    """cf_prepare_exact_step: both FMUs refuse solver = 'exact' with a payload at fmi2ExitInitializationMode."""
     conform("Pendulum", [Case(dict(HOOK_SWAY, solver="exact"), refused=True, label="exact with payload")],
             build_dir)
 

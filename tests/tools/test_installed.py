@@ -295,7 +295,7 @@ def test_the_master_resolves_names_only_through_the_registered_resolver(built, m
     from cranefmu.master import scene_names
 
     ssp = b.SSP_DIR / f"{SCENE}.ssp"
-    assert scene_names.resolve_scene(SCENE) == ssp
+    assert scene_names.resolve_scene(SCENE, "python") == ssp   # the pythonfmu scene (a name alone: native where built)
     monkeypatch.setattr(scene_names, "_resolver", None)
     with pytest.raises(SceneError, match=f"scene '{SCENE}' is not allowed: a path to an .ssp file"):
         scene_names.resolve_scene(SCENE)

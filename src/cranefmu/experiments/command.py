@@ -55,7 +55,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     if args.report:
         check_directory(Path(args.report).resolve().parent, "--report", args.report)
     wall = clock.perf_counter()
-    planned = prepare(args.paths)
+    planned = prepare(args.paths, {"fmus": args.fmus} if args.fmus else None)
     choose_engine(args.engine, len(planned), args.jobs, args.scheduler)   # bad options: before anything runs
     say = (lambda line: print(line, file=sys.stderr, flush=True)) if not args.quiet else None
     engine = run_cases(planned, args.jobs, say, args.engine, args.scheduler)
@@ -86,6 +86,8 @@ def add_parser(sub) -> None:
     p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="run the cases on the Dask cluster at "
                    "this address (e.g. tcp://10.0.0.5:8786; cranefmu installed on its workers)")
     p.add_argument("--quiet", action="store_true", help="no line per case on stderr while they run")
+    p.add_argument("--fmus", default=None, choices=("native", "python"), help="the kind of FMU every case runs "
+                   "with (default: the case's fmus setting, else native where built, else python)")
     p.set_defaults(func=_cmd_check)
 
 

@@ -362,6 +362,8 @@ def prepare_case(case: Case, results: set[str], overrides: dict) -> Planned:
     from .crane_commands import bind
 
     case = bind(case)
+    if overrides.get("fmus") is not None:   # the kind of FMU picks the scene file its checks read
+        case = replace(case, settings={**case.settings, "fmus": overrides["fmus"]})
     scene = check(case, results)
     values = scene.parameter_values(case.parameter_set, case.parameters)
     settings = {"progress": False, **case.settings, **overrides}

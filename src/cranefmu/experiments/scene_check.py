@@ -50,13 +50,14 @@ class SceneInterface:
         return numbers
 
 
-_INTERFACES: dict[str, SceneInterface] = {}
+_INTERFACES: dict[tuple[str, str | None], SceneInterface] = {}
 _BUILT: list[tempfile.TemporaryDirectory] = []   # scene directories' .ssp files, removed at exit
 
 
-def scene_path(reference: str) -> Path:
-    """The .ssp of a scene name, an .ssp path, a scene directory or a scene source (a composed scene's
-    .toml, docs/composition.md), the last two built into a temporary folder."""
+def scene_path(reference: str, fmus: str | None = None) -> Path:
+    """The .ssp of a scene name (with FMUs of kind ``fmus``: native, python, None the default), an .ssp
+    path, a scene directory or a scene source (a composed scene's .toml, docs/composition.md), the last
+    two built into a temporary folder."""
     from ..master.scene_names import resolve_scene
 
     path = Path(reference)
@@ -75,19 +76,20 @@ def scene_path(reference: str) -> Path:
         build(verbose=False, only=None)   # the FMUs it refers to
         _BUILT.append(tempfile.TemporaryDirectory(prefix="cranefmu_scene_"))
         return build_ssp(path, Path(_BUILT[-1].name) / f"{path.name}.ssp")
-    return resolve_scene(reference)
+    return resolve_scene(reference, fmus)
 
 
-def interface(reference: str) -> SceneInterface:
-    """The :class:`SceneInterface` of a scene reference (cached per reference)."""
-    hit = _INTERFACES.get(reference)
+def interface(reference: str, fmus: str | None = None) -> SceneInterface:
+    """The :class:`SceneInterface` of a scene reference (a name with FMUs of kind ``fmus``; cached per
+    reference and kind)."""
+    hit = _INTERFACES.get((reference, fmus))
     if hit is not None:
         return hit
     from ..master.extracted import extracted_scene, fmu_dir
     from ..master.fmu import FmuComponent
     from ..master.run import preview
 
-    ssp = scene_path(reference)
+    ssp = scene_path(reference, fmus)
     shown = preview(ssp)
     workdir, loaded = extracted_scene(ssp)
     variables, declared = {}, dict(shown.units)
@@ -101,14 +103,14 @@ def interface(reference: str) -> SceneInterface:
     connected = {f"{c.dst}.{c.dst_var}": f"{c.src}.{c.src_var}" for c in loaded.connections}
     found = SceneInterface(ssp, loaded.name, tuple(shown.columns), variables, connected,
                            loaded.model_values(None), {s: loaded.model_values(s) for s in loaded.sets}, declared)
-    _INTERFACES[reference] = found
+    _INTERFACES[(reference, fmus)] = found
     return found
 
 
 def scene_of(case: Case) -> SceneInterface:
     """The :class:`SceneInterface` of ``case``'s scene; a scene that cannot be read in one line."""
     try:
-        return interface(case.scene)
+        return interface(case.scene, case.settings.get("fmus"))
     except CraneFmuError as err:
         raise ExperimentError(f"{case.keys.get('scene', case.where)}: scene: {err}") from None
 

@@ -71,12 +71,13 @@ class ScenePreview:
     settings: dict[str, object]      # the scene's stored run settings
 
 
-def preview(scene: str | Path) -> ScenePreview:
-    """Columns (in the order of a run's result) and units of a scene, read without instantiating it."""
+def preview(scene: str | Path, fmus: str | None = None) -> ScenePreview:
+    """Columns (in the order of a run's result) and units of a scene (a name resolved with FMUs of kind
+    ``fmus``, see :mod:`.scene_names`), read without instantiating it."""
     from .extracted import fmu_dir
     from .fmu import FmuComponent
 
-    ssp = resolve_scene(scene)
+    ssp = resolve_scene(scene, fmus)
     workdir, loaded = extracted_scene(ssp)
     reals, flags, units, variables, mds = [], [], {}, {}, {}
     for c in loaded.components:

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from ..errors import ParameterSetError, SettingsError
-from .settings import ALGORITHM_DEFAULTS, DEFAULT_STOP_TIME, NUMERICAL, Settings, convert, is_list
+from .settings import ALGORITHM_DEFAULTS, DEFAULT_STOP_TIME, FMU_KINDS, NUMERICAL, Settings, convert, is_list
 
 SOURCES = ("given", "parameter set", "scene", "algorithm default", "default")
 
@@ -53,9 +53,10 @@ class RunSpec:
 
     def describe(self) -> list[str]:
         """The run's header: one line ``settings: name = value (source), ...`` of every setting given,
-        from the scene or the algorithm's defaults, then one line of the stored settings set aside."""
+        from the scene or the algorithm's defaults, and the kind of FMU that runs (``fmus``, always), then
+        one line of the stored settings set aside."""
         chosen = [f"{f.name} = {getattr(self.settings, f.name)!r} ({self.sources[f.name]})"
-                  for f in fields(Settings) if self.sources[f.name] != "default"]
+                  for f in fields(Settings) if self.sources[f.name] != "default" or f.name == "fmus"]
         lines = ["settings: " + (", ".join(chosen) or "all defaults")]
         if self.set_aside:
             lines.append(f"not taken from the scene (measured for {self.stored_for}, this run is "
@@ -79,11 +80,14 @@ def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None 
         raise SettingsError(f"{unknown[0]} is not a run setting: one of {', '.join(sorted(known))}")
     # text typed by the field (a list setting's text only where it is read as text: a sweep, a stored setting)
     given = {k: v if is_list(k) else convert(k, v) for k, v in options.items() if v is not None}
-    ssp = resolve_scene(scene)
-    _, loaded = extracted_scene(ssp)
+    if given.get("fmus") not in (None, *FMU_KINDS):   # before anything is built
+        raise SettingsError(f"fmus = {given['fmus']!r} is not allowed: native or python")
+    ssp = resolve_scene(scene, given.get("fmus"))
+    workdir, loaded = extracted_scene(ssp)
     own = loaded.set_settings.get(parameter_set, {}) if parameter_set else {}
     values, sources, set_aside, stored_for = choose(given, {**loaded.settings, **own}, loaded.stop_time)
     sources.update({k: "parameter set" for k in own if sources[k] == "scene"})
+    values["fmus"], sources["fmus"] = _fmu_kind(scene, ssp, workdir, loaded, given.get("fmus"))
     settings = Settings(**values)
     try:
         settings.check()
@@ -98,6 +102,21 @@ def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None 
     _refuse_connected_inputs(loaded, parameters)
     return RunSpec(ssp, loaded.name, settings, sources, set_aside, stored_for, parameter_set, parameters, overrides,
                    Path(output) if output is not None else None, keep, isolate, tuple(commands))
+
+
+def _fmu_kind(scene, ssp: Path, workdir: Path, loaded, asked: str | None) -> tuple[str | None, str]:
+    """(the kind of FMU the scene file holds, its source): ``given`` if asked for (a scene file of another
+    kind is refused), ``default`` for a name resolved without one, ``scene`` for a scene file."""
+    from .extracted import fmu_dir
+    from .fmu_kind import scene_kind
+
+    held = scene_kind([fmu_dir(workdir, c.name) for c in loaded.components])
+    if asked is not None and held != asked:
+        what = f"its FMUs are {held}" if held else "its FMUs are neither (another tool's, or mixed)"
+        raise SettingsError(f"fmus = {asked!r} is not allowed for the scene file {ssp}: {what}; give a shipped "
+                            "scene by name to choose the kind, or leave fmus out")
+    named = Path(str(scene)).suffix != ".ssp"
+    return held, "given" if asked is not None else "default" if named else "scene"
 
 
 def choose(given: dict, stored: dict, scene_stop_time: float | None) -> tuple[dict, dict, dict, str]:

@@ -19,6 +19,7 @@ from .acceleration import ACCELERATORS
 
 ALGORITHMS = ("jacobi", "gauss-seidel", "iterative", "jacobi-plain")  # made by algorithms.make_algorithm
 STEP_CONTROLS = ("extrapolation", "ecco")
+FMU_KINDS = ("native", "python")   # the kinds of FMU a scene given by name runs with (.fmu_kind)
 DEFAULT_STOP_TIME = 10.0   # [s] of a scene whose DefaultExperiment states none
 
 
@@ -82,9 +83,15 @@ class Settings:
                                           "of these outputs 'component.variable' is non-zero (default: the "
                                           "scene's own stop conditions; 'none' or [] runs on)", metavar="VARS",
                                           form="list")
+    fmus: str | None = setting(None, "which FMUs run a scene given by name: native (C) or python (pythonfmu, the "
+                               "reference); default: native where built or buildable (a C compiler), else python "
+                               "with one line saying why; a scene file runs the FMUs it holds", type=str,
+                               metavar="native|python")
 
     def check(self) -> None:
         """Refuse a bad value (or combination) with a :class:`SettingsError` naming it."""
+        if self.fmus not in (None, *FMU_KINDS):
+            raise SettingsError(f"fmus = {self.fmus!r} is not allowed: native or python")
         if not isinstance(self.instability_alarm, bool):
             raise SettingsError(f"instability_alarm = {self.instability_alarm!r} is not allowed: True or False")
         if self.stop_when is not None and (isinstance(self.stop_when, str) or
@@ -198,7 +205,7 @@ def _comma_list(text: str) -> list[str]:
 
 
 SCENE_ONLY = ("start_time", "stop_time")   # a scene states these in its DefaultExperiment
-NOT_STORED = SCENE_ONLY + ("progress",)     # display, not a numerical choice
+NOT_STORED = SCENE_ONLY + ("progress", "fmus")   # display and the kind of FMU, not a numerical choice
 
 
 # the settings that choose the numerical method: a scene's stored ones were measured for its stored

@@ -16,6 +16,7 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import math
+import re
 import sys
 import uuid
 from pathlib import Path
@@ -147,9 +148,20 @@ def _param_spec(inst: CraneSlave, name: str, xml_type: str, component: str) -> s
             f"{n_choices}, {choice_array}}}")
 
 
-def variables_header(cls: type[CraneSlave], name: str, guid: str, description: Element | None = None) -> str:
-    """``cf_fmu_variables.h`` for slave ``cls`` (FMU ``name``): the layer's tables, checked against the
-    value references of the pythonfmu description (``description``, made if not given)."""
+_PREPARE_EXACT_STEP = re.compile(r"^\s*int\s+cf_prepare_exact_step\s*\(", re.M)
+
+
+def defines_prepare_exact_step(model_source: str) -> bool:
+    """True when a C model's source defines the optional ``cf_prepare_exact_step`` (include/cf_model.h)."""
+    return any(_PREPARE_EXACT_STEP.match(line) and not line.rstrip().endswith(";")
+               for line in model_source.splitlines())
+
+
+def variables_header(cls: type[CraneSlave], name: str, guid: str, description: Element | None = None,
+                     model_source: str = "") -> str:
+    """``cf_fmu_variables.h`` for slave ``cls`` (FMU ``name``, C model text ``model_source``): the layer's
+    tables, checked against the value references of the pythonfmu description (``description``, made if
+    not given)."""
     inst = slave_instance(cls)
     root = description if description is not None else pythonfmu_description(cls)
     physics = cls.physics
@@ -174,7 +186,8 @@ def variables_header(cls: type[CraneSlave], name: str, guid: str, description: E
              '#include "cf_fmi2.h"', f'#include "{name}_tables.h"', "",
              f"#define CF_MODEL_IDENTIFIER {_c_string(name)}", f"#define CF_GUID {_c_string(guid)}",
              f"#define CF_COMPONENT {_c_string(component)}", f"#define CF_N_PARAM_VARS {len(inst._param_names)}",
-             f"#define CF_N_COUPLING {len(coupling)}", f"#define CF_NATIVE_SOLVERS {_c_string(native)}", "",
+             f"#define CF_N_COUPLING {len(coupling)}", f"#define CF_NATIVE_SOLVERS {_c_string(native)}",
+             f"#define CF_HAS_PREPARE_EXACT_STEP {int(defines_prepare_exact_step(model_source))}", "",
              f"#if N_PARAMS + 3 != CF_N_PARAM_VARS || N_INPUTS != {len(inputs)} || N_OUTPUTS != {len(outputs)}",
              f'#error "{name}_tables.h does not match the FMU\'s variables: regenerate both"', "#endif", "",
              "static const char *const cf_solver_names[] = {" + ", ".join(_c_string(m) for m in methods) + "};"]

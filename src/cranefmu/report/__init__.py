@@ -152,11 +152,13 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
                      else "<p class='note'>not known (the report was made from a result file)</p>"))
     notes = [f"units not known for {len(missing)} column(s) ({', '.join(missing[:5])}...): no scene matched"
              ] if missing and not units else []
-    title = f"cranefmu run of {scene or 'an unknown scene'}" + (f" ({source})" if source else "")
+    kind = getattr(settings, "fmus", None)   # the kind of FMU that ran (cranefmu.fmu_kinds)
+    title = f"cranefmu run of {scene or 'an unknown scene'}" + (f" with the {kind} FMUs" if kind else "") \
+        + (f" ({source})" if source else "")
     if assertions:
         first = assertions[0]
         title = (f"{'PASS' if all(v.passed for v in assertions) else 'FAIL'}: experiment {first.experiment}, case "
-                 f"{first.case} ({scene or 'an unknown scene'})")
+                 f"{first.case} ({scene or 'an unknown scene'}" + (f", {kind} FMUs" if kind else "") + ")")
     target = Path(path)
     target.write_text(page(result, title=title, plots=plots, sections=sections, notes=notes, verdict=verdict),
                       encoding="utf-8")

@@ -25,7 +25,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
     interrupt_once()
     fixed = _settings(args.set)
-    fixed.update({name: getattr(args, name) for name in ("stop_time", "step_size") if hasattr(args, name)})
+    fixed.update({name: getattr(args, name) for name in ("stop_time", "step_size", "fmus") if hasattr(args, name)})
     metrics = [m for text in args.metric for m in text.split(";") if m.strip()] or None
     res = sweep(args.scene, args.vary, metrics, args.output, parameters=fixed, parameter_set=args.parameter_set,
                 design=args.design, samples=args.samples, seed=args.seed, results=args.results,
@@ -58,7 +58,7 @@ def add_parser(sub) -> None:
     s.add_argument("--parameter-set", default=None, help="a parameter set of the scene for every run")
     from ..master.settings import add_arguments
 
-    add_arguments(s, ("stop_time", "step_size"))   # as cranefmu run's: the help names the scene's stored step
+    add_arguments(s, ("stop_time", "step_size", "fmus"))   # as cranefmu run's: the help names the scene's stored step
     s.add_argument("--metric", action="append", default=[], metavar="KIND:COLUMN",
                    help="max|min|final|mean|ptp|absmax:COLUMN, cross:COLUMN>VALUE, dynamic_factor:COLUMN[/STATIC], "
                         "scene (repeatable; default: the scene's key metrics and key output ranges)")

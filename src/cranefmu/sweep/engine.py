@@ -70,11 +70,12 @@ class SceneFacts:
     stop_time: float | None
 
 
-def scene_facts(scene: str | Path) -> SceneFacts:
-    """Build the scene if needed (on the client, once) and read its outputs and variables."""
+def scene_facts(scene: str | Path, fmus: str | None = None) -> SceneFacts:
+    """Build the scene (with FMUs of kind ``fmus``) if needed (on the client, once) and read its outputs
+    and variables."""
     from ..master.run import preview
 
-    p = preview(scene)
+    p = preview(scene, fmus)
     return SceneFacts(p.name, p.path, p.columns, p.variables, p.parameter_sets, p.stop_time)
 
 
@@ -127,7 +128,7 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     if parameter_set is not None:
         fixed["parameter_set"] = parameter_set
     plan = make_design(vary, fixed, design, samples, seed)
-    facts = scene_facts(scene)
+    facts = scene_facts(scene, fixed.get("fmus"))
     wanted = [parse_metric(m) for m in (metrics if metrics is not None else default_metrics(facts.name))]
     metric_names = check(wanted, facts.name, facts.columns)
     points = plan.runs(facts.name)

@@ -16,22 +16,23 @@ from pathlib import Path
 
 from ..errors import SettingsError
 
-TAIL = ("status", "error", "stopped", "steps", "rejections", "wall_time", "task_time", "attempts", "worker")
-_TEXT = ("key", "status", "error", "stopped", "worker")   # never read as numbers (a key may look like 12e4)
+TAIL = ("status", "error", "stopped", "fmus", "steps", "rejections", "wall_time", "task_time", "attempts", "worker")
+_TEXT = ("key", "status", "error", "stopped", "fmus", "worker")   # never read as numbers (a key may look like 12e4)
 #: statuses of a run that finished: ran to its stop time (ok), ended by the tipping flag (tipped), ended by another
 #: stop condition (stopped: a result, e.g. a lifted load; the reason in ``stopped``)
 FINISHED = ("ok", "tipped", "stopped")
 # status: ok | tipped | stopped | failed | lost (with its worker or the scheduler: run again on resume); error: the message of a failed run; stopped: why a stop condition ended the run
-# (a result, e.g. tipping); steps, rejections: accepted and rejected macro steps; wall_time [s]: the run's own (master loop); task_time [s]: on the worker,
+# (a result, e.g. tipping); fmus: the kind of FMU that ran (native or python; empty: a scene file of other FMUs); steps, rejections: accepted and rejected macro steps; wall_time [s]: the run's own (master loop); task_time [s]: on the worker,
 # scene loading, FMU set-up and metrics included; attempts: 2 when the run was retried
 
 
 def header(inputs: list[str], metrics: list[str]) -> list[str]:
-    clash = set(inputs) & (set(metrics) | set(TAIL) | {"key"})
+    tail = [c for c in TAIL if not (c == "fmus" and c in inputs)]   # fmus given as an input: its one column
+    clash = set(inputs) & (set(metrics) | set(tail) | {"key"})
     if clash:
         raise SettingsError(f"column(s) {', '.join(sorted(clash))} would be both an input and a metric or a "
                             "status column: rename the metric")
-    return ["key", *inputs, *metrics, *TAIL]
+    return ["key", *inputs, *metrics, *tail]
 
 
 def cell(value) -> str:

@@ -72,8 +72,8 @@ def execute(ssp: SspFile, run: Run, metrics: list[Metric | Custom], results_dir:
         res = execute(spec)
         row.update(measure(metrics, run.scene, res.result, run.inputs))
         stopped = _one_line(res.stats.stopped or "")
-        row.update(steps=res.stats.steps, rejections=res.stats.rejections, wall_time=res.stats.wall_time, stopped=stopped,
-                   status=status_of(stopped))
+        row.update(fmus=spec.settings.fmus or "", steps=res.stats.steps, rejections=res.stats.rejections,
+                   wall_time=res.stats.wall_time, stopped=stopped, status=status_of(stopped))
         if results_dir is not None:
             import numpy as np
 

@@ -40,6 +40,7 @@
 
 /* everything fmi2GetFMUstate saves: the variables' values, the model and its state */
 typedef struct CfValues {
+    unsigned mark;                       /* STATE_MAGIC ^ the GUID's hash: a state of this build */
     double pv[CF_N_PARAM_VARS];          /* parameter variables as set (codes for switches) */
     double fixed[CF_N_PARAM_VARS];       /* their values at initialization (the fixed ones must keep them) */
     double u[N_INPUTS + 1];
@@ -358,9 +359,12 @@ fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean on, size_t n, con
     return fmi2OK;
 }
 
+static unsigned guid_hash(void);
+
 static void reset_values(CfInstance *c) {
     CfValues *v = &c->v;
     memset(v, 0, sizeof *v);
+    v->mark = STATE_MAGIC ^ guid_hash();
     for (int i = 0; i < CF_N_PARAM_VARS; i++) v->pv[i] = v->fixed[i] = cf_param_specs[i].start;
     for (int i = 0; i < N_INPUTS; i++) v->u[i] = cf_input_start[i];
     v->outputs_stale = 1;
@@ -430,6 +434,10 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
     if (rebuild(c, &kind)) return fail(c, "initialization refused", kind);
     if (cf_initial_state(&v->model, v->u, v->x)) return fail(c, "initialization refused", "ValueError");
     if (check_state(c, v->t, v->x)) return fail(c, "initialization refused", "FloatingPointError");
+#if CF_HAS_PREPARE_EXACT_STEP
+    if (v->solver == CF_EXACT && cf_prepare_exact_step(&v->model))
+        return fail(c, "initialization refused", "ParameterError");
+#endif
     v->initialized = 1;
     v->init_error = 0;
     memcpy(v->fixed, v->pv, sizeof v->fixed);
@@ -552,6 +560,8 @@ fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state) {
     CfInstance *c = (CfInstance *)comp;
     if (!c) return fmi2Error;
     if (!state) return usage_error(c, "fmi2SetFMUstate: no state");
+    if (((const CfValues *)state)->mark != (STATE_MAGIC ^ guid_hash()))
+        return usage_error(c, "fmi2SetFMUstate: the state is not one of %s (this build)", CF_MODEL_IDENTIFIER);
     memcpy(&c->v, state, sizeof(CfValues));
     c->v.model.p = c->v.p;
     c->v.model.msg = c->v.msg;
@@ -608,7 +618,10 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte bytes[], s
         return usage_error(c, "fmi2DeSerializeFMUstate: %lu bytes are not a state of %s (%lu bytes)",
                            (unsigned long)size, CF_MODEL_IDENTIFIER, (unsigned long)(sizeof head + sizeof(CfValues)));
     memcpy(&head, bytes, sizeof head);
-    if (head.magic != STATE_MAGIC || head.size != sizeof(CfValues) || head.guid_hash != guid_hash())
+    unsigned mark;
+    memcpy(&mark, bytes + sizeof head, sizeof mark);
+    if (head.magic != STATE_MAGIC || head.size != sizeof(CfValues) || head.guid_hash != guid_hash() ||
+        mark != (STATE_MAGIC ^ guid_hash()))
         return usage_error(c, "fmi2DeSerializeFMUstate: the bytes are not a state of this build of %s",
                            CF_MODEL_IDENTIFIER);
     CfValues *copy = (CfValues *)*state;

@@ -76,4 +76,12 @@ const char *cf_state_name(const CfModel *m, int i);
 /* 1 when the model offers the solver "exact" (its Python twin overrides exact_step). */
 extern const int cf_has_exact_step;
 
+/* Optional (Model.prepare_exact_step): a model file that defines it gets it called once by
+   fmi2ExitInitializationMode when the solver is exact (also "auto" resolved to exact), after the
+   initial state; non-zero refuses the initialization with the message in m->msg (status error, as
+   the pythonfmu FMU's ParameterError).  For refusals and once-only work: as in Python, it is not called
+   again after a tunable parameter rebuilds the model, so cf_exact_step must not depend on it.  The
+   build finds the definition in models/<Name>.c (cranefmu.native.description.defines_prepare_exact_step). */
+int cf_prepare_exact_step(CfModel *m);
+
 #endif

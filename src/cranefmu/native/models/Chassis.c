@@ -22,7 +22,13 @@
    only if at every sub-point s = j d (d <= max_step) both pads stay loaded with a margin for what the
    reaction can do between sub-points (d^2/8 max|N''|, with |N''| <= 4 omega_max^2 (N1 + N2));
    otherwise (lift-off, touch-down) the layer integrates with rk4 at max_step.  The sub-point states are
-   sub^j z (sub = expm(Z d)); Python evaluates the same as (settle sub^j) z: equal to round-off. */
+   sub^j z (sub = expm(Z d)); Python evaluates the same as (settle sub^j) z: equal to round-off.
+
+   With the boom's inertia carried (the mass matrix new at every step while the boom telescopes) the same
+   closed form and contact check go through the two modes of (M, K) instead (cranefmu.physics.modal_step:
+   the soil's damping is proportional to its stiffness), operation by operation as Python on plain floats:
+   M q'' + r K q' + K q = f0 + f1 s + f2 s^2/2, per mode eta'' + beta eta' + lambda eta = g(s), a
+   polynomial particular part plus the free motion exp(X s) = e^(mu s) [C I + S (X - mu I)] (Putzer). */
 #include <math.h>
 #include <string.h>
 
@@ -41,8 +47,12 @@ typedef struct ChassisData {
     double inertia;           /* J_O [kg m2] */
     double stiffness;         /* c1 = c2 [N/m] */
     double own_inverse[4];    /* inverse of the chassis' own mass matrix */
-    double carried[3];        /* (m_b, S_x, J_b) of the linear system below */
     CfLinearStep linear;      /* the linear system while both pads are loaded */
+    int modes_ready;          /* modes below valid for modes_key (boom_inertia = carried) */
+    double modes_key[3];      /* (m_b, S_x, J_b) */
+    double modes[2][3];       /* per mode: lambda, mode shape (phi_1, phi_2), M-orthonormal */
+    double modes_mass[3];     /* m11, m12, m22 */
+    double modes_r;           /* damping / stiffness [s] */
 } ChassisData;
 
 typedef char chassis_data_fits[sizeof(ChassisData) <= sizeof(double) * CF_MODEL_DATA ? 1 : -1];
@@ -141,6 +151,196 @@ static int build_linear(CfModel *m, const double *inv)
     return 0;
 }
 
+
+/* --- the carried case: two modes (cranefmu.physics.modal_step.TwoModes) ------------------------- */
+static int two_modes(CfModel *m, double m11, double m12, double m22, double k11, double k12, double k22,
+                     double r)
+{
+    ChassisData *d = DATA(m);
+    char a1[CF_REPR_SIZE], a2[CF_REPR_SIZE], a3[CF_REPR_SIZE];
+    double l11 = sqrt(m11), l21 = m12 / l11, l22 = sqrt(m22 - l21 * l21);
+    double y11, y12, y21, y22, c11, c12, c22, theta, co, si, lam1, lam2, v[2][2];
+    int i;
+    if (!(l22 > 0.0))
+        return cf_fail(m, "mass matrix not positive definite: [[%s, %s], [%s, %s]]", cf_repr(m11, a1),
+                       cf_repr(m12, a2), cf_repr(m12, a2), cf_repr(m22, a3));
+    /* C = L^-1 K L^-T (symmetric): first Y = L^-1 K, then C = Y L^-T */
+    y11 = k11 / l11;
+    y12 = k12 / l11;
+    y21 = (k12 - l21 * y11) / l22;
+    y22 = (k22 - l21 * y12) / l22;
+    c11 = y11 / l11;
+    c12 = (y12 - c11 * l21) / l22;
+    c22 = (y22 - (y21 / l11) * l21) / l22;
+    theta = 0.5 * atan2(2.0 * c12, c11 - c22);   /* Jacobi rotation diagonalising C */
+    co = cos(theta);
+    si = sin(theta);
+    lam1 = c11 * co * co + 2.0 * c12 * si * co + c22 * si * si;
+    lam2 = c11 * si * si - 2.0 * c12 * si * co + c22 * co * co;
+    /* Phi = L^-T V, V = [[co, -si], [si, co]]: columns are the M-orthonormal modes */
+    v[0][0] = co;
+    v[0][1] = si;
+    v[1][0] = -si;
+    v[1][1] = co;
+    for (i = 0; i < 2; i++) {
+        double p2 = v[i][1] / l22;
+        double p1 = (v[i][0] - l21 * p2) / l11;
+        d->modes[i][0] = i == 0 ? lam1 : lam2;
+        d->modes[i][1] = p1;
+        d->modes[i][2] = p2;
+    }
+    d->modes_mass[0] = m11;
+    d->modes_mass[1] = m12;
+    d->modes_mass[2] = m22;
+    d->modes_r = r;
+    return 0;
+}
+
+/* max |eigenvalue| [1/s] of the first-order system (the largest modal |mu +- delta|) */
+static double modes_radius(const ChassisData *d)
+{
+    double best = 0.0;
+    int i;
+    for (i = 0; i < 2; i++) {
+        double lam = d->modes[i][0], beta = d->modes_r * lam, d2 = 0.25 * beta * beta - lam;
+        double value = d2 <= 0.0 ? sqrt(lam) : 0.5 * beta + sqrt(d2);
+        if (value > best)   /* max(best, value) */
+            best = value;
+    }
+    return best;
+}
+
+/* per mode: lambda, beta, shape a, b, particular p0, p1, p2, free eta - P and eta' - P' at s = 0 */
+typedef struct { double lam, beta, a, b, p0, p1, p2, e0, e1; } Prepared;
+
+/* f: the force polynomial's coefficients f0, f1, f2 (two components each) */
+static void modes_prepare(const ChassisData *d, const double *q, const double *v, const double *f,
+                          Prepared *out)
+{
+    double m11 = d->modes_mass[0], m12 = d->modes_mass[1], m22 = d->modes_mass[2];
+    double mq0 = m11 * q[0] + m12 * q[1], mq1 = m12 * q[0] + m22 * q[1];
+    double mv0 = m11 * v[0] + m12 * v[1], mv1 = m12 * v[0] + m22 * v[1];
+    int i;
+    for (i = 0; i < 2; i++) {
+        double lam = d->modes[i][0], a = d->modes[i][1], b = d->modes[i][2];
+        double beta = d->modes_r * lam;
+        double g0 = a * f[0] + b * f[1], g1 = a * f[2] + b * f[3], g2 = a * f[4] + b * f[5];
+        double p2 = g2 / (2.0 * lam);
+        double p1 = (g1 - 2.0 * beta * p2) / lam;
+        double p0 = (g0 - beta * p1 - 2.0 * p2) / lam;
+        double eta = a * mq0 + b * mq1, deta = a * mv0 + b * mv1;
+        out[i].lam = lam;
+        out[i].beta = beta;
+        out[i].a = a;
+        out[i].b = b;
+        out[i].p0 = p0;
+        out[i].p1 = p1;
+        out[i].p2 = p2;
+        out[i].e0 = eta - p0;
+        out[i].e1 = deta - p1;
+    }
+}
+
+/* (q1, q2, q1', q2') at s into the step */
+static void modes_state(const Prepared *pr, double s, double *x)
+{
+    double q1 = 0.0, q2 = 0.0, v1 = 0.0, v2 = 0.0;
+    int i;
+    for (i = 0; i < 2; i++) {
+        double lam = pr[i].lam, beta = pr[i].beta, e0 = pr[i].e0, e1 = pr[i].e1;
+        double mu = -0.5 * beta, d2 = 0.25 * beta * beta - lam, c, sh, decay, eta, deta;
+        if (d2 > 0.0) {
+            double dd = sqrt(d2);
+            if (dd * s < 1.0) {
+                decay = exp(mu * s);
+                c = decay * cosh(dd * s);
+                sh = decay * (sinh(dd * s) / dd);
+            } else {   /* e^(mu s) cosh(d s) as two exponentials: no overflow when heavily overdamped */
+                double ep = exp((mu + dd) * s), em = exp((mu - dd) * s);
+                c = 0.5 * (ep + em);
+                sh = (ep - em) / (2.0 * dd);
+            }
+        } else if (d2 < 0.0) {
+            double w = sqrt(-d2);
+            decay = exp(mu * s);
+            c = decay * cos(w * s);
+            sh = decay * (sin(w * s) / w);
+        } else {
+            decay = exp(mu * s);
+            c = decay;
+            sh = decay * s;
+        }
+        eta = pr[i].p0 + (pr[i].p1 + pr[i].p2 * s) * s + (c * e0 + sh * (0.5 * beta * e0 + e1));
+        deta = pr[i].p1 + 2.0 * pr[i].p2 * s + (c * e1 + sh * (-lam * e0 - 0.5 * beta * e1));
+        q1 = q1 + pr[i].a * eta;
+        q2 = q2 + pr[i].b * eta;
+        v1 = v1 + pr[i].a * deta;
+        v2 = v2 + pr[i].b * deta;
+    }
+    x[0] = q1;
+    x[1] = q2;
+    x[2] = v1;
+    x[3] = v2;
+}
+
+/* _modal_step: the exact step with the boom's inertia carried */
+static int modal_step(CfModel *m, const double *x, double h, const double *u0, const double *r1,
+                      const double *r2, double max_step, double *x1)
+{
+    const double *p = m->p;
+    ChassisData *d = DATA(m);
+    double mb = u0[IN_m_boom], sb = u0[IN_Sx_boom], jb = u0[IN_J_boom];
+    double f[3][2], q[2], v[2], xs[2], st[4], c = d->stiffness, dd = p[P_damping], margin;
+    double settle_min = INFINITY, react_min = INFINITY, react_max = -INFINITY;
+    Prepared pr[2];
+    int k, j, i;
+    if (!d->modes_ready || !(mb == d->modes_key[0] && sb == d->modes_key[1] && jb == d->modes_key[2])) {
+        double x1p = d->x1, x2p = d->x2;
+        if (two_modes(m, d->mass + mb, -d->first_moment - sb, d->inertia + jb, 2.0 * c, -c * (x1p + x2p),
+                      c * (x1p * x1p + x2p * x2p), p[P_damping] / c))
+            return -1;
+        d->modes_key[0] = mb;
+        d->modes_key[1] = sb;
+        d->modes_key[2] = jb;
+        d->modes_ready = 1;
+    }
+    k = (int)ceil(h / max_step - 1e-9);   /* contact checked at sub-points <= max_step apart */
+    if (k < 1)
+        k = 1;
+    f[0][0] = u0[IN_Fy_base] - d->mass * p[P_g];
+    f[0][1] = p[P_g] * d->first_moment - u0[IN_M_base] + u0[IN_Fx_base] * p[P_h_foot];
+    f[1][0] = r1[IN_Fy_base];
+    f[1][1] = -r1[IN_M_base] + r1[IN_Fx_base] * p[P_h_foot];
+    f[2][0] = r2[IN_Fy_base];
+    f[2][1] = -r2[IN_M_base] + r2[IN_Fx_base] * p[P_h_foot];
+    q[0] = x[0];
+    q[1] = x[1];
+    v[0] = x[2];
+    v[1] = x[3];
+    modes_prepare(d, q, v, &f[0][0], pr);
+    xs[0] = d->x1;
+    xs[1] = d->x2;
+    for (j = 0; j <= k; j++) {
+        modes_state(pr, j == k ? h : j * (h / k), st);
+        for (i = 0; i < 2; i++) {
+            double settle = st[1] * xs[i] - st[0];
+            double react = c * (st[1] * xs[i] - st[0]) + dd * (st[3] * xs[i] - st[2]);
+            if (settle < settle_min)
+                settle_min = settle;
+            if (react < react_min)
+                react_min = react;
+            if (react > react_max)
+                react_max = react;
+        }
+    }
+    margin = 0.5 * pow(modes_radius(d) * h / k, 2.0);   /* d^2/8 * 4 omega^2 */
+    if (settle_min <= 0.0 || react_min <= 2.0 * margin * react_max)   /* N1 + N2 <= 2 max N */
+        return 0;
+    for (i = 0; i < 4; i++)
+        x1[i] = st[i];
+    return 1;
+}
+
 int cf_check_params(CfModel *m)
 {
     const double *p = m->p;
@@ -167,7 +367,7 @@ int cf_prepare(CfModel *m)
     mm[3] = d->inertia;
     if (cf_inverse(2, mm, d->own_inverse))
         return cf_fail(m, "chassis: the mass matrix is singular (m_body, J_body, m_platform, J_platform)");
-    d->carried[0] = d->carried[1] = d->carried[2] = 0.0;
+    d->modes_ready = 0;
     m->n_states = 4;
     return build_linear(m, d->own_inverse);   /* prepare_exact_step: the propagator, no expm yet */
 }
@@ -261,17 +461,8 @@ int cf_exact_step(CfModel *m, double t, const double *x, double h, const double 
     double xs[2];
     int k, j, i, size = d->linear.size;
     (void)t;
-    if (carries(m) && !(u0[IN_m_boom] == d->carried[0] && u0[IN_Sx_boom] == d->carried[1]
-                        && u0[IN_J_boom] == d->carried[2])) {   /* carry(u0): a new mass matrix */
-        double inv[4];
-        if (carried_inverse(d, u0[IN_m_boom], u0[IN_Sx_boom], u0[IN_J_boom], inv))
-            return -cf_fail(m, "chassis: singular mass matrix with the carried boom (m_boom, Sx_boom, J_boom)");
-        if (build_linear(m, inv))
-            return -1;
-        d->carried[0] = u0[IN_m_boom];
-        d->carried[1] = u0[IN_Sx_boom];
-        d->carried[2] = u0[IN_J_boom];
-    }
+    if (carries(m))   /* the boom's inertia carried: through the two modes */
+        return modal_step(m, x, h, u0, r1, r2, max_step, x1);
     k = (int)ceil(h / max_step - 1e-9);   /* contact checked at sub-points <= max_step apart */
     if (k < 1)
         k = 1;

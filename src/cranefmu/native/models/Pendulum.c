@@ -644,13 +644,24 @@ int cf_exact_applies(const CfModel *m)
     return DATA(m)->payload == SW_payload_none;
 }
 
+/* PendulumModel.prepare_exact_step: refuse solver = 'exact' with a payload when the FMU leaves initialization
+   (the closed form is the lone hook's; issue 23), in the same words */
+int cf_prepare_exact_step(CfModel *m)
+{
+    const PendulumData *dd = DATA(m);
+    if (dd->payload != SW_payload_none)
+        return cf_fail(m, "pendulum.solver = 'exact' with payload = '%s': exact is the closed form of the hook "
+                       "without payload; allowed here: an integrator (rk4, rk45, radau, ...)",
+                       payload_name(dd->payload));
+    return 0;
+}
+
 /* Closed-form step of the lone hook in free flight (no payload, ground, drag or J_hook; derived): with
    the rope force u0 + s r1 + s^2/2 r2 over the step the acceleration is a polynomial in s, so
    v(h) = v0 + (u0 h + r1 h^2/2 + r2 h^3/6)/m + g_vec h  and
    x(h) = x0 + v0 h + (u0 h^2/2 + r1 h^3/6 + r2 h^4/24)/m + g_vec h^2/2  (frozen directions masked).
-   With a payload the Python FMU refuses solver = 'exact' when it leaves initialization
-   (PendulumModel.prepare_exact_step); the contract has no such hook, so the refusal comes here, at the
-   first step, in the same words. */
+   With a payload cf_prepare_exact_step has refused 'exact' at initialization already; the check here keeps a
+   caller of the bare function (the harness) from stepping a payload with the hook's closed form. */
 int cf_exact_step(CfModel *m, double t, const double *x, double h, const double *u0, const double *r1,
                   const double *r2, double max_step, double *x1)
 {

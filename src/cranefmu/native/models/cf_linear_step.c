@@ -81,46 +81,60 @@ static int ell(int n, const double *a, int m)
     return value > 0.0 ? (int)value : 0;
 }
 
-/* X with (V - U) X = (V + U): Gaussian elimination with partial pivoting */
+/* X = (V - U)^-1 (V + U) as I + 2 (V - U)^-1 U, with the LU factors of (V - U)^T (partial pivoting on
+   the transpose: what scipy's expm gets by handing its row-major arrays to LAPACK's getrf/getrs "T"; on
+   the badly scaled augmented generators it keeps small entries to round-off, where pivoting on V - U
+   itself left them 1e-12 off) */
 static void solve_pq(int n, const double *u, const double *v, double *x)
 {
-    double p[S * S];
-    int i, j, l, piv;
-    for (i = 0; i < n * n; i++) {
-        p[i] = v[i] - u[i];
-        x[i] = v[i] + u[i];
-    }
-    for (l = 0; l < n; l++) {
-        piv = l;
-        for (i = l + 1; i < n; i++)
-            if (fabs(p[i * n + l]) > fabs(p[piv * n + l]))
-                piv = i;
-        if (piv != l)
+    double w[S * S], col[S];
+    int piv[S], i, j, k;
+    for (i = 0; i < n; i++)   /* w = (V - U)^T */
+        for (j = 0; j < n; j++)
+            w[j * n + i] = v[i * n + j] - u[i * n + j];
+    for (k = 0; k < n; k++) {   /* w = P L R, row pivoting (getrf) */
+        int p = k;
+        for (i = k + 1; i < n; i++)
+            if (fabs(w[i * n + k]) > fabs(w[p * n + k]))
+                p = i;
+        piv[k] = p;
+        if (p != k)
             for (j = 0; j < n; j++) {
-                double t = p[l * n + j];
-                p[l * n + j] = p[piv * n + j];
-                p[piv * n + j] = t;
-                t = x[l * n + j];
-                x[l * n + j] = x[piv * n + j];
-                x[piv * n + j] = t;
+                double t = w[k * n + j];
+                w[k * n + j] = w[p * n + j];
+                w[p * n + j] = t;
             }
-        for (i = l + 1; i < n; i++) {
-            double f = p[i * n + l] / p[l * n + l];
-            if (f == 0.0)
-                continue;
-            for (j = l + 1; j < n; j++)
-                p[i * n + j] -= f * p[l * n + j];
-            for (j = 0; j < n; j++)
-                x[i * n + j] -= f * x[l * n + j];
-        }
+        if (w[k * n + k] != 0.0)
+            for (i = k + 1; i < n; i++)
+                w[i * n + k] /= w[k * n + k];
+        for (i = k + 1; i < n; i++)
+            for (j = k + 1; j < n; j++)
+                w[i * n + j] -= w[i * n + k] * w[k * n + j];
     }
-    for (l = n - 1; l >= 0; l--)
-        for (j = 0; j < n; j++) {
-            double s = x[l * n + j];
-            for (i = l + 1; i < n; i++)
-                s -= p[l * n + i] * x[i * n + j];
-            x[l * n + j] = s / p[l * n + l];
+    for (j = 0; j < n; j++) {   /* (V - U) y = U[:, j] = w^T y (getrs "T"): R^T, L^T, then the swaps */
+        for (i = 0; i < n; i++)
+            col[i] = u[i * n + j];
+        for (i = 0; i < n; i++) {
+            double s = col[i];
+            for (k = 0; k < i; k++)
+                s -= w[k * n + i] * col[k];
+            col[i] = s / w[i * n + i];
         }
+        for (i = n - 1; i >= 0; i--) {
+            double s = col[i];
+            for (k = i + 1; k < n; k++)
+                s -= w[k * n + i] * col[k];
+            col[i] = s;
+        }
+        for (k = n - 1; k >= 0; k--)
+            if (piv[k] != k) {
+                double t = col[k];
+                col[k] = col[piv[k]];
+                col[piv[k]] = t;
+            }
+        for (i = 0; i < n; i++)
+            x[i * n + j] = 2.0 * col[i] + (i == j ? 1.0 : 0.0);
+    }
 }
 
 void cf_expm(int n, const double *a_in, double *out)
