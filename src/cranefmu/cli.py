@@ -68,8 +68,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
     plotted, prefix = _plot_plan(args, scene)
     if prefix is not None:
         check_directory(prefix.parent, "--plot", str(prefix) + "_*.png")
-    if args.report:
-        check_directory(Path(args.report).resolve().parent, "--report", args.report)
+    if args.report is not None:
+        from .whole_file import check as check_whole
+
+        check_whole(args.report, "--report")   # a directory, /dev/full's folder, "": before the run
     keep = rows <= KEEP_ROWS or not args.output
     streamed = bool(args.output) and is_stream(args.output)
     if streamed and prefix is not None and not keep:

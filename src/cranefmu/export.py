@@ -9,7 +9,6 @@ parameters in force (:mod:`cranefmu.settled_start`), so the host starts at rest 
 from __future__ import annotations
 
 import argparse
-import shutil
 import tempfile
 from pathlib import Path
 
@@ -25,11 +24,9 @@ def export_scene(scene: str, output: str | Path, parameter_set: str | None = Non
     from . import build as b
     from .master.scene import read_scene_folder
 
-    output = Path(output)
-    if output.suffix != ".ssp":
-        raise CraneFmuError(f"--output {str(output)!r} is not allowed: give a file name ending in .ssp")
-    if not output.parent.is_dir():
-        raise CraneFmuError(f"--output {str(output)!r}: the folder {output.parent} does not exist")
+    from . import whole_file
+
+    whole_file.check(output, "--output", (".ssp",))   # before any work: a directory, a missing folder
     names = [d.name for d in b.scene_dirs()]
     if scene not in names:
         raise SceneError(f"scene {scene!r} is not allowed: one of {', '.join(names)}")
@@ -46,9 +43,8 @@ def export_scene(scene: str, output: str | Path, parameter_set: str | None = Non
         variant.mkdir()
         (variant / "SystemStructure.ssd").write_bytes(variant_ssd(folder / "SystemStructure.ssd", parameter_set))
         (variant / bound.pop()).write_bytes(b.ssv_of(values, label))
-        written = b.build_ssp(variant, dest=Path(tmp) / output.name)
-        shutil.move(str(written), str(output))
-    return output
+        written = b.build_ssp(variant, dest=Path(tmp) / f"{scene}.ssp")
+        return whole_file.copy(written, output, "--output")   # beside the target, renamed: whole or nothing
 
 
 def variant_ssd(ssd: Path, parameter_set: str | None) -> bytes:

@@ -391,3 +391,133 @@ def test_a_closed_pipe_ends_a_listing_without_a_message(built):
     os.close(r)   # before the interpreter has started: its first write finds the pipe closed
     err = p.communicate(timeout=120)[1].decode()
     assert p.returncode == 141 and "error" not in err, (p.returncode, err)
+
+
+# --- issue 35: one writer for every whole file ---------------------------------------------------
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A 1 MB tmpfs under the test's directory (root only): a disk that fills."""
+    mount = tmp_path / "small"
+    mount.mkdir()
+    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mount)],
+                                           capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a small tmpfs here (root only)")
+    yield mount
+    subprocess.run(["umount", "-l", str(mount)], check=False)
+
+
+def fill(folder: Path, leave: int = 0) -> None:
+    """Fill the file system of ``folder`` to its last block (less ``leave`` bytes)."""
+    with open(folder / "filler", "wb", buffering=0) as f:
+        try:
+            while True:
+                f.write(bytes(4096))
+                f.flush()
+        except OSError:
+            pass
+    if leave:
+        os.truncate(folder / "filler", max(0, os.path.getsize(folder / "filler") - leave))
+
+
+def test_export_on_a_full_disk_keeps_the_old_file_and_names_the_target(built, small_disk):
+    target = small_disk / "e.ssp"
+    first = cranefmu("export", "elastic_pendulum", "--output", str(target))
+    assert first.returncode == 0, first.stderr
+    old = target.read_bytes()
+    assert zipfile.ZipFile(target).testzip() is None
+    again = cranefmu("export", "elastic_pendulum", "--set", "pendulum.mass=500", "--output", str(target))
+    assert again.returncode == 2
+    line = one_line(again.stderr)
+    assert repr(str(target)) in line and "No space left on device" in line and "old file is kept" in line
+    assert target.read_bytes() == old                    # shutil.move across file systems truncated it
+    assert sorted(p.name for p in small_disk.iterdir()) == ["e.ssp"]   # no temporary file left
+
+
+def test_export_writes_through_a_symlink_and_a_fifo_and_refuses_a_directory_first(built, tmp_path):
+    (tmp_path / "real.ssp").write_text("old")
+    (tmp_path / "link.ssp").symlink_to("real.ssp")
+    p = cranefmu("export", "elastic_pendulum", "--output", "link.ssp", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "link.ssp").is_symlink() and zipfile.ZipFile(tmp_path / "real.ssp").testzip() is None
+    fifo = tmp_path / "pipe.ssp"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()))
+    reader.start()
+    p = cranefmu("export", "elastic_pendulum", "--output", str(fifo))
+    reader.join(60)
+    assert p.returncode == 0, p.stderr
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)          # not replaced by a file
+    import io
+    assert got and zipfile.ZipFile(io.BytesIO(got[0])).namelist() == zipfile.ZipFile(tmp_path / "real.ssp").namelist()
+    (tmp_path / "X.ssp").mkdir()
+    p = cranefmu("export", "elastic_pendulum", "--output", "X.ssp", cwd=tmp_path)
+    assert p.returncode == 2 and "existing directory" in one_line(p.stderr)
+    assert list((tmp_path / "X.ssp").iterdir()) == []
+
+
+def test_export_takes_a_legal_255_byte_name(built, tmp_path):
+    name = "e" * 251 + ".ssp"
+    p = cranefmu("export", "elastic_pendulum", "--output", name, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert zipfile.ZipFile(tmp_path / name).testzip() is None
+
+
+@pytest.mark.parametrize("report", ["", "adir"])
+def test_run_report_to_a_directory_or_empty_is_refused_before_the_run(built, tmp_path, report):
+    (tmp_path / "adir").mkdir()
+    p = cranefmu(*QUICK, "--output", "o.csv", "--report", report, cwd=tmp_path)
+    assert p.returncode == 2
+    assert "--report" in one_line(p.stderr) and repr(report) in p.stderr
+    assert not (tmp_path / "o.csv").exists()             # found before the run, no rows written
+
+
+def test_run_report_on_a_full_disk_leaves_no_half_page(built, small_disk):
+    fill(small_disk, leave=20_000)                      # room for the CSV, not for the page
+    p = cranefmu(*QUICK, "--output", str(small_disk / "o.csv"), "--report", str(small_disk / "r.html"))
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert repr(str(small_disk / "r.html")) in line and "No space left on device" in line
+    assert not (small_disk / "r.html").exists()
+    assert_whole_csv(small_disk / "o.csv", ROWS_QUICK)
+
+
+CHECK_CASE = """
+name = "small"
+scene = "elastic_pendulum"
+stop_time = 0.1
+step_size = 0.02
+
+[[assert]]
+name = "sway_bounded"
+column = "pendulum.theta"
+max = "pendulum.theta0 * 1.0001"
+"""
+
+
+@pytest.mark.parametrize("where", ["full", "/dev/full"])
+def test_check_report_on_a_full_disk_is_one_line_after_the_table(built, small_disk, tmp_path, where):
+    exp = tmp_path / "c.toml"
+    exp.write_text(CHECK_CASE)
+    report = small_disk / "r.json"
+    if where == "full":
+        report.write_text("old\n")
+        fill(small_disk)
+    else:
+        report = Path(where)
+    p = cranefmu("check", str(exp), "--quiet", "--report", str(report))
+    assert p.returncode == 1                            # every case ran: not "bad input" (2)
+    assert "1 assertions in 1 cases: 1 passed, 0 failed" in p.stdout
+    line = one_line(p.stderr)
+    assert repr(str(report)) in line and "No space left on device" in line
+    if where == "full":
+        assert report.read_text() == "old\n"
+
+
+def test_compose_output_to_a_directory_is_refused_before_the_build(built, tmp_path):
+    (tmp_path / "X.ssp").mkdir()
+    source = Path(__file__).resolve().parents[2] / "ssp" / "elastic_pendulum" / "scene.toml"
+    p = cranefmu("compose", str(source), "--output", str(tmp_path / "X.ssp"))
+    assert p.returncode == 2 and "existing directory" in one_line(p.stderr)
+    assert list((tmp_path / "X.ssp").iterdir()) == []

@@ -45,19 +45,22 @@ def pack(source: Path | Composed, dest: Path) -> Path:
     our master settles itself."""
     from .. import build as b
 
+    from .. import whole_file
+
     composed = source if isinstance(source, Composed) else built(source)
-    dest = Path(dest)
-    dest.parent.mkdir(parents=True, exist_ok=True)
+    whole_file.check(dest, "--output", (".ssp",))
     fmus = sorted({iface.fmu for iface in composed.interfaces.values()})
     with staged(composed) as folder:
+        packed = folder.parent / f"{composed.source.name}.ssp"
         if all(f.parent == b.FMU_DIR for f in fmus):
-            return b.build_ssp(folder, dest)
-        with zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zf:
-            for f in sorted(folder.iterdir()):
-                zf.write(f, f.name if f.suffix == ".ssd" else f"resources/{f.name}")
-            for fmu in fmus:
-                zf.write(fmu, f"resources/{fmu.name}")
-    return dest
+            b.build_ssp(folder, packed)
+        else:
+            with zipfile.ZipFile(packed, "w", zipfile.ZIP_DEFLATED) as zf:
+                for f in sorted(folder.iterdir()):
+                    zf.write(f, f.name if f.suffix == ".ssd" else f"resources/{f.name}")
+                for fmu in fmus:
+                    zf.write(fmu, f"resources/{fmu.name}")
+        return whole_file.copy(packed, dest, "--output")   # beside the target, renamed: whole or nothing
 
 
 def write_osp(source: Path | Composed, folder: Path) -> Path:
@@ -67,6 +70,7 @@ def write_osp(source: Path | Composed, folder: Path) -> Path:
     (else 1 ms) the base step."""
     from .. import build as b
     from ..master.scene import read_scene_folder
+    from .. import whole_file
     from .osp import osp_file_name, osp_model_description, osp_system_structure
 
     composed = source if isinstance(source, Composed) else built(source)
@@ -79,8 +83,8 @@ def write_osp(source: Path | Composed, folder: Path) -> Path:
         if iface.ports:
             (folder / osp_file_name(iface)).write_bytes(osp_model_description(iface))
     target = folder / "OspSystemStructure.xml"
-    target.write_bytes(osp_system_structure(composed, scene.bound, float(scene.settings.get("step_size", 1e-3))))
-    return target
+    return whole_file.write(target, osp_system_structure(composed, scene.bound,
+                                                         float(scene.settings.get("step_size", 1e-3))), "--osp")
 
 
 def add_parser(sub) -> None:
@@ -97,11 +101,16 @@ def add_parser(sub) -> None:
 
 
 def _cmd_compose(args: argparse.Namespace) -> int:
+    from .. import whole_file
+
+    for given, what, suffixes in ((args.output, "--output", (".ssp",)), (args.ssd, "--ssd", ())):
+        if given is not None:
+            whole_file.check(given, what, suffixes)   # before any build
     composed = built(Path(args.source))
     path = pack(composed, Path(args.output or f"{composed.source.name}.ssp"))
     print(f"wrote {path} (scene {composed.source.name}: {len(composed.source.components)} components)")
     if args.ssd:
-        Path(args.ssd).write_bytes(composed.ssd)
+        whole_file.write(args.ssd, composed.ssd, "--ssd")
         print(f"wrote {args.ssd}")
     if args.osp:
         print(f"wrote {write_osp(composed, Path(args.osp))}")

@@ -39,15 +39,17 @@ def write_json(path: Path, verdicts: list[Verdict], planned, wall: float, engine
     data = {"passed": all(v.passed for v in verdicts), "assertions": len(verdicts),
             "failed": sum(not v.passed for v in verdicts), "wall_s": round(wall, 3), "engine": engine, "cases": cases,
             "verdicts": [v.as_dict() for v in verdicts]}
-    Path(path).write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+    from ..whole_file import write
+
+    write(path, json.dumps(data, indent=1) + "\n", "--report")
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    from ..master.output_file import check_directory
+    from ..whole_file import WriteError, check
     from .runner import choose_engine, judge_all, prepare, run_cases
 
-    if args.report:
-        check_directory(Path(args.report).resolve().parent, "--report", args.report)
+    if args.report is not None:
+        check(args.report, "--report")   # before anything runs
     wall = clock.perf_counter()
     planned = prepare(args.paths)
     choose_engine(args.engine, len(planned), args.jobs, args.scheduler)   # bad options: before anything runs
@@ -59,8 +61,12 @@ def _cmd_check(args: argparse.Namespace) -> int:
     wall = clock.perf_counter() - wall
     print(f"{len(verdicts)} assertions in {len(planned)} cases: {len(verdicts) - failed} passed, {failed} failed "
           f"({wall:.1f} s, engine {engine})")
-    if args.report:
-        write_json(Path(args.report), verdicts, planned, wall, engine)
+    if args.report is not None:
+        try:
+            write_json(Path(args.report), verdicts, planned, wall, engine)
+        except WriteError as err:   # every case ran: the table above is the result, not bad input (2)
+            print(f"cranefmu: error: {err} (the verdicts above are complete)", file=sys.stderr)
+            return 1
         print(f"report: {args.report}")
     return 1 if failed else 0
 

@@ -88,7 +88,7 @@ def _stats_rows(stats, settings) -> list[tuple[str, str]]:
 
 def write_report(path, result, *, scene: str = "", units: dict[str, str] | None = None,
                  settings=None, stats=None, warnings: list[str] | tuple = (), source: str = "",
-                 sources: dict[str, str] | None = None, assertions: list | tuple = ()) -> Path:
+                 sources: dict[str, str] | None = None, assertions: list | tuple = (), what: str = "report") -> Path:
     """Write the HTML report of ``result`` to ``path`` and return the path.
 
     ``result`` is a :class:`~cranefmu.master.run.RunResult` (``cranefmu.run(...)``; its scene, settings,
@@ -143,6 +143,6 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
     notes = [f"units not known for {len(missing)} column(s) ({', '.join(missing[:5])}...): no scene matched"
              ] if missing and not units else []
     title = f"cranefmu run of {scene or 'an unknown scene'}" + (f" ({source})" if source else "")
-    target = Path(path)
-    target.write_text(page(result, title=title, plots=plots, sections=sections, notes=notes), encoding="utf-8")
-    return target
+    from ..whole_file import write
+
+    return write(path, page(result, title=title, plots=plots, sections=sections, notes=notes), what)

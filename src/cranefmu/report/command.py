@@ -23,14 +23,15 @@ def _scene_of(header: list[str]) -> str:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    from ..master.output_file import check_directory
     from ..master.results import read_csv
     from ..master.run import preview
     from . import report_columns, write_report
 
     source = Path(args.result)
     output = Path(args.output) if args.output else source.with_suffix(".html")
-    check_directory(output.resolve().parent, "--output", str(output))
+    from ..whole_file import check
+
+    check(output, "--output")
     try:
         with open(source, newline="") as f:
             header = next(csv.reader(f), [])
@@ -42,7 +43,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
     scene = args.scene or _scene_of(header)
     units = preview(scene).units if scene else {}
     data = read_csv(source, report_columns(scene, header[1:]))
-    print(f"report: {write_report(output, data, scene=scene, units=units, source=source.name)}")
+    print(f"report: {write_report(output, data, scene=scene, units=units, source=source.name, what='--output')}")
     return 0
 
 
@@ -76,4 +77,4 @@ def report_after_run(path, res, scene, assertions=()) -> Path:
     return write_report(path, res if data is res.result else data, scene=res.scene, units=scene.units,
                         settings=res.settings, stats=res.stats, warnings=res.warnings,
                         sources=res.spec.sources if getattr(res, "spec", None) is not None else None,
-                        assertions=assertions)
+                        assertions=assertions, what="--report")
