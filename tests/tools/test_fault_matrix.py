@@ -521,3 +521,39 @@ def test_compose_output_to_a_directory_is_refused_before_the_build(built, tmp_pa
     p = cranefmu("compose", str(source), "--output", str(tmp_path / "X.ssp"))
     assert p.returncode == 2 and "existing directory" in one_line(p.stderr)
     assert list((tmp_path / "X.ssp").iterdir()) == []
+
+
+# --- issue 35: foreign FMUs as their authors declared them ---------------------------------------
+
+@pytest.fixture(scope="session")
+def flags_fmu(tmp_path_factory):
+    """Flags.fmu (tests/c_fmu/flags.c): Real, Boolean, Enumeration and Integer feedthroughs, a Boolean
+    declared before an Enumeration and an Integer as in the Reference FMU Feedthrough."""
+    from c_fmu.flags import build, compiler
+
+    if compiler() is None:
+        pytest.skip("no C compiler")
+    return build(tmp_path_factory.mktemp("flags") / "Flags.fmu")
+
+
+FLAG_INPUTS = {"Real_input": 1.5, "Boolean_input": True, "Enumeration_input": 2, "Integer_input": -7}
+
+
+def test_discrete_outputs_of_a_foreign_fmu_are_recorded_under_their_own_names(flags_fmu, tmp_path):
+    from fmpy import simulate_fmu
+
+    from cranefmu.master.run import preview
+    from foreign_ssp import write_ssp
+
+    ssp = write_ssp(tmp_path / "flags.ssp", {"ft": flags_fmu}, [])
+    sets = [f"--set=ft.{k}={str(v).lower()}" for k, v in FLAG_INPUTS.items()]
+    p = cranefmu("run", str(ssp), "--stop-time", "0.3", "--step", "0.1", *sets, "--output", str(tmp_path / "o.csv"))
+    assert p.returncode == 0, p.stderr
+    ours = read_csv(tmp_path / "o.csv")
+    theirs = simulate_fmu(str(flags_fmu), stop_time=0.3, output_interval=0.1, start_values=FLAG_INPUTS)
+    outputs = [n for n in theirs.dtype.names if n != "time"]
+    assert sorted(f"ft.{n}" for n in outputs) == sorted(ours.dtype.names[1:])
+    for name in outputs:   # Boolean_output 1 (was 2: the Enumeration's), Enumeration_output 2, Integer_output -7
+        assert np.array_equal(ours[f"ft.{name}"], np.asarray(theirs[name], dtype=float)), name
+    assert list(ours[0])[1:] != [0.0] * 4 and ours["ft.Boolean_output"][-1] == 1.0
+    assert ["time", *preview(ssp).columns] == list(ours.dtype.names)   # the report's columns: the run's
