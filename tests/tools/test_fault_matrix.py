@@ -557,3 +557,58 @@ def test_discrete_outputs_of_a_foreign_fmu_are_recorded_under_their_own_names(fl
         assert np.array_equal(ours[f"ft.{name}"], np.asarray(theirs[name], dtype=float)), name
     assert list(ours[0])[1:] != [0.0] * 4 and ours["ft.Boolean_output"][-1] == 1.0
     assert ["time", *preview(ssp).columns] == list(ours.dtype.names)   # the report's columns: the run's
+
+
+def test_adaptive_is_refused_for_an_fmu_that_declares_a_fixed_communication_step(flags_fmu, tmp_path):
+    from c_fmu.flags import build
+    from foreign_ssp import write_ssp
+
+    fixed = build(tmp_path / "Flags.fmu", variable_step=False)
+    ssp = write_ssp(tmp_path / "fixed.ssp", {"ft": fixed}, [])
+    p = cranefmu("run", str(ssp), "--stop-time", "0.3", "--step", "0.1", "--adaptive", "--output", "o.csv",
+                 cwd=tmp_path)
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert "ft (model Flags)" in line and 'canHandleVariableCommunicationStepSize="false"' in line
+    assert not (tmp_path / "o.csv").exists()
+    p = cranefmu("run", str(ssp), "--stop-time", "0.3", "--step", "0.1", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr   # a fixed step runs it
+
+
+def fmi3_description(variables: str) -> str:
+    return ('<?xml version="1.0" encoding="UTF-8"?>\n<fmiModelDescription fmiVersion="3.0" modelName="Ints" '
+            'instantiationToken="{ints}"><CoSimulation modelIdentifier="Ints"/><ModelVariables>'
+            '<Float64 name="time" valueReference="0" causality="independent" variability="continuous"/>'
+            f'{variables}</ModelVariables><ModelStructure><Output valueReference="1"/></ModelStructure>'
+            '</fmiModelDescription>')
+
+
+@pytest.mark.parametrize("variable, needle", [
+    ('<UInt8 name="small" valueReference="1" causality="output" variability="discrete"/>', "output 'small' is UInt8"),
+    ('<Int64 name="wide" valueReference="1" causality="output" variability="discrete"/>', "output 'wide' is Int64"),
+    ('<Float64 name="vec" valueReference="1" causality="output" variability="continuous"><Dimension start="3"/>'
+     '</Float64>', "output 'vec' is an array"),
+])
+def test_an_fmi3_output_the_master_cannot_read_is_refused_at_load_by_name(built, tmp_path, variable, needle):
+    from foreign_ssp import write_ssp
+
+    fmu = tmp_path / "Ints.fmu"
+    with zipfile.ZipFile(fmu, "w") as zf:
+        zf.writestr("modelDescription.xml", fmi3_description(variable))
+    ssp = write_ssp(tmp_path / "ints.ssp", {"ints": fmu}, [])
+    p = cranefmu("run", str(ssp), "--stop-time", "0.1", "--step", "0.1", "--output", "o.csv", cwd=tmp_path)
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert "component 'ints': Ints.fmu" in line and needle in line and "not supported" in line
+    assert not (tmp_path / "o.csv").exists()
+
+
+def test_a_discrete_connection_between_fmus_is_refused_at_load_in_one_line(flags_fmu, tmp_path):
+    from foreign_ssp import write_ssp
+
+    ssp = write_ssp(tmp_path / "two.ssp", {"a": flags_fmu, "b": flags_fmu},
+                    [("a", "Real_output", "b", "Real_input"), ("a", "Boolean_output", "b", "Boolean_input")])
+    p = cranefmu("run", str(ssp), "--stop-time", "0.1", "--step", "0.1", "--output", "o.csv", cwd=tmp_path)
+    assert p.returncode == 2 and not (tmp_path / "o.csv").exists()
+    assert one_line(p.stderr) == ("cranefmu: error: connection a.Boolean_output -> b.Boolean_input: types Boolean -> "
+                                  "Boolean; only Real -> Real connections are supported")

@@ -271,6 +271,13 @@ def _finish(claim: OutputFile | None, recorder: Recorder | None) -> Path | None:
 
 
 def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> None:
+    if s.adaptive:   # what the FMU's author declared (FMI 2.0 4.3.1, FMI 3.0 canHandleVariableCommunicationStepSize)
+        fixed = [f"{c.name} (model {c.md.coSimulation.modelIdentifier})" for c in system.comps
+                 if not getattr(getattr(c.md, "coSimulation", None), "canHandleVariableCommunicationStepSize", True)]
+        if fixed:
+            raise SettingsError(f"adaptive is not allowed for this scene: component(s) {', '.join(fixed)} declare "
+                                "canHandleVariableCommunicationStepSize=\"false\" (a fixed communication step only); "
+                                "run with a fixed --step")
     if s.adaptive or s.algorithm == "iterative":
         cannot = [c.name for c in system.comps if not c.can_get_state]
         if cannot:
