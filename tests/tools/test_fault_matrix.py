@@ -612,3 +612,43 @@ def test_a_discrete_connection_between_fmus_is_refused_at_load_in_one_line(flags
     assert p.returncode == 2 and not (tmp_path / "o.csv").exists()
     assert one_line(p.stderr) == ("cranefmu: error: connection a.Boolean_output -> b.Boolean_input: types Boolean -> "
                                   "Boolean; only Real -> Real connections are supported")
+
+
+# --- issue 35: no hangs, one line ------------------------------------------------------------------
+
+def silent_or_talking_port(greeting: bytes | None):
+    """A TCP port on localhost that accepts and then says ``greeting`` (None: nothing, ever)."""
+    import socket
+
+    server = socket.create_server(("127.0.0.1", 0))
+    held = []
+
+    def serve():
+        while True:
+            try:
+                conn, _ = server.accept()
+            except OSError:
+                return
+            held.append(conn)
+            if greeting:
+                conn.sendall(greeting)
+    threading.Thread(target=serve, daemon=True).start()
+    return server
+
+
+@pytest.mark.parametrize("greeting, needle", [(None, "nothing answered within 1 s"),
+                                              (b"SSH-2.0-OpenSSH_9.2\r\n", "another service answers there")])
+def test_check_against_a_port_that_is_not_a_dask_scheduler_is_one_line(built, tmp_path, greeting, needle):
+    exp = tmp_path / "c.toml"
+    exp.write_text(CHECK_CASE)
+    server = silent_or_talking_port(greeting)
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    try:
+        p = subprocess.run([sys.executable, "-m", "cranefmu.cli", "check", str(exp), "--scheduler", address],
+                           capture_output=True, text=True, timeout=120,
+                           env={**os.environ, "CRANEFMU_SCHEDULER_TIMEOUT": "1"})
+    finally:
+        server.close()
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert repr(address) in line and needle in line

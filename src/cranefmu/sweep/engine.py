@@ -245,9 +245,12 @@ def connect(workers: int | None = None, scheduler: str | None = None):
         if workers is not None:
             raise SettingsError(f"workers = {workers!r} is not allowed with a scheduler address: the cluster "
                                 "at the address has its own workers")
+        from .scheduler_probe import probe, timeout
+
+        probe(scheduler)   # a port that never answers, or another service: one line within the timeout
         try:
-            return Client(scheduler), None
-        except OSError as err:   # unreachable, refused, timed out: one line, not a traceback
+            return Client(scheduler, timeout=timeout()), None
+        except (OSError, MemoryError, ValueError, TypeError) as err:   # unreachable, refused, timed out, garbled
             raise SettingsError(f"scheduler {scheduler!r}: cannot reach the Dask scheduler there: "
                                 + " ".join(str(err).split())) from None
     n = workers if workers is not None else (os.cpu_count() or 1)
