@@ -405,9 +405,13 @@ def main(argv: list[str] | None = None) -> int:
             from .master.interrupt import stop_on
 
             stop_on(*old)   # during the run: stop between steps, keep the rows
-        else:   # the other commands keep Python's handling of signals
+        else:   # the other commands: Ctrl-C as Python has it; SIGTERM and SIGHUP raise as Ctrl-C does (the
+            # commands' cleanup runs: no temporary folders left), reported in one line, exit 128 + signal
+            from .master.interrupt import raise_first, stop_on
+
+            stop_on(*old)   # a run in this process (check inline, a study) stops between steps, never inside an FMU
             for signum, handler in old.items():
-                signal.signal(signum, handler)
+                signal.signal(signum, handler if signum == signal.SIGINT else raise_first)
         return args.func(args)
     except CraneFmuError as err:
         _say(f"cranefmu: error: {err}")

@@ -652,3 +652,56 @@ def test_check_against_a_port_that_is_not_a_dask_scheduler_is_one_line(built, tm
     assert p.returncode == 2
     line = one_line(p.stderr)
     assert repr(address) in line and needle in line
+
+
+LONG_CASE = CHECK_CASE.replace("stop_time = 0.1\nstep_size = 0.02", "stop_time = 200.0\nstep_size = 0.001")
+
+
+def test_sigterm_to_check_is_143_one_line_and_leaves_nothing_in_tmpdir(built, tmp_path):
+    exp = tmp_path / "long.toml"
+    exp.write_text(LONG_CASE)
+    tmpdir = tmp_path / "tmp"
+    tmpdir.mkdir()
+    proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "check", str(exp), "--quiet"],
+                            env={**os.environ, "TMPDIR": str(tmpdir)}, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    end = time.monotonic() + 60
+    while not any(tmpdir.glob("cranefmu_scenes_*")):   # the case has started: its scene is extracted
+        assert proc.poll() is None and time.monotonic() < end, proc.communicate()
+        time.sleep(0.05)
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143, err
+    assert one_line(err).startswith("cranefmu: interrupted by SIGTERM")
+    assert list(tmpdir.iterdir()) == []
+
+
+def test_sigterm_to_sweep_is_143_one_line_and_leaves_nothing_in_tmpdir(built, tmp_path):
+    from test_sweep_cluster import _local_sweep, _wait_rows
+
+    proc, out, tmpdir = _local_sweep(tmp_path)
+    _wait_rows(out, 1, proc)
+    proc.send_signal(signal.SIGTERM)    # `kill PID`: the client alone, not its group
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 143, err
+    assert "SIGTERM" in one_line(err) and "the same command resumes" in err
+    assert list(tmpdir.iterdir()) == []   # no cranefmu_sweep_*, no dask scratch, no extracted scenes
+
+
+def test_sigterm_to_study_is_143_one_line_and_leaves_nothing_in_tmpdir(built, tmp_path):
+    tmpdir = tmp_path / "tmp"
+    tmpdir.mkdir()
+    proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "study", "dynamic-factor", "--smoke", "--workers",
+                             "1", "--output", str(tmp_path / "out")], env={**os.environ, "TMPDIR": str(tmpdir)},
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    end = time.monotonic() + 120
+    runs = tmp_path / "out" / "runs" / "smoke"
+    while not any(p.stat().st_size > 0 for p in runs.glob("*.csv")) if runs.is_dir() else True:   # rows kept
+        assert proc.poll() is None and time.monotonic() < end, proc.communicate()
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 143, err
+    assert "SIGTERM" in one_line(err)
+    assert list(tmpdir.iterdir()) == []

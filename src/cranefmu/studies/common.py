@@ -90,10 +90,11 @@ class Context:
         self.failures.append(" ".join(text.split()))
 
     def close(self) -> None:
+        """Close the client and a local cluster, and remove the cluster's scratch folder (in TMPDIR)."""
         if self._client is not None:
-            self._client.close()
-            if self._cluster is not None:
-                self._cluster.close()
+            from ..sweep.engine import close
+
+            close(self._client, self._cluster)
             self._client = self._cluster = None
 
 

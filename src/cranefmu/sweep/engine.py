@@ -217,14 +217,18 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
             raise ClusterLost(f"lost the Dask scheduler{' at ' + scheduler if scheduler else ''} after {out.ran} "
                               f"run(s); {out.lost} run(s) recorded as lost and every finished row kept in "
                               f"{table.path}: start the cluster again and run the same command to resume")
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as err:
+        from ..master.interrupt import RunInterrupted, signal_name
+
         interrupted = _ignore_sigint()   # a second Ctrl-C must not break the clean-up (restored below)
         try:
             client.cancel(list(futures))
         except Exception:  # noqa: BLE001 - a closing client may refuse; the cluster is closed below
             pass
-        raise KeyboardInterrupt(f"sweep interrupted: {out.ran} run(s) of this session kept in {table.path} "
-                                f"({len(table.done)} in all); the same command resumes the rest") from None
+        signum = getattr(err, "signum", signal.SIGINT)   # SIGTERM, SIGHUP: the CLI's handler (exit 143, 129)
+        by = "" if signum == signal.SIGINT else f" by {signal_name(signum)}"
+        raise RunInterrupted(f"sweep interrupted{by}: {out.ran} run(s) of this session kept in {table.path} "
+                             f"({len(table.done)} in all); the same command resumes the rest", signum=signum) from None
     finally:
         if bar is not None:
             bar.close()
