@@ -705,3 +705,15 @@ def test_sigterm_to_study_is_143_one_line_and_leaves_nothing_in_tmpdir(built, tm
     assert proc.returncode == 143, err
     assert "SIGTERM" in one_line(err)
     assert list(tmpdir.iterdir()) == []
+
+
+def test_check_refuses_a_case_beyond_max_rows_before_anything_runs(built, tmp_path):
+    exp = tmp_path / "tiny.toml"
+    exp.write_text(LONG_CASE.replace("step_size = 0.001", "step_size = 1e-12"))
+    p = cranefmu("check", str(exp), "--quiet")
+    assert p.returncode == 2 and p.stdout == ""
+    assert one_line(p.stderr) == (f"cranefmu: error: {exp}: case base: its run would record 2e+14 rows, more than "
+                                  "--max-rows 1e+07: give a larger step_size or a shorter stop_time, or raise --max-rows")
+    exp.write_text(CHECK_CASE)   # 6 rows: under --max-rows 6, refused at 5
+    assert cranefmu("check", str(exp), "--quiet", "--max-rows", "6").returncode == 0
+    assert "more than --max-rows 5" in one_line(cranefmu("check", str(exp), "--quiet", "--max-rows", "5").stderr)

@@ -13,6 +13,8 @@ import time as clock
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..errors import CraneFmuError
+
 if TYPE_CHECKING:   # the parser is built for every command: no numpy import here
     from .assertions import Verdict
 
@@ -52,6 +54,12 @@ def _cmd_check(args: argparse.Namespace) -> int:
         check(args.report, "--report")   # before anything runs
     wall = clock.perf_counter()
     planned = prepare(args.paths)
+    for p in planned:   # as `cranefmu run` refuses it: before anything runs (issue 35)
+        rows = p.spec.settings.rows_expected()
+        if rows > args.max_rows:
+            raise CraneFmuError(f"{p.case.file}: case {p.case.name}: its run would record {rows:.3g} rows, more than "
+                                f"--max-rows {args.max_rows:g}: give a larger step_size or a shorter stop_time, "
+                                "or raise --max-rows")
     choose_engine(args.engine, len(planned), args.jobs, args.scheduler)   # bad options: before anything runs
     say = (lambda line: print(line, file=sys.stderr, flush=True)) if not args.quiet else None
     engine = run_cases(planned, args.jobs, say, args.engine, args.scheduler)
@@ -77,6 +85,10 @@ def add_parser(sub) -> None:
                        "report; exit 1 on a failure, 2 on bad input (docs/experiments.md)")
     p.add_argument("paths", nargs="+", metavar="FILE|DIR", help="experiment files, or directories of *.toml")
     p.add_argument("--report", default=None, metavar="FILE.json", help="also write the verdicts as JSON")
+    from ..cli import MAX_ROWS
+
+    p.add_argument("--max-rows", type=float, default=MAX_ROWS, metavar="N", help="refuse a case whose run would "
+                   f"record more than N rows, before anything runs (default {MAX_ROWS:g}, as cranefmu run)")
     p.add_argument("--jobs", type=int, default=1, metavar="N", help="run the cases on N worker processes "
                    "(default 1: one after the other in this process); with N > 1, fewer than 32 cases run on a "
                    "process pool, 32 or more on a local Dask cluster of N workers (see --engine)")
