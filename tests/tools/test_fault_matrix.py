@@ -717,3 +717,18 @@ def test_check_refuses_a_case_beyond_max_rows_before_anything_runs(built, tmp_pa
     exp.write_text(CHECK_CASE)   # 6 rows: under --max-rows 6, refused at 5
     assert cranefmu("check", str(exp), "--quiet", "--max-rows", "6").returncode == 0
     assert "more than --max-rows 5" in one_line(cranefmu("check", str(exp), "--quiet", "--max-rows", "5").stderr)
+
+
+@pytest.mark.parametrize("expression, needle", [("1+" * 50_000 + "1", "100019 characters, at most 2000"),
+                                                ("-" * 1500 + "1", "levels deep, at most 200"),
+                                                ("(" * 190 + "1" + ")" * 190, "")])
+def test_a_huge_or_deep_expression_is_one_line(built, tmp_path, expression, needle):
+    exp = tmp_path / "e.toml"
+    exp.write_text(CHECK_CASE.replace('max = "pendulum.theta0 * 1.0001"', f'max = "{expression} + pendulum.theta0"'))
+    p = cranefmu("check", str(exp), "--quiet")
+    if not needle:   # 190 parentheses: within the bound, evaluated (the tokenizer's own limit is 200)
+        assert p.returncode in (0, 2) and "Traceback" not in p.stderr
+        return
+    assert p.returncode == 2 and p.stdout == ""
+    line = one_line(p.stderr)
+    assert needle in line and "Recursion" not in line and "Memory" not in line and len(line) < 400
