@@ -732,3 +732,25 @@ def test_a_huge_or_deep_expression_is_one_line(built, tmp_path, expression, need
     assert p.returncode == 2 and p.stdout == ""
     line = one_line(p.stderr)
     assert needle in line and "Recursion" not in line and "Memory" not in line and len(line) < 400
+
+
+def test_a_binary_table_csv_is_one_line_naming_file_and_row(built, tmp_path):
+    (tmp_path / "t.csv").write_bytes(b"t, value\n0, 0\n1, 1\n\x89PNG\r\n\x1a\n\x00\xff\xfe")
+    exp = tmp_path / "b.toml"
+    exp.write_text(CHECK_CASE.replace("\n[[assert]]", '\n[[commands]]\ninputs = "pendulum.x_top"\ntable = "t.csv"\n'
+                                      "\n[[assert]]", 1))
+    p = cranefmu("check", str(exp), "--quiet")
+    assert p.returncode == 2 and p.stdout == ""
+    assert f"table {tmp_path / 't.csv'}:4: byte 0x89 is not UTF-8 text" in one_line(p.stderr)
+
+
+@pytest.mark.parametrize("content, needle", [
+    (b"time,rope.tension\n0,1\n0.1,abc\n", "line 3, column rope.tension: 'abc' is not a number"),
+    (b"time,rope.tension\n0,1\n\x89\xff,2\n", "line 3 is not UTF-8 text"),
+])
+def test_report_of_a_csv_with_text_in_numbers_is_one_line_naming_file_and_row(tmp_path, content, needle):
+    (tmp_path / "r.csv").write_bytes(content)
+    p = cranefmu("report", "r.csv", cwd=tmp_path)
+    assert p.returncode == 2
+    assert one_line(p.stderr).startswith(f"cranefmu: error: RESULT r.csv is not allowed: {needle}")
+    assert not (tmp_path / "r.html").exists()
