@@ -754,3 +754,40 @@ def test_report_of_a_csv_with_text_in_numbers_is_one_line_naming_file_and_row(tm
     assert p.returncode == 2
     assert one_line(p.stderr).startswith(f"cranefmu: error: RESULT r.csv is not allowed: {needle}")
     assert not (tmp_path / "r.html").exists()
+
+
+SOURCE_WITH_FLAGS = '''stop_time = 0.2
+[components]
+ft = {fmu = "%s"}
+'''
+
+
+@pytest.mark.parametrize("how", ["parent", "link", "ssv_link"])
+def test_compose_keeps_fmus_and_parameter_files_in_the_source_folder(flags_fmu, tmp_path, how):
+    folder = tmp_path / "scene"
+    folder.mkdir()
+    shutil.copy(flags_fmu, tmp_path / "outside.fmu")
+    (tmp_path / "outside.ssv").write_text("<x/>")
+    name = {"parent": "../outside.fmu", "link": "Flags.fmu", "ssv_link": "Flags.fmu"}[how]
+    if how == "link":
+        (folder / "Flags.fmu").symlink_to(tmp_path / "outside.fmu")
+    else:
+        shutil.copy(flags_fmu, folder / "Flags.fmu")
+    if how == "ssv_link":
+        (folder / "extra.ssv").symlink_to(tmp_path / "outside.ssv")
+    (folder / "scene.toml").write_text(SOURCE_WITH_FLAGS % name)
+    p = cranefmu("compose", str(folder), "--output", str(tmp_path / "s.ssp"))
+    assert p.returncode == 2 and not (tmp_path / "s.ssp").exists()
+    line = one_line(p.stderr)
+    assert "is not allowed" in line and str(folder / "scene.toml") in line
+    assert {"parent": "not a path", "link": "outside the folder", "ssv_link": "extra.ssv"}[how] in line
+
+
+def test_compose_takes_an_fmu_file_in_the_source_folder(flags_fmu, tmp_path):
+    folder = tmp_path / "scene"
+    folder.mkdir()
+    shutil.copy(flags_fmu, folder / "Flags.fmu")
+    (folder / "scene.toml").write_text(SOURCE_WITH_FLAGS % "Flags.fmu")
+    p = cranefmu("compose", str(folder), "--output", str(tmp_path / "s.ssp"))
+    assert p.returncode == 0, p.stderr
+    assert "resources/Flags.fmu" in zipfile.ZipFile(tmp_path / "s.ssp").namelist()
