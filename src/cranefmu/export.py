@@ -43,8 +43,18 @@ def export_scene(scene: str, output: str | Path, parameter_set: str | None = Non
         variant.mkdir()
         (variant / "SystemStructure.ssd").write_bytes(variant_ssd(folder / "SystemStructure.ssd", parameter_set))
         (variant / bound.pop()).write_bytes(b.ssv_of(values, label))
-        written = b.build_ssp(variant, dest=Path(tmp) / f"{scene}.ssp")
+        written = b.build_ssp(variant, dest=Path(tmp) / f"{scene}.ssp", host_steps=variant_host_steps(
+            scene, parameter_set, parameters or {}))
         return whole_file.copy(written, output, "--output")   # beside the target, renamed: whole or nothing
+
+
+def variant_host_steps(scene: str, parameter_set: str | None, parameters: dict) -> dict[str, dict]:
+    """The measured plain-Jacobi step of the exported set, as the variant's own ("default"); none when
+    ``parameters`` change it (a changed mass or stiffness moves the limit: not measured)."""
+    from .host_steps import measured
+
+    found = measured(scene).get(parameter_set or "default")
+    return {"default": found} if found and not parameters else {}
 
 
 def variant_ssd(ssd: Path, parameter_set: str | None) -> bytes:
