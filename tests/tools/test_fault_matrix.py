@@ -673,7 +673,28 @@ def test_sigterm_to_check_is_143_one_line_and_leaves_nothing_in_tmpdir(built, tm
     proc.send_signal(signal.SIGTERM)
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 143, err
-    assert one_line(err).startswith("cranefmu: interrupted by SIGTERM")
+    assert one_line(err) == ("cranefmu: check interrupted by SIGTERM: 0 of 1 case(s) had finished; no verdicts "
+                             "were reported (run check again)")
+    assert list(tmpdir.iterdir()) == []
+
+
+def test_ctrl_c_to_check_on_dask_says_what_had_run(built, tmp_path):
+    exp = tmp_path / "long.toml"
+    exp.write_text(LONG_CASE)
+    tmpdir = tmp_path / "tmp"
+    tmpdir.mkdir()
+    proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "check", str(exp), "--engine", "dask", "--jobs",
+                             "1", "--quiet"], env={**os.environ, "TMPDIR": str(tmpdir)}, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    end = time.monotonic() + 120
+    while not list(tmpdir.glob("cranefmu_sweep_*/**/cranefmu_scenes_*")):   # a worker has the case's scene
+        assert proc.poll() is None and time.monotonic() < end, proc.communicate()
+        time.sleep(0.1)
+    time.sleep(0.5)
+    os.killpg(proc.pid, signal.SIGINT)   # a terminal's Ctrl-C: the whole group
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert one_line(err).startswith("cranefmu: check interrupted by SIGINT: 0 of 1 case(s) had finished")
     assert list(tmpdir.iterdir()) == []
 
 

@@ -62,7 +62,17 @@ def _cmd_check(args: argparse.Namespace) -> int:
                                 "or raise --max-rows")
     choose_engine(args.engine, len(planned), args.jobs, args.scheduler)   # bad options: before anything runs
     say = (lambda line: print(line, file=sys.stderr, flush=True)) if not args.quiet else None
-    engine = run_cases(planned, args.jobs, say, args.engine, args.scheduler)
+    try:
+        engine = run_cases(planned, args.jobs, say, args.engine, args.scheduler)
+    except KeyboardInterrupt as err:   # Ctrl-C, SIGTERM, SIGHUP: what ran, in one line (exit 128 + signal)
+        import signal
+
+        from ..master.interrupt import RunInterrupted, signal_name
+
+        signum = getattr(err, "signum", signal.SIGINT)
+        ran = sum(bool(p.rows) or bool(p.error) for p in planned)
+        raise RunInterrupted(f"check interrupted by {signal_name(signum)}: {ran} of {len(planned)} case(s) had "
+                             "finished; no verdicts were reported (run check again)", signum=signum) from None
     verdicts = judge_all(planned)
     print("\n".join(table(verdicts)))
     failed = sum(not v.passed for v in verdicts)
