@@ -1,6 +1,7 @@
 """The largest plain-Jacobi step at which a scene stays stable: the step a host that runs plain Jacobi
 (libcosim 0.11, ecos) can use, where the scene's stored step is for our own coupling (extrapolation,
-re-read feedthrough outputs) and may blow up there (overhead_lift at its stored 2 ms: 2.7e8 N in libcosim).
+re-read feedthrough outputs) and may blow up there (overhead_lift at its stored 2 ms:
+tests/tools/test_hosts_as_loaded.py).
 
 Measured per scene and parameter set by ``benchmarks/jacobi_stable_step.py`` (our ``jacobi-plain``, which
 equals libcosim's run to 3e-12; stable = the run ends without the instability alarm) into

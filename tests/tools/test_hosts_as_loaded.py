@@ -178,3 +178,29 @@ def test_export_carries_the_sets_step_and_not_a_changed_variants(built, tmp_path
     assert extracted_scene(loose)[1].host_steps == {"default": measured("overhead_lift")["loose"]}
     heavy = export_scene("overhead_lift", tmp_path / "heavy.ssp", None, {"pendulum.mass": "2000"})
     assert extracted_scene(heavy)[1].host_steps == {}
+
+
+def test_a_component_copy_of_a_named_set_that_differs_from_the_set_is_refused(built, tmp_path):
+    """The reader holds each Component's copy of a named set (what ecos applies) to the set's .ssv: a
+    copy edited apart is one line naming the set, the parameter and both values."""
+    from cranefmu.errors import ParameterSetError
+    from cranefmu.master.scene import load_scene
+
+    with zipfile.ZipFile(b.SSP_DIR / "hook_sway.ssp") as zf:
+        names = zf.namelist()
+        files = {n: zf.read(n) for n in names}
+    ssd = files["SystemStructure.ssd"].decode()
+    at = ssd.index('name="crane_motion"')
+    key = '<ssv:Parameter name="travel_speed">'
+    start = ssd.index(key, at)
+    old = ssd[start:ssd.index("</ssv:Parameter>", start)]
+    files["SystemStructure.ssd"] = (ssd[:start] + old.replace('value="0.3"', 'value="0.4"') +
+                                    ssd[start + len(old):]).encode()
+    assert files["SystemStructure.ssd"] != ssd.encode()
+    edited = tmp_path / "hook_sway.ssp"
+    with zipfile.ZipFile(edited, "w") as zf:
+        for n in names:
+            zf.writestr(n, files[n])
+    with pytest.raises(ParameterSetError, match=r"parameter set 'crane_motion' gives boom\.travel_speed = 0\.4, "
+                                                r"but the set gives 0\.3"):
+        load_scene(edited, tmp_path / "work")
