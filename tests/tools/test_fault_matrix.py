@@ -812,3 +812,15 @@ def test_compose_takes_an_fmu_file_in_the_source_folder(flags_fmu, tmp_path):
     p = cranefmu("compose", str(folder), "--output", str(tmp_path / "s.ssp"))
     assert p.returncode == 0, p.stderr
     assert "resources/Flags.fmu" in zipfile.ZipFile(tmp_path / "s.ssp").namelist()
+
+
+@pytest.mark.parametrize("output, needle", [("adir", "it is an existing directory"), ("", "an empty name"),
+                                            ("-", "a sweep table is read back to resume")])
+def test_a_sweep_table_that_cannot_be_a_file_is_one_line_before_any_work(built, tmp_path, output, needle):
+    (tmp_path / "adir").mkdir()
+    p = cranefmu("sweep", "elastic_pendulum", "--vary", "rope.E=1e11,2e11", "--stop-time", "0.01", "--metric",
+                 "max:rope.tension", "--workers", "1", "--output", output, "--no-progress", cwd=tmp_path)
+    assert p.returncode == 2 and p.stdout == ""
+    assert one_line(p.stderr) == f"cranefmu: error: output {output!r} is not allowed: {needle}; give a file path" \
+        if output != "-" else needle in one_line(p.stderr)
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["adir"] and not any((tmp_path / "adir").iterdir())

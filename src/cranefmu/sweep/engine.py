@@ -123,6 +123,7 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     Ctrl-C cancels the runs still going and keeps every finished row.
     """
     _refuse_bootstrapping()
+    _check_table_target(output)
     fixed = {**settings, **(parameters or {})}
     if parameter_set is not None:
         fixed["parameter_set"] = parameter_set
@@ -237,6 +238,20 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
         quiet.setLevel(level)
         if interrupted is not None:
             signal.signal(signal.SIGINT, interrupted)
+
+
+def _check_table_target(output: str | Path) -> None:
+    """The sweep table ``output`` is a file this process can write and read back (to resume): an empty
+    name, a directory or a stream (``-``, a FIFO) is one line, before any work (a missing folder is made)."""
+    from ..master.output_file import descriptor, is_stream
+
+    if not str(output).strip():
+        raise SettingsError(f"output {str(output)!r} is not allowed: an empty name; give a file path")
+    if Path(output).is_dir():
+        raise SettingsError(f"output {str(output)!r} is not allowed: it is an existing directory; give a file path")
+    if descriptor(str(output)) is not None or is_stream(str(output)):
+        raise SettingsError(f"output {str(output)!r} is not allowed: a sweep table is read back to resume; "
+                            "give a file path")
 
 
 def connect(workers: int | None = None, scheduler: str | None = None):
