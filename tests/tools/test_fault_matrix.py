@@ -769,7 +769,7 @@ def test_a_binary_table_csv_is_one_line_naming_file_and_row(built, tmp_path):
     (b"time,rope.tension\n0,1\n0.1,abc\n", "line 3, column rope.tension: 'abc' is not a number"),
     (b"time,rope.tension\n0,1\n\x89\xff,2\n", "line 3 is not UTF-8 text"),
 ])
-def test_report_of_a_csv_with_text_in_numbers_is_one_line_naming_file_and_row(tmp_path, content, needle):
+def test_report_of_a_csv_with_text_in_numbers_is_one_line_naming_file_and_row(built, tmp_path, content, needle):
     (tmp_path / "r.csv").write_bytes(content)
     p = cranefmu("report", "r.csv", cwd=tmp_path)
     assert p.returncode == 2
