@@ -422,13 +422,34 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:   # the reader went away (`cranefmu scenes | head -1`): no message, as `ls | head`
         return 141            # 128 + SIGPIPE: what a shell reports for a writer whose pipe closed
     except OSError as err:   # a file system refusal no check foresaw: one line naming the file
-        where = f" ({err.filename})" if err.filename else ""
+        where = f" ({err.filename})" if err.filename else _full_temporary_folder(err)
         _say(f"cranefmu: error: {err.strerror or err}{where}")
         return 2
     finally:
         _quiet_streams()
         for signum, handler in old.items():   # as the program: it ends now, a late signal must not replace
             signal.signal(signum, signal.SIG_IGN if argv is None else handler)   # its exit code
+
+
+def _full_temporary_folder(err: OSError) -> str:
+    """For a full disk with no file named (a temporary file written through a library): the temporary
+    folder, if that is where the room ran out ('' otherwise)."""
+    import errno
+    import os
+    import tempfile
+
+    if err.errno not in (errno.ENOSPC, errno.EDQUOT):
+        return ""
+    folder = tempfile.gettempdir()
+    try:
+        st = os.statvfs(folder)
+    except OSError:
+        return ""
+    free = st.f_bavail * st.f_frsize
+    if free > 256 << 20:   # room there: another file system filled
+        return ""
+    return (f" in the temporary folder {folder} ({free // 1024} KiB free): free space there, or set TMPDIR to a "
+            "folder with room")
 
 
 def _check_working_directory() -> None:

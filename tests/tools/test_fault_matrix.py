@@ -824,3 +824,21 @@ def test_a_sweep_table_that_cannot_be_a_file_is_one_line_before_any_work(built, 
     assert one_line(p.stderr) == f"cranefmu: error: output {output!r} is not allowed: {needle}; give a file path" \
         if output != "-" else needle in one_line(p.stderr)
     assert sorted(x.name for x in tmp_path.iterdir()) == ["adir"] and not any((tmp_path / "adir").iterdir())
+
+
+@pytest.mark.parametrize("command", [QUICK, ("export", "elastic_pendulum", "--output", "x.ssp")])
+def test_a_full_temporary_folder_is_named(built, tmp_path, command):
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=200k", "tmpfs", str(tmp)],
+                                           capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a small tmpfs here (root only)")
+    try:
+        p = subprocess.run([sys.executable, "-m", "cranefmu.cli", *command], capture_output=True, text=True,
+                           cwd=tmp_path, env={**os.environ, "TMPDIR": str(tmp)}, timeout=300)
+    finally:
+        subprocess.run(["umount", "-l", str(tmp)], check=False)
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert f"No space left on device in the temporary folder {tmp}" in line and "set TMPDIR" in line
+    assert not (tmp_path / "x.ssp").exists()
