@@ -39,6 +39,7 @@ def check(path: str | Path, what: str, suffixes: tuple[str, ...] = ()) -> Path:
     if not given.strip():
         raise SettingsError(f"{what} {given!r} is not allowed: an empty name; give a file path")
     if descriptor(given) is not None or is_stream(given):
+        _probe_stream(given, what)
         return Path(given)
     target = Path(os.path.realpath(given)) if os.path.islink(given) else Path(given)
     if target.is_dir():
@@ -48,6 +49,26 @@ def check(path: str | Path, what: str, suffixes: tuple[str, ...] = ()) -> Path:
                             f"{' or '.join(suffixes)}")
     check_directory(target.parent, what, given)
     return target
+
+
+def _probe_stream(given: str, what: str) -> None:
+    """A write of no bytes to a descriptor or a device, which fails where the whole write would for
+    want of room (``/dev/full``) or a closed or read-only descriptor; a FIFO is not opened (that waits
+    for its reader)."""
+    number = descriptor(given)
+    try:
+        if number is not None:
+            os.write(number, b"")
+            return
+        if not stat.S_ISCHR(os.stat(given).st_mode):
+            return
+        fd = os.open(given, os.O_WRONLY | os.O_NONBLOCK)
+        try:
+            os.write(fd, b"")
+        finally:
+            os.close(fd)
+    except OSError as err:
+        raise SettingsError(f"{what} {given!r} is not allowed: it cannot be written ({err.strerror})") from None
 
 
 def write(path: str | Path, content: Content, what: str = "output") -> Path:

@@ -496,23 +496,28 @@ max = "pendulum.theta0 * 1.0001"
 """
 
 
-@pytest.mark.parametrize("where", ["full", "/dev/full"])
-def test_check_report_on_a_full_disk_is_one_line_after_the_table(built, small_disk, tmp_path, where):
+def test_check_report_on_a_full_disk_is_one_line_after_the_table(built, small_disk, tmp_path):
     exp = tmp_path / "c.toml"
     exp.write_text(CHECK_CASE)
     report = small_disk / "r.json"
-    if where == "full":
-        report.write_text("old\n")
-        fill(small_disk)
-    else:
-        report = Path(where)
+    report.write_text("old\n")
+    fill(small_disk)
     p = cranefmu("check", str(exp), "--quiet", "--report", str(report))
     assert p.returncode == 1                            # every case ran: not "bad input" (2)
     assert "1 assertions in 1 cases: 1 passed, 0 failed" in p.stdout
     line = one_line(p.stderr)
     assert repr(str(report)) in line and "No space left on device" in line
-    if where == "full":
-        assert report.read_text() == "old\n"
+    assert report.read_text() == "old\n"
+
+
+@pytest.mark.parametrize("command", [("check", "c.toml", "--quiet"), (*QUICK, "--output", "o.csv")])
+def test_a_report_to_dev_full_is_refused_before_anything_runs(built, tmp_path, command):
+    (tmp_path / "c.toml").write_text(CHECK_CASE)
+    p = cranefmu(*command, "--report", "/dev/full", cwd=tmp_path)
+    assert p.returncode == 2 and "scene elastic_pendulum:" not in p.stdout and "assertions in" not in p.stdout
+    assert one_line(p.stderr) == ("cranefmu: error: --report '/dev/full' is not allowed: it cannot be written "
+                                  "(No space left on device)")
+    assert not (tmp_path / "o.csv").exists()
 
 
 def test_compose_output_to_a_directory_is_refused_before_the_build(built, tmp_path):
