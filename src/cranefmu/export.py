@@ -142,6 +142,11 @@ def add_parser(sub) -> None:
 def _cmd_export(args: argparse.Namespace) -> int:
     from .cli import _parse_set
 
+    import sys
+
+    from .master.output_file import same_file_as
+
     path = export_scene(args.scene, args.output, args.parameter_set, _parse_set(args.set))
-    print(f"wrote {path}")
+    # the archive on standard output (`-`, a link to /proc/self/fd/1): the line goes to stderr
+    print(f"wrote {path}", file=sys.stderr if same_file_as(args.output, 1) else sys.stdout)
     return 0

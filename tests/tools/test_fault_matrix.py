@@ -847,3 +847,17 @@ def test_a_full_temporary_folder_is_named(built, tmp_path, command):
     line = one_line(p.stderr)
     assert f"No space left on device in the temporary folder {tmp}" in line and "set TMPDIR" in line
     assert not (tmp_path / "x.ssp").exists()
+
+
+@pytest.mark.parametrize("name", ["-", "out.ssp"])
+def test_export_to_standard_output_is_the_archive_alone(built, tmp_path, name):
+    import io
+
+    if name != "-":
+        (tmp_path / name).symlink_to("/proc/self/fd/1")   # a link to the standard output of whoever writes it
+    p = subprocess.run([sys.executable, "-m", "cranefmu.cli", "export", "elastic_pendulum", "--output", name],
+                       capture_output=True, cwd=tmp_path, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert zipfile.ZipFile(io.BytesIO(p.stdout)).testzip() is None     # nothing but the archive
+    assert p.stderr.decode().strip().endswith(f"wrote {name}")
+    assert (tmp_path / name).is_symlink() or name == "-"
