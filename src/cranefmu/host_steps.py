@@ -63,6 +63,9 @@ def annotate(root, steps: dict[str, dict]) -> None:
     osp = etree.SubElement(annotations, f"{{{SSC_NS}}}Annotation", type=OSP_ANNOTATION)
     algorithm = etree.SubElement(osp, f"{{{OSP_NS}}}Algorithm", nsmap={"osp": OSP_NS})
     etree.SubElement(algorithm, f"{{{OSP_NS}}}FixedStepAlgorithm", baseStepSize=repr(float(steps["default"]["step"])))
+    # "osp" declared on the root: libcosim iterates osp:Algorithm's children and takes an xmlns attribute
+    # there for an algorithm ("Unknown algorithm: <xmlattr>")
+    etree.cleanup_namespaces(root, top_nsmap={"osp": OSP_NS})
 
 
 def read(system) -> dict[str, dict]:
