@@ -26,6 +26,7 @@ import zipfile
 from pathlib import Path
 
 from . import cache, compose
+from . import host_steps as host_steps_module
 from .errors import CraneFmuError, SceneError
 from .sources import (CHECKOUT, FMU_SOURCES, IN_CHECKOUT, PACKAGE_DIR, SSP_SOURCES, bundle_sources, fmu_scripts,
                       scene_dirs, scene_files, source_digest)
@@ -194,47 +195,62 @@ def ssp_generators() -> list[Path]:
     """The package files that write an .ssp (the component bindings are generated): a change to them
     makes every .ssp stale."""
     return [PACKAGE_DIR / "build.py", PACKAGE_DIR / "master" / "scene.py", PACKAGE_DIR / "settled_start.py",
+            PACKAGE_DIR / "host_steps.py", *[host_steps_module.STORE][:host_steps_module.STORE.is_file()],
             PACKAGE_DIR / "master" / "initialization.py", *sorted((PACKAGE_DIR / "compose").glob("*.py"))]
 
 
 def ssd_with_component_bindings(scene_dir: Path, start: dict[str, float] | None = None,
-                                fmu_dir: Path | None = None) -> bytes:
+                                fmu_dir: Path | None = None, set_starts: dict[str, dict[str, float]] | None = None,
+                                host_steps: dict[str, dict] | None = None) -> bytes:
     """The scene's SystemStructure.ssd with each component's values of the default set added as the
     component's own inline ParameterBinding, with bare variable names: the form libcosim reads
-    (it ignores System-level bindings).  Generated from the .ssv files, so it cannot drift; the
-    reader refuses a component binding that contradicts the System's.  ``start``: the settled start
-    of the default set ("comp.var" -> value, :mod:`cranefmu.settled_start`), bound the same way."""
+    (it ignores System-level bindings and takes a component's first set).  Generated from the .ssv
+    files, so it cannot drift; the reader refuses a component binding that contradicts the System's.
+    ``start``: the settled start of the default set ("comp.var" -> value, :mod:`cranefmu.settled_start`),
+    bound the same way.  ``set_starts`` (set name -> its settled start): each named set, complete (the
+    default set with the named one over it) with its settled start, as a further inline binding named
+    after the set: what ecos applies for ``init(parameter_set=NAME)`` (it reads component bindings
+    only, and applies the one named set alone); the reader checks each against the set's .ssv.
+    ``host_steps``: the measured plain-Jacobi steps (:mod:`cranefmu.host_steps`), annotated."""
     from lxml import etree
 
     from .master.scene import SSD_NS, SSV_NS, Parameter, read_scene_folder
     from .master.untrusted import parse_xml
 
     scene = read_scene_folder(scene_dir, fmu_dir or FMU_DIR)
-    bound = {**scene.bound, **{k: Parameter(k, "Real", v) for k, v in (start or {}).items()}}
+    real = lambda values: {k: Parameter(k, "Real", v) for k, v in (values or {}).items()}   # noqa: E731
+    variants = [("default", {**scene.bound, **real(start)})]
+    variants += [(name, {**scene.bound, **scene.sets[name], **real(own)}) for name, own in (set_starts or {}).items()]
     root = parse_xml(scene_dir / "SystemStructure.ssd")
     for el in root.iter(f"{{{SSD_NS}}}Component"):
         name = el.get("name")
-        own = [p for key, p in bound.items() if key.partition(".")[0] == name]
-        if not own or el.find(f"{{{SSD_NS}}}ParameterBindings") is not None:
+        if el.find(f"{{{SSD_NS}}}ParameterBindings") is not None or not any(
+                key.partition(".")[0] == name for key in variants[0][1]):
             continue
         before = [c for c in el if etree.QName(c).localname in ("Connectors", "ElementGeometry")]
         bindings = etree.Element(f"{{{SSD_NS}}}ParameterBindings")
         el.insert(el.index(before[-1]) + 1 if before else 0, bindings)
-        values = etree.SubElement(etree.SubElement(bindings, f"{{{SSD_NS}}}ParameterBinding"),
-                                  f"{{{SSD_NS}}}ParameterValues")
-        pset = etree.SubElement(values, f"{{{SSV_NS}}}ParameterSet", nsmap={"ssv": SSV_NS}, version="1.0",
-                                name="default")
-        add_parameters(etree.SubElement(pset, f"{{{SSV_NS}}}Parameters"), own, bare=True)
+        for set_name, bound in variants:
+            own = [p for key, p in bound.items() if key.partition(".")[0] == name]
+            values = etree.SubElement(etree.SubElement(bindings, f"{{{SSD_NS}}}ParameterBinding"),
+                                      f"{{{SSD_NS}}}ParameterValues")
+            pset = etree.SubElement(values, f"{{{SSV_NS}}}ParameterSet", nsmap={"ssv": SSV_NS}, version="1.0",
+                                    name=set_name)
+            add_parameters(etree.SubElement(pset, f"{{{SSV_NS}}}Parameters"), own, bare=True)
+    host_steps_module.annotate(root, host_steps or {})
     etree.indent(root, space="  ")
     return etree.tostring(root.getroottree(), xml_declaration=True, encoding="UTF-8")
 
 
-def build_ssp(scene_dir: Path, dest: Path | None = None, fmu_dir: Path | None = None) -> Path:
+def build_ssp(scene_dir: Path, dest: Path | None = None, fmu_dir: Path | None = None,
+              host_steps: dict[str, dict] | None = None) -> Path:
     """Zip SystemStructure.ssd (with generated component bindings), its .ssv parameter sets and its
     FMUs into ``dest`` (default ``ssp/<scene>.ssp``), each set with its settled start: the
     connected inputs as our initialization settles them for that set (:mod:`cranefmu.settled_start`),
     so a host that does not settle the scene itself starts at rest as loaded.  ``fmu_dir``: the FMUs
-    zipped in (default :data:`FMU_DIR`; the native ones for a native scene, :mod:`cranefmu.fmu_kinds`)."""
+    zipped in (default :data:`FMU_DIR`; the native ones for a native scene, :mod:`cranefmu.fmu_kinds`).
+    ``host_steps`` (set name -> the measured plain-Jacobi step, :func:`cranefmu.host_steps.measured`) is
+    written into the SSD."""
     from .master.scene import read_scene_folder
     from .settled_start import settled_starts
 
@@ -244,7 +260,7 @@ def build_ssp(scene_dir: Path, dest: Path | None = None, fmu_dir: Path | None = 
         _zip_scene(scene_dir, tmp, {}, fmu_dir)
         sets = [None, *read_scene_folder(scene_dir, fmu_dir or FMU_DIR).sets]
         starts = dict(zip(sets, settled_starts(tmp, [(name, None) for name in sets])))
-        _zip_scene(scene_dir, tmp, starts, fmu_dir)
+        _zip_scene(scene_dir, tmp, starts, fmu_dir, host_steps)
         tmp.replace(ssp)
     finally:
         tmp.unlink(missing_ok=True)
@@ -252,16 +268,21 @@ def build_ssp(scene_dir: Path, dest: Path | None = None, fmu_dir: Path | None = 
 
 
 def _zip_scene(scene_dir: Path, target: Path, starts: dict[str | None, dict[str, float]],
-               fmu_dir: Path | None = None) -> None:
+               fmu_dir: Path | None = None, host_steps: dict[str, dict] | None = None) -> None:
     """The .ssp of ``scene_dir`` with each .ssv's settled start (``starts[set name]``, None: the
     default set, which the SSD binds) added to it and, for the default set, to the component bindings."""
+    from .master.scene import read_scene_folder
+
     bound = _bound_files(scene_dir)
+    named = {k: v for k, v in starts.items() if k is not None}
+    default = read_scene_folder(scene_dir, FMU_DIR).bound if named else {}
     with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as zf:
-        zf.writestr("SystemStructure.ssd", ssd_with_component_bindings(scene_dir, starts.get(None), fmu_dir))
+        zf.writestr("SystemStructure.ssd", ssd_with_component_bindings(scene_dir, starts.get(None), fmu_dir, named,
+                                                                       host_steps))
         for f in sorted(scene_dir.glob("*.ssv")):
             start = starts.get(None if f.name in bound else f.stem)
             if start:
-                zf.writestr(f"resources/{f.name}", ssv_with_start(f, start))
+                zf.writestr(f"resources/{f.name}", ssv_with_start(f, start, {} if f.name in bound else default))
             else:
                 zf.write(f, f"resources/{f.name}")
         for fmu in scene_fmus(scene_dir, fmu_dir):
@@ -292,9 +313,13 @@ def add_parameters(holder, parameters, bare: bool = False) -> None:
             typed.set("unit", p.unit)
 
 
-def ssv_with_start(ssv: Path, start: dict[str, float]) -> bytes:
+def ssv_with_start(ssv: Path, start: dict[str, float], default: dict | None = None) -> bytes:
     """The parameter set ``ssv`` with the settled start values ("comp.var" -> value) of the
-    connected inputs added (replacing any the file gives), after a comment that says what they are."""
+    connected inputs added (replacing any the file gives), after a comment that says what they are.
+    ``default`` ("comp.var" -> Parameter, a named set's file): the default set's values the set does
+    not change are added first, so the set is complete: a host that applies one set alone (fmpy's
+    ``simulate_ssp`` given ``read_ssv(...)``, ecos) gets the whole variant (a named set on its own
+    left e.g. hook_sway's kinematic boom tip at the FMU's default, and the boom refused to start)."""
     from lxml import etree
 
     from .master.scene import SSV_NS, Parameter
@@ -305,6 +330,13 @@ def ssv_with_start(ssv: Path, start: dict[str, float]) -> bytes:
     for p in list(params):
         if p.get("name") in start:
             params.remove(p)
+    given = {p.get("name") for p in params if isinstance(p.tag, str)}
+    rest = [p for key, p in (default or {}).items() if key not in given and key not in start]
+    if rest:
+        params.append(etree.Comment(" the default set's values this set does not change (generated by the build), "
+                                    "so that the set is complete for a host that applies it alone "
+                                    "(docs/interop.md) "))
+        add_parameters(params, rest)
     params.append(etree.Comment(" settled start (generated by the build: our initialization's values of the "
                                 "connected inputs, for hosts that do not settle the scene; docs/equilibrium.md) "))
     add_parameters(params, [Parameter(name, "Real", float(value)) for name, value in start.items()])
@@ -449,7 +481,7 @@ def _build(force: bool, verbose: bool, only: list[str] | None) -> list[Path]:
                                  f"no fmus/{missing[0].stem}.py to build it from")
             if verbose:
                 print(f"building {_shown(scene.with_suffix('.ssp'))}", flush=True)
-            done.append(build_ssp(scene))
+            done.append(build_ssp(scene, host_steps=host_steps_module.measured(scene.name)))
     return done
 
 

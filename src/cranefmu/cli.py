@@ -76,8 +76,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
     plotted, prefix = _plot_plan(args, scene)
     if prefix is not None:
         check_directory(prefix.parent, "--plot", str(prefix) + "_*.png")
-    if args.report:
-        check_directory(Path(args.report).resolve().parent, "--report", args.report)
+    if args.report is not None:
+        from .whole_file import check as check_whole
+
+        check_whole(args.report, "--report")   # a directory, /dev/full's folder, "": before the run
     keep = rows <= KEEP_ROWS or not args.output
     streamed = bool(args.output) and is_stream(args.output)
     if streamed and prefix is not None and not keep:
@@ -421,9 +423,13 @@ def main(argv: list[str] | None = None) -> int:
             from .master.interrupt import stop_on
 
             stop_on(*old)   # during the run: stop between steps, keep the rows
-        else:   # the other commands keep Python's handling of signals
+        else:   # the other commands: Ctrl-C as Python has it; SIGTERM and SIGHUP raise as Ctrl-C does (the
+            # commands' cleanup runs: no temporary folders left), reported in one line, exit 128 + signal
+            from .master.interrupt import raise_first, stop_on
+
+            stop_on(*old)   # a run in this process (check inline, a study) stops between steps, never inside an FMU
             for signum, handler in old.items():
-                signal.signal(signum, handler)
+                signal.signal(signum, handler if signum == signal.SIGINT else raise_first)
         return args.func(args)
     except CraneFmuError as err:
         _say(f"cranefmu: error: {err}")
@@ -434,7 +440,7 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:   # the reader went away (`cranefmu scenes | head -1`): no message, as `ls | head`
         return 141            # 128 + SIGPIPE: what a shell reports for a writer whose pipe closed
     except OSError as err:   # a file system refusal no check foresaw: one line naming the file
-        where = f" ({err.filename})" if err.filename else ""
+        where = f" ({err.filename})" if err.filename else _full_temporary_folder(err)
         _say(f"cranefmu: error: {err.strerror or err}{where}")
         return 2
     finally:
@@ -453,6 +459,27 @@ def _one_blas_thread() -> None:
     except ImportError:
         return
     threadpool_limits(1)
+
+
+def _full_temporary_folder(err: OSError) -> str:
+    """For a full disk with no file named (a temporary file written through a library): the temporary
+    folder, if that is where the room ran out ('' otherwise)."""
+    import errno
+    import os
+    import tempfile
+
+    if err.errno not in (errno.ENOSPC, errno.EDQUOT):
+        return ""
+    folder = tempfile.gettempdir()
+    try:
+        st = os.statvfs(folder)
+    except OSError:
+        return ""
+    free = st.f_bavail * st.f_frsize
+    if free > 256 << 20:   # room there: another file system filled
+        return ""
+    return (f" in the temporary folder {folder} ({free // 1024} KiB free): free space there, or set TMPDIR to a "
+            "folder with room")
 
 
 def _check_working_directory() -> None:

@@ -9,7 +9,6 @@ parameters in force (:mod:`cranefmu.settled_start`), so the host starts at rest 
 from __future__ import annotations
 
 import argparse
-import shutil
 import tempfile
 from pathlib import Path
 
@@ -28,11 +27,9 @@ def export_scene(scene: str, output: str | Path, parameter_set: str | None = Non
     from .fmu_kinds import check_kind, native_fmu_dir, native_ssp_dir, scene_path
     from .master.scene import read_scene_folder
 
-    output = Path(output)
-    if output.suffix != ".ssp":
-        raise CraneFmuError(f"--output {str(output)!r} is not allowed: give a file name ending in .ssp")
-    if not output.parent.is_dir():
-        raise CraneFmuError(f"--output {str(output)!r}: the folder {output.parent} does not exist")
+    from . import whole_file
+
+    whole_file.check(output, "--output", (".ssp",))   # before any work: a directory, a missing folder
     names = [d.name for d in b.scene_dirs()]
     if scene not in names:
         raise SceneError(f"scene {scene!r} is not allowed: one of {', '.join(names)}")
@@ -51,9 +48,18 @@ def export_scene(scene: str, output: str | Path, parameter_set: str | None = Non
         variant.mkdir()
         (variant / "SystemStructure.ssd").write_bytes(variant_ssd(folder / "SystemStructure.ssd", parameter_set))
         (variant / bound.pop()).write_bytes(b.ssv_of(values, label))
-        written = b.build_ssp(variant, dest=Path(tmp) / output.name, fmu_dir=native_fmu_dir() if native else None)
-        shutil.move(str(written), str(output))
-    return output
+        written = b.build_ssp(variant, dest=Path(tmp) / f"{scene}.ssp", fmu_dir=native_fmu_dir() if native else None,
+                              host_steps=variant_host_steps(scene, parameter_set, parameters or {}))
+        return whole_file.copy(written, output, "--output")   # beside the target, renamed: whole or nothing
+
+
+def variant_host_steps(scene: str, parameter_set: str | None, parameters: dict) -> dict[str, dict]:
+    """The measured plain-Jacobi step of the exported set, as the variant's own ("default"); none when
+    ``parameters`` change it (a changed mass or stiffness moves the limit: not measured)."""
+    from .host_steps import measured
+
+    found = measured(scene).get(parameter_set or "default")
+    return {"default": found} if found and not parameters else {}
 
 
 def exported_kind(ssp: Path) -> str | None:
@@ -159,6 +165,13 @@ def add_parser(sub) -> None:
 def _cmd_export(args: argparse.Namespace) -> int:
     from .cli import _parse_set
 
+    import sys
+
+    from .master.output_file import same_file_as
+
     path = export_scene(args.scene, args.output, args.parameter_set, _parse_set(args.set), args.fmus)
-    print(f"wrote {path} (FMUs: {exported_kind(path) or 'neither cranefmu kind'})")
+    # the archive on standard output (`-`, a link to /proc/self/fd/1): the line goes to stderr
+    kind = exported_kind(path) if Path(path).is_file() else None
+    print(f"wrote {path} (FMUs: {kind or 'neither cranefmu kind'})",
+          file=sys.stderr if same_file_as(args.output, 1) else sys.stdout)
     return 0

@@ -72,6 +72,9 @@ def describe(scene: Scene) -> list[str]:
     from .scene_catalog import fidelity_lines, mode_lines
 
     lines += mode_lines(scene.name) + fidelity_lines(scene.name)
+    from .host_steps import info_lines
+
+    lines += info_lines(scene.host_steps)
     driven = scene.driven_inputs   # their values are the settled start, listed apart below
     default = scene.model_values()
     lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))

@@ -391,3 +391,473 @@ def test_a_closed_pipe_ends_a_listing_without_a_message(built):
     os.close(r)   # before the interpreter has started: its first write finds the pipe closed
     err = p.communicate(timeout=120)[1].decode()
     assert p.returncode == 141 and "error" not in err, (p.returncode, err)
+
+
+# --- issue 35: one writer for every whole file ---------------------------------------------------
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A 1 MB tmpfs under the test's directory (root only): a disk that fills."""
+    mount = tmp_path / "small"
+    mount.mkdir()
+    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mount)],
+                                           capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a small tmpfs here (root only)")
+    yield mount
+    subprocess.run(["umount", "-l", str(mount)], check=False)
+
+
+def fill(folder: Path, leave: int = 0) -> None:
+    """Fill the file system of ``folder`` to its last block (less ``leave`` bytes)."""
+    with open(folder / "filler", "wb", buffering=0) as f:
+        try:
+            while True:
+                f.write(bytes(4096))
+                f.flush()
+        except OSError:
+            pass
+    if leave:
+        os.truncate(folder / "filler", max(0, os.path.getsize(folder / "filler") - leave))
+
+
+def test_export_on_a_full_disk_keeps_the_old_file_and_names_the_target(built, small_disk):
+    target = small_disk / "e.ssp"
+    first = cranefmu("export", "elastic_pendulum", "--output", str(target))
+    assert first.returncode == 0, first.stderr
+    old = target.read_bytes()
+    assert zipfile.ZipFile(target).testzip() is None
+    again = cranefmu("export", "elastic_pendulum", "--set", "pendulum.mass=500", "--output", str(target))
+    assert again.returncode == 2
+    line = one_line(again.stderr)
+    assert repr(str(target)) in line and "No space left on device" in line and "old file is kept" in line
+    assert target.read_bytes() == old                    # shutil.move across file systems truncated it
+    assert sorted(p.name for p in small_disk.iterdir()) == ["e.ssp"]   # no temporary file left
+
+
+def test_export_writes_through_a_symlink_and_a_fifo_and_refuses_a_directory_first(built, tmp_path):
+    (tmp_path / "real.ssp").write_text("old")
+    (tmp_path / "link.ssp").symlink_to("real.ssp")
+    p = cranefmu("export", "elastic_pendulum", "--output", "link.ssp", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "link.ssp").is_symlink() and zipfile.ZipFile(tmp_path / "real.ssp").testzip() is None
+    fifo = tmp_path / "pipe.ssp"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()))
+    reader.start()
+    p = cranefmu("export", "elastic_pendulum", "--output", str(fifo))
+    reader.join(60)
+    assert p.returncode == 0, p.stderr
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)          # not replaced by a file
+    import io
+    assert got and zipfile.ZipFile(io.BytesIO(got[0])).namelist() == zipfile.ZipFile(tmp_path / "real.ssp").namelist()
+    (tmp_path / "X.ssp").mkdir()
+    p = cranefmu("export", "elastic_pendulum", "--output", "X.ssp", cwd=tmp_path)
+    assert p.returncode == 2 and "existing directory" in one_line(p.stderr)
+    assert list((tmp_path / "X.ssp").iterdir()) == []
+
+
+def test_export_takes_a_legal_255_byte_name(built, tmp_path):
+    name = "e" * 251 + ".ssp"
+    p = cranefmu("export", "elastic_pendulum", "--output", name, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert zipfile.ZipFile(tmp_path / name).testzip() is None
+
+
+@pytest.mark.parametrize("report", ["", "adir"])
+def test_run_report_to_a_directory_or_empty_is_refused_before_the_run(built, tmp_path, report):
+    (tmp_path / "adir").mkdir()
+    p = cranefmu(*QUICK, "--output", "o.csv", "--report", report, cwd=tmp_path)
+    assert p.returncode == 2
+    assert "--report" in one_line(p.stderr) and repr(report) in p.stderr
+    assert not (tmp_path / "o.csv").exists()             # found before the run, no rows written
+
+
+def test_run_report_on_a_full_disk_leaves_no_half_page(built, small_disk):
+    fill(small_disk, leave=20_000)                      # room for the CSV, not for the page
+    p = cranefmu(*QUICK, "--output", str(small_disk / "o.csv"), "--report", str(small_disk / "r.html"))
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert repr(str(small_disk / "r.html")) in line and "No space left on device" in line
+    assert not (small_disk / "r.html").exists()
+    assert_whole_csv(small_disk / "o.csv", ROWS_QUICK)
+
+
+CHECK_CASE = """
+name = "small"
+scene = "elastic_pendulum"
+stop_time = 0.1
+step_size = 0.02
+
+[[assert]]
+name = "sway_bounded"
+column = "pendulum.theta"
+max = "pendulum.theta0 * 1.0001"
+"""
+
+
+def test_check_report_on_a_full_disk_is_one_line_after_the_table(built, small_disk, tmp_path):
+    exp = tmp_path / "c.toml"
+    exp.write_text(CHECK_CASE)
+    report = small_disk / "r.json"
+    report.write_text("old\n")
+    fill(small_disk)
+    p = cranefmu("check", str(exp), "--quiet", "--report", str(report))
+    assert p.returncode == 1                            # every case ran: not "bad input" (2)
+    assert "1 assertions in 1 cases: 1 passed, 0 failed" in p.stdout
+    line = one_line(p.stderr)
+    assert repr(str(report)) in line and "No space left on device" in line
+    assert report.read_text() == "old\n"
+
+
+@pytest.mark.parametrize("command", [("check", "c.toml", "--quiet"), (*QUICK, "--output", "o.csv")])
+def test_a_report_to_dev_full_is_refused_before_anything_runs(built, tmp_path, command):
+    (tmp_path / "c.toml").write_text(CHECK_CASE)
+    p = cranefmu(*command, "--report", "/dev/full", cwd=tmp_path)
+    assert p.returncode == 2 and "scene elastic_pendulum:" not in p.stdout and "assertions in" not in p.stdout
+    assert one_line(p.stderr) == ("cranefmu: error: --report '/dev/full' is not allowed: it cannot be written "
+                                  "(No space left on device)")
+    assert not (tmp_path / "o.csv").exists()
+
+
+def test_compose_output_to_a_directory_is_refused_before_the_build(built, tmp_path):
+    (tmp_path / "X.ssp").mkdir()
+    source = Path(__file__).resolve().parents[2] / "ssp" / "elastic_pendulum" / "scene.toml"
+    p = cranefmu("compose", str(source), "--output", str(tmp_path / "X.ssp"))
+    assert p.returncode == 2 and "existing directory" in one_line(p.stderr)
+    assert list((tmp_path / "X.ssp").iterdir()) == []
+
+
+# --- issue 35: foreign FMUs as their authors declared them ---------------------------------------
+
+@pytest.fixture(scope="session")
+def flags_fmu(tmp_path_factory):
+    """Flags.fmu (tests/c_fmu/flags.c): Real, Boolean, Enumeration and Integer feedthroughs, a Boolean
+    declared before an Enumeration and an Integer as in the Reference FMU Feedthrough."""
+    from c_fmu.flags import build, compiler
+
+    if compiler() is None:
+        pytest.skip("no C compiler")
+    return build(tmp_path_factory.mktemp("flags") / "Flags.fmu")
+
+
+FLAG_INPUTS = {"Real_input": 1.5, "Boolean_input": True, "Enumeration_input": 2, "Integer_input": -7}
+
+
+def test_discrete_outputs_of_a_foreign_fmu_are_recorded_under_their_own_names(flags_fmu, tmp_path):
+    from fmpy import simulate_fmu
+
+    from cranefmu.master.run import preview
+    from foreign_ssp import write_ssp
+
+    ssp = write_ssp(tmp_path / "flags.ssp", {"ft": flags_fmu}, [])
+    sets = [f"--set=ft.{k}={str(v).lower()}" for k, v in FLAG_INPUTS.items()]
+    p = cranefmu("run", str(ssp), "--stop-time", "0.3", "--step", "0.1", *sets, "--output", str(tmp_path / "o.csv"))
+    assert p.returncode == 0, p.stderr
+    ours = read_csv(tmp_path / "o.csv")
+    theirs = simulate_fmu(str(flags_fmu), stop_time=0.3, output_interval=0.1, start_values=FLAG_INPUTS)
+    outputs = [n for n in theirs.dtype.names if n != "time"]
+    assert sorted(f"ft.{n}" for n in outputs) == sorted(ours.dtype.names[1:])
+    for name in outputs:   # Boolean_output 1 (was 2: the Enumeration's), Enumeration_output 2, Integer_output -7
+        assert np.array_equal(ours[f"ft.{name}"], np.asarray(theirs[name], dtype=float)), name
+    assert list(ours[0])[1:] != [0.0] * 4 and ours["ft.Boolean_output"][-1] == 1.0
+    assert ["time", *preview(ssp).columns] == list(ours.dtype.names)   # the report's columns: the run's
+
+
+def test_adaptive_is_refused_for_an_fmu_that_declares_a_fixed_communication_step(flags_fmu, tmp_path):
+    from c_fmu.flags import build
+    from foreign_ssp import write_ssp
+
+    fixed = build(tmp_path / "Flags.fmu", variable_step=False)
+    ssp = write_ssp(tmp_path / "fixed.ssp", {"ft": fixed}, [])
+    p = cranefmu("run", str(ssp), "--stop-time", "0.3", "--step", "0.1", "--adaptive", "--output", "o.csv",
+                 cwd=tmp_path)
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert "ft (model Flags)" in line and 'canHandleVariableCommunicationStepSize="false"' in line
+    assert not (tmp_path / "o.csv").exists()
+    p = cranefmu("run", str(ssp), "--stop-time", "0.3", "--step", "0.1", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr   # a fixed step runs it
+
+
+def fmi3_description(variables: str) -> str:
+    return ('<?xml version="1.0" encoding="UTF-8"?>\n<fmiModelDescription fmiVersion="3.0" modelName="Ints" '
+            'instantiationToken="{ints}"><CoSimulation modelIdentifier="Ints"/><ModelVariables>'
+            '<Float64 name="time" valueReference="0" causality="independent" variability="continuous"/>'
+            f'{variables}</ModelVariables><ModelStructure><Output valueReference="1"/></ModelStructure>'
+            '</fmiModelDescription>')
+
+
+@pytest.mark.parametrize("variable, needle", [
+    ('<UInt8 name="small" valueReference="1" causality="output" variability="discrete"/>', "output 'small' is UInt8"),
+    ('<Int64 name="wide" valueReference="1" causality="output" variability="discrete"/>', "output 'wide' is Int64"),
+    ('<Float64 name="vec" valueReference="1" causality="output" variability="continuous"><Dimension start="3"/>'
+     '</Float64>', "output 'vec' is an array"),
+])
+def test_an_fmi3_output_the_master_cannot_read_is_refused_at_load_by_name(built, tmp_path, variable, needle):
+    from foreign_ssp import write_ssp
+
+    fmu = tmp_path / "Ints.fmu"
+    with zipfile.ZipFile(fmu, "w") as zf:
+        zf.writestr("modelDescription.xml", fmi3_description(variable))
+    ssp = write_ssp(tmp_path / "ints.ssp", {"ints": fmu}, [])
+    p = cranefmu("run", str(ssp), "--stop-time", "0.1", "--step", "0.1", "--output", "o.csv", cwd=tmp_path)
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert "component 'ints': Ints.fmu" in line and needle in line and "not supported" in line
+    assert not (tmp_path / "o.csv").exists()
+
+
+def test_a_discrete_connection_between_fmus_is_refused_at_load_in_one_line(flags_fmu, tmp_path):
+    from foreign_ssp import write_ssp
+
+    ssp = write_ssp(tmp_path / "two.ssp", {"a": flags_fmu, "b": flags_fmu},
+                    [("a", "Real_output", "b", "Real_input"), ("a", "Boolean_output", "b", "Boolean_input")])
+    p = cranefmu("run", str(ssp), "--stop-time", "0.1", "--step", "0.1", "--output", "o.csv", cwd=tmp_path)
+    assert p.returncode == 2 and not (tmp_path / "o.csv").exists()
+    assert one_line(p.stderr) == ("cranefmu: error: connection a.Boolean_output -> b.Boolean_input: types Boolean -> "
+                                  "Boolean; only Real -> Real connections are supported")
+
+
+# --- issue 35: no hangs, one line ------------------------------------------------------------------
+
+def silent_or_talking_port(greeting: bytes | None):
+    """A TCP port on localhost that accepts and then says ``greeting`` (None: nothing, ever)."""
+    import socket
+
+    server = socket.create_server(("127.0.0.1", 0))
+    held = []
+
+    def serve():
+        while True:
+            try:
+                conn, _ = server.accept()
+            except OSError:
+                return
+            held.append(conn)
+            if greeting:
+                conn.sendall(greeting)
+    threading.Thread(target=serve, daemon=True).start()
+    return server
+
+
+@pytest.mark.parametrize("greeting, needle", [(None, "nothing answered within 1 s"),
+                                              (b"SSH-2.0-OpenSSH_9.2\r\n", "another service answers there")])
+def test_check_against_a_port_that_is_not_a_dask_scheduler_is_one_line(built, tmp_path, greeting, needle):
+    exp = tmp_path / "c.toml"
+    exp.write_text(CHECK_CASE)
+    server = silent_or_talking_port(greeting)
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    try:
+        p = subprocess.run([sys.executable, "-m", "cranefmu.cli", "check", str(exp), "--scheduler", address],
+                           capture_output=True, text=True, timeout=120,
+                           env={**os.environ, "CRANEFMU_SCHEDULER_TIMEOUT": "1"})
+    finally:
+        server.close()
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert repr(address) in line and needle in line
+
+
+LONG_CASE = CHECK_CASE.replace("stop_time = 0.1\nstep_size = 0.02", "stop_time = 200.0\nstep_size = 0.001")
+
+
+def test_sigterm_to_check_is_143_one_line_and_leaves_nothing_in_tmpdir(built, tmp_path):
+    exp = tmp_path / "long.toml"
+    exp.write_text(LONG_CASE)
+    tmpdir = tmp_path / "tmp"
+    tmpdir.mkdir()
+    proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "check", str(exp), "--quiet"],
+                            env={**os.environ, "TMPDIR": str(tmpdir)}, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    end = time.monotonic() + 60
+    while not any(tmpdir.glob("cranefmu_scenes_*")):   # the case has started: its scene is extracted
+        assert proc.poll() is None and time.monotonic() < end, proc.communicate()
+        time.sleep(0.05)
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143, err
+    assert one_line(err) == ("cranefmu: check interrupted by SIGTERM: 0 of 1 case(s) had finished; no verdicts "
+                             "were reported (run check again)")
+    assert list(tmpdir.iterdir()) == []
+
+
+def test_ctrl_c_to_check_on_dask_says_what_had_run(built, tmp_path):
+    exp = tmp_path / "long.toml"
+    exp.write_text(LONG_CASE)
+    tmpdir = tmp_path / "tmp"
+    tmpdir.mkdir()
+    proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "check", str(exp), "--engine", "dask", "--jobs",
+                             "1", "--quiet"], env={**os.environ, "TMPDIR": str(tmpdir)}, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    end = time.monotonic() + 120
+    while not list(tmpdir.glob("cranefmu_sweep_*/**/cranefmu_scenes_*")):   # a worker has the case's scene
+        assert proc.poll() is None and time.monotonic() < end, proc.communicate()
+        time.sleep(0.1)
+    time.sleep(0.5)
+    os.killpg(proc.pid, signal.SIGINT)   # a terminal's Ctrl-C: the whole group
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert one_line(err).startswith("cranefmu: check interrupted by SIGINT: 0 of 1 case(s) had finished")
+    assert list(tmpdir.iterdir()) == []
+
+
+def test_sigterm_to_sweep_is_143_one_line_and_leaves_nothing_in_tmpdir(built, tmp_path):
+    from test_sweep_cluster import _local_sweep, _wait_rows
+
+    proc, out, tmpdir = _local_sweep(tmp_path)
+    _wait_rows(out, 1, proc)
+    proc.send_signal(signal.SIGTERM)    # `kill PID`: the client alone, not its group
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 143, err
+    assert "SIGTERM" in one_line(err) and "the same command resumes" in err
+    assert list(tmpdir.iterdir()) == []   # no cranefmu_sweep_*, no dask scratch, no extracted scenes
+
+
+def test_sigterm_to_study_is_143_one_line_and_leaves_nothing_in_tmpdir(built, tmp_path):
+    tmpdir = tmp_path / "tmp"
+    tmpdir.mkdir()
+    proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "study", "dynamic-factor", "--smoke", "--workers",
+                             "1", "--output", str(tmp_path / "out")], env={**os.environ, "TMPDIR": str(tmpdir)},
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    end = time.monotonic() + 120
+    runs = tmp_path / "out" / "runs" / "smoke"
+    while not any(p.stat().st_size > 0 for p in runs.glob("*.csv")) if runs.is_dir() else True:   # rows kept
+        assert proc.poll() is None and time.monotonic() < end, proc.communicate()
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 143, err
+    assert "SIGTERM" in one_line(err)
+    assert list(tmpdir.iterdir()) == []
+
+
+def test_check_refuses_a_case_beyond_max_rows_before_anything_runs(built, tmp_path):
+    exp = tmp_path / "tiny.toml"
+    exp.write_text(LONG_CASE.replace("step_size = 0.001", "step_size = 1e-12"))
+    p = cranefmu("check", str(exp), "--quiet")
+    assert p.returncode == 2 and p.stdout == ""
+    assert one_line(p.stderr) == (f"cranefmu: error: {exp}: case base: its run would record 2e+14 rows, more than "
+                                  "--max-rows 1e+07: give a larger step_size or a shorter stop_time, or raise --max-rows")
+    exp.write_text(CHECK_CASE)   # 6 rows: under --max-rows 6, refused at 5
+    assert cranefmu("check", str(exp), "--quiet", "--max-rows", "6").returncode == 0
+    assert "more than --max-rows 5" in one_line(cranefmu("check", str(exp), "--quiet", "--max-rows", "5").stderr)
+
+
+@pytest.mark.parametrize("expression, needle", [("1+" * 50_000 + "1", "100019 characters, at most 2000"),
+                                                ("-" * 1500 + "1", "levels deep, at most 200"),
+                                                ("(" * 190 + "1" + ")" * 190, "")])
+def test_a_huge_or_deep_expression_is_one_line(built, tmp_path, expression, needle):
+    exp = tmp_path / "e.toml"
+    exp.write_text(CHECK_CASE.replace('max = "pendulum.theta0 * 1.0001"', f'max = "{expression} + pendulum.theta0"'))
+    p = cranefmu("check", str(exp), "--quiet")
+    if not needle:   # 190 parentheses: within the bound, evaluated (the tokenizer's own limit is 200)
+        assert p.returncode in (0, 2) and "Traceback" not in p.stderr
+        return
+    assert p.returncode == 2 and p.stdout == ""
+    line = one_line(p.stderr)
+    assert needle in line and "Recursion" not in line and "Memory" not in line and len(line) < 400
+
+
+def test_a_binary_table_csv_is_one_line_naming_file_and_row(built, tmp_path):
+    (tmp_path / "t.csv").write_bytes(b"t, value\n0, 0\n1, 1\n\x89PNG\r\n\x1a\n\x00\xff\xfe")
+    exp = tmp_path / "b.toml"
+    exp.write_text(CHECK_CASE.replace("\n[[assert]]", '\n[[commands]]\ninputs = "pendulum.x_top"\ntable = "t.csv"\n'
+                                      "\n[[assert]]", 1))
+    p = cranefmu("check", str(exp), "--quiet")
+    assert p.returncode == 2 and p.stdout == ""
+    assert f"table {tmp_path / 't.csv'}:4: byte 0x89 is not UTF-8 text" in one_line(p.stderr)
+
+
+@pytest.mark.parametrize("content, needle", [
+    (b"time,rope.tension\n0,1\n0.1,abc\n", "line 3, column rope.tension: 'abc' is not a number"),
+    (b"time,rope.tension\n0,1\n\x89\xff,2\n", "line 3 is not UTF-8 text"),
+])
+def test_report_of_a_csv_with_text_in_numbers_is_one_line_naming_file_and_row(built, tmp_path, content, needle):
+    (tmp_path / "r.csv").write_bytes(content)
+    p = cranefmu("report", "r.csv", cwd=tmp_path)
+    assert p.returncode == 2
+    assert one_line(p.stderr).startswith(f"cranefmu: error: RESULT r.csv is not allowed: {needle}")
+    assert not (tmp_path / "r.html").exists()
+
+
+SOURCE_WITH_FLAGS = '''stop_time = 0.2
+[components]
+ft = {fmu = "%s"}
+'''
+
+
+@pytest.mark.parametrize("how", ["parent", "link", "ssv_link"])
+def test_compose_keeps_fmus_and_parameter_files_in_the_source_folder(flags_fmu, tmp_path, how):
+    folder = tmp_path / "scene"
+    folder.mkdir()
+    shutil.copy(flags_fmu, tmp_path / "outside.fmu")
+    (tmp_path / "outside.ssv").write_text("<x/>")
+    name = {"parent": "../outside.fmu", "link": "Flags.fmu", "ssv_link": "Flags.fmu"}[how]
+    if how == "link":
+        (folder / "Flags.fmu").symlink_to(tmp_path / "outside.fmu")
+    else:
+        shutil.copy(flags_fmu, folder / "Flags.fmu")
+    if how == "ssv_link":
+        (folder / "extra.ssv").symlink_to(tmp_path / "outside.ssv")
+    (folder / "scene.toml").write_text(SOURCE_WITH_FLAGS % name)
+    p = cranefmu("compose", str(folder), "--output", str(tmp_path / "s.ssp"))
+    assert p.returncode == 2 and not (tmp_path / "s.ssp").exists()
+    line = one_line(p.stderr)
+    assert "is not allowed" in line and str(folder / "scene.toml") in line
+    assert {"parent": "not a path", "link": "outside the folder", "ssv_link": "extra.ssv"}[how] in line
+
+
+def test_compose_takes_an_fmu_file_in_the_source_folder(flags_fmu, tmp_path):
+    folder = tmp_path / "scene"
+    folder.mkdir()
+    shutil.copy(flags_fmu, folder / "Flags.fmu")
+    (folder / "scene.toml").write_text(SOURCE_WITH_FLAGS % "Flags.fmu")
+    p = cranefmu("compose", str(folder), "--output", str(tmp_path / "s.ssp"))
+    assert p.returncode == 0, p.stderr
+    assert "resources/Flags.fmu" in zipfile.ZipFile(tmp_path / "s.ssp").namelist()
+
+
+@pytest.mark.parametrize("output, needle", [("adir", "it is an existing directory"), ("", "an empty name"),
+                                            ("-", "a sweep table is read back to resume")])
+def test_a_sweep_table_that_cannot_be_a_file_is_one_line_before_any_work(built, tmp_path, output, needle):
+    (tmp_path / "adir").mkdir()
+    p = cranefmu("sweep", "elastic_pendulum", "--vary", "rope.E=1e11,2e11", "--stop-time", "0.01", "--metric",
+                 "max:rope.tension", "--workers", "1", "--output", output, "--no-progress", cwd=tmp_path)
+    assert p.returncode == 2 and p.stdout == ""
+    assert one_line(p.stderr) == f"cranefmu: error: output {output!r} is not allowed: {needle}; give a file path" \
+        if output != "-" else needle in one_line(p.stderr)
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["adir"] and not any((tmp_path / "adir").iterdir())
+
+
+@pytest.mark.parametrize("command", [QUICK, ("export", "elastic_pendulum", "--output", "x.ssp")])
+def test_a_full_temporary_folder_is_named(built, tmp_path, command):
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=200k", "tmpfs", str(tmp)],
+                                           capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a small tmpfs here (root only)")
+    try:
+        p = subprocess.run([sys.executable, "-m", "cranefmu.cli", *command], capture_output=True, text=True,
+                           cwd=tmp_path, env={**os.environ, "TMPDIR": str(tmp)}, timeout=300)
+    finally:
+        subprocess.run(["umount", "-l", str(tmp)], check=False)
+    assert p.returncode == 2
+    line = one_line(p.stderr)
+    assert f"No space left on device in the temporary folder {tmp}" in line and "set TMPDIR" in line
+    assert not (tmp_path / "x.ssp").exists()
+
+
+@pytest.mark.parametrize("name", ["-", "out.ssp"])
+def test_export_to_standard_output_is_the_archive_alone(built, tmp_path, name):
+    import io
+
+    if name != "-":
+        (tmp_path / name).symlink_to("/proc/self/fd/1")   # a link to the standard output of whoever writes it
+    p = subprocess.run([sys.executable, "-m", "cranefmu.cli", "export", "elastic_pendulum", "--output", name],
+                       capture_output=True, cwd=tmp_path, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert zipfile.ZipFile(io.BytesIO(p.stdout)).testzip() is None     # nothing but the archive
+    assert p.stderr.decode().strip().endswith(f"wrote {name}")
+    assert (tmp_path / name).is_symlink() or name == "-"

@@ -1,7 +1,7 @@
 """ecos (a C++ co-simulation engine, ``pip install ecospy``; needs Debian's libtbb12) as a tested host
 of every scene and every parameter set, as loaded.  ecos applies a binding only when its set is
-named at ``init`` ("default": the set the built file and every export bind); a named set of the
-built file is not bound, so it goes through ``cranefmu export``.  With the settled start in the file
+named at ``init`` ("default": the set the built file and every export bind); here a named set goes
+through ``cranefmu export`` (the built file's own named sets: tests/tools/test_hosts_as_loaded.py).  With the settled start in the file
 ecos's plain Jacobi follows our ``jacobi-plain`` trajectory (docs/interop.md)."""
 from __future__ import annotations
 

@@ -36,9 +36,12 @@ def compose(source: Path, fmu_dir: Path) -> Composed:
     """The scene of ``source`` (a scene.toml or its folder), its FMUs found in ``fmu_dir`` by file
     name; a :class:`~cranefmu.errors.CompositionError` naming file and line at the first misfit."""
     src = read_source(source)
+    _confine_files(src)
     interfaces = {}
     for c in src.components:
         beside = src.path.parent / c.fmu   # fmu = "Other.fmu": a file beside the source first
+        if c.fmu.endswith(".fmu"):
+            _confined(src, c.name, f"component {c.name}: fmu", c.fmu, must_exist=False)
         fmu = beside if c.fmu.endswith(".fmu") and beside.is_file() else Path(fmu_dir) / c.fmu_file
         if not fmu.is_file():
             raise src.fail(c.name, f"component {c.name}: FMU {c.fmu_file} is neither beside {src.path.name} nor in "
@@ -47,6 +50,30 @@ def compose(source: Path, fmu_dir: Path) -> Composed:
     expanded = expand(src, interfaces)
     _check_settings(src)
     return Composed(src, interfaces, expanded, ssd_bytes(src, interfaces, expanded))
+
+
+def _confined(src: SceneSource, key: str, what: str, name: str, must_exist: bool = True) -> None:
+    """``name`` is a file in the source's folder, also once links are resolved (no ``../x``, no
+    absolute path, no link to a file elsewhere), else a one-line refusal naming it."""
+    folder = src.path.parent.resolve()
+    given = src.path.parent / name
+    if Path(name).name != name or name in (".", ".."):
+        raise src.fail(key, f"{what} = {name!r} is not allowed: give a file name in the folder of {src.path.name} "
+                            f"({folder}), not a path")
+    if given.exists() or given.is_symlink():
+        real = given.resolve()
+        if real.parent != folder:
+            raise src.fail(key, f"{what} = {name!r} is not allowed: it is a link to {real}, outside the folder of "
+                                f"{src.path.name} ({folder}); copy the file there")
+
+
+def _confine_files(src: SceneSource) -> None:
+    """The parameter files a build takes from the source's folder (``parameters`` and every .ssv) are
+    in it, also once links are resolved."""
+    if src.parameters is not None:
+        _confined(src, "parameters", "parameters", src.parameters)
+    for ssv in sorted(src.path.parent.glob("*.ssv")):
+        _confined(src, "parameters", f"parameter file {ssv.name}", ssv.name)
 
 
 def _check_settings(src: SceneSource) -> None:

@@ -45,33 +45,50 @@ def pack(source: Path | Composed, dest: Path) -> Path:
     our master settles itself."""
     from .. import build as b
 
+    from .. import whole_file
+
     composed = source if isinstance(source, Composed) else built(source)
-    dest = Path(dest)
-    dest.parent.mkdir(parents=True, exist_ok=True)
+    whole_file.check(dest, "--output", (".ssp",))
     fmus = sorted({iface.fmu for iface in composed.interfaces.values()})
     with staged(composed) as folder:
+        packed = folder.parent / f"{composed.source.name}.ssp"
         if all(f.parent == b.FMU_DIR for f in fmus):
-            return b.build_ssp(folder, dest)
-        with zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zf:
-            for f in sorted(folder.iterdir()):
-                zf.write(f, f.name if f.suffix == ".ssd" else f"resources/{f.name}")
-            for fmu in fmus:
-                zf.write(fmu, f"resources/{fmu.name}")
-    return dest
+            b.build_ssp(folder, packed, host_steps=_shipped_host_steps(composed))
+        else:
+            with zipfile.ZipFile(packed, "w", zipfile.ZIP_DEFLATED) as zf:
+                for f in sorted(folder.iterdir()):
+                    zf.write(f, f.name if f.suffix == ".ssd" else f"resources/{f.name}")
+                for fmu in fmus:
+                    zf.write(fmu, f"resources/{fmu.name}")
+        return whole_file.copy(packed, dest, "--output")   # beside the target, renamed: whole or nothing
 
 
-def write_osp(source: Path | Composed, folder: Path) -> Path:
+def write_osp(source: Path | Composed, folder: Path, ssp: Path | None = None) -> Path:
     """Write ``source`` into ``folder`` as libcosim's other scene form: ``OspSystemStructure.xml``
     (whole ports joined as variable groups, :func:`.osp.osp_system_structure`), its FMUs and their
-    ``<Model>_OspModelDescription.xml``.  The default set are the initial values, the stored step
-    (else 1 ms) the base step."""
+    ``<Model>_OspModelDescription.xml``.  The initial values are the default set and its settled start
+    (every connected input as our initialization settles it, :mod:`cranefmu.settled_start`, computed
+    from ``ssp``, the scene packed, or a pack made here), so libcosim starts the scene at rest as the
+    .ssp does.  The base step is the stored step (else 1 ms), but not above the measured stable
+    plain-Jacobi step of a shipped scene (:mod:`cranefmu.host_steps`): libcosim runs plain Jacobi."""
+    import tempfile
+
     from .. import build as b
-    from ..master.scene import read_scene_folder
+    from ..master.scene import Parameter, read_scene_folder
+    from ..settled_start import settled_starts
+    from .. import whole_file
     from .osp import osp_file_name, osp_model_description, osp_system_structure
 
     composed = source if isinstance(source, Composed) else built(source)
     with staged(composed) as scene_dir:
         scene = read_scene_folder(scene_dir, b.FMU_DIR)
+    with tempfile.TemporaryDirectory(prefix="cranefmu_osp_") as tmp:
+        given = ssp is not None and Path(ssp).is_file()   # not a stream the .ssp was written through
+        packed = Path(ssp) if given else pack(composed, Path(tmp) / f"{composed.source.name}.ssp")
+        start = settled_starts(packed, [(None, None)])[0]
+    values = {**scene.bound, **{k: Parameter(k, "Real", v) for k, v in start.items()}}
+    step = float(scene.settings.get("step_size", 1e-3))
+    stable = _shipped_host_step(composed)
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     for iface in composed.interfaces.values():
@@ -79,8 +96,27 @@ def write_osp(source: Path | Composed, folder: Path) -> Path:
         if iface.ports:
             (folder / osp_file_name(iface)).write_bytes(osp_model_description(iface))
     target = folder / "OspSystemStructure.xml"
-    target.write_bytes(osp_system_structure(composed, scene.bound, float(scene.settings.get("step_size", 1e-3))))
-    return target
+    return whole_file.write(target, osp_system_structure(composed, values, min(step, stable or step)), "--osp")
+
+
+def _shipped_host_steps(composed: Composed) -> dict[str, dict]:
+    """The measured stable plain-Jacobi steps (set name -> :func:`cranefmu.host_steps.measured`'s entry) if
+    ``composed`` is a shipped scene's own source (``ssp/<scene>/scene.toml``); {} for any other source."""
+    from .. import build as b
+    from ..host_steps import measured
+
+    name = composed.source.name
+    try:
+        shipped = composed.source.path.resolve().parent == (b.SSP_SOURCES / name).resolve()
+    except OSError:
+        return {}
+    return measured(name) if shipped else {}
+
+
+def _shipped_host_step(composed: Composed) -> float | None:
+    """The default set's measured stable plain-Jacobi step of a shipped scene's source; None otherwise."""
+    found = _shipped_host_steps(composed).get("default")
+    return found["step"] if found else None
 
 
 def add_parser(sub) -> None:
@@ -97,12 +133,17 @@ def add_parser(sub) -> None:
 
 
 def _cmd_compose(args: argparse.Namespace) -> int:
+    from .. import whole_file
+
+    for given, what, suffixes in ((args.output, "--output", (".ssp",)), (args.ssd, "--ssd", ())):
+        if given is not None:
+            whole_file.check(given, what, suffixes)   # before any build
     composed = built(Path(args.source))
-    path = pack(composed, Path(args.output or f"{composed.source.name}.ssp"))
+    path = pack(composed, Path(args.output or f"{composed.source.name}.ssp"))   # the settled start --osp reads
     print(f"wrote {path} (scene {composed.source.name}: {len(composed.source.components)} components)")
     if args.ssd:
-        Path(args.ssd).write_bytes(composed.ssd)
+        whole_file.write(args.ssd, composed.ssd, "--ssd")
         print(f"wrote {args.ssd}")
     if args.osp:
-        print(f"wrote {write_osp(composed, Path(args.osp))}")
+        print(f"wrote {write_osp(composed, Path(args.osp), path)}")
     return 0

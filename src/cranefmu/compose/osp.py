@@ -72,8 +72,9 @@ def osp_system_structure(composed, parameters: dict, step_size: float) -> bytes:
     :class:`~cranefmu.master.scene.Parameter`) as initial values, a fixed step ``step_size`` [s].
     A port line all of whose links were added becomes VariableGroupConnections (the mechanical port,
     then the position; a port without force and velocity part by part); every other link a
-    VariableConnection, in the scene's order.  No settled start: libcosim's one initial exchange
-    does not settle a scene (docs/interop.md), so a scene released from rest starts with a jolt."""
+    VariableConnection, in the scene's order.  Give the settled start among ``parameters`` (every
+    connected input's value at t = 0): libcosim's one initial exchange does not settle a scene
+    (docs/interop.md), so without it a scene released from rest starts with a jolt."""
     from lxml import etree
 
     def el(parent, tag: str, **attrs):

@@ -13,6 +13,8 @@ import time as clock
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..errors import CraneFmuError
+
 if TYPE_CHECKING:   # the parser is built for every command: no numpy import here
     from .assertions import Verdict
 
@@ -45,28 +47,50 @@ def write_json(path: Path, verdicts: list[Verdict], planned, wall: float, engine
     data = {"passed": all(v.passed for v in verdicts), "assertions": len(verdicts),
             "failed": sum(not v.passed for v in verdicts), "wall_s": round(wall, 3), "engine": engine, "cases": cases,
             "verdicts": [v.as_dict() for v in verdicts]}
-    Path(path).write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+    from ..whole_file import write
+
+    write(path, json.dumps(data, indent=1) + "\n", "--report")
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    from ..master.output_file import check_directory
+    from ..whole_file import WriteError, check
     from .runner import choose_engine, judge_all, prepare, run_cases
 
-    if args.report:
-        check_directory(Path(args.report).resolve().parent, "--report", args.report)
+    if args.report is not None:
+        check(args.report, "--report")   # before anything runs
     wall = clock.perf_counter()
     planned = prepare(args.paths, {"fmus": args.fmus} if args.fmus else None)
+    for p in planned:   # as `cranefmu run` refuses it: before anything runs (issue 35)
+        rows = p.spec.settings.rows_expected()
+        if rows > args.max_rows:
+            raise CraneFmuError(f"{p.case.file}: case {p.case.name}: its run would record {rows:.3g} rows, more than "
+                                f"--max-rows {args.max_rows:g}: give a larger step_size or a shorter stop_time, "
+                                "or raise --max-rows")
     choose_engine(args.engine, len(planned), args.jobs, args.scheduler)   # bad options: before anything runs
     say = (lambda line: print(line, file=sys.stderr, flush=True)) if not args.quiet else None
-    engine = run_cases(planned, args.jobs, say, args.engine, args.scheduler)
+    try:
+        engine = run_cases(planned, args.jobs, say, args.engine, args.scheduler)
+    except KeyboardInterrupt as err:   # Ctrl-C, SIGTERM, SIGHUP: what ran, in one line (exit 128 + signal)
+        import signal
+
+        from ..master.interrupt import RunInterrupted, signal_name
+
+        signum = getattr(err, "signum", signal.SIGINT)
+        ran = sum(bool(p.rows) or bool(p.error) for p in planned)
+        raise RunInterrupted(f"check interrupted by {signal_name(signum)}: {ran} of {len(planned)} case(s) had "
+                             "finished; no verdicts were reported (run check again)", signum=signum) from None
     verdicts = judge_all(planned)
     print("\n".join(table(verdicts)))
     failed = sum(not v.passed for v in verdicts)
     wall = clock.perf_counter() - wall
     print(f"{len(verdicts)} assertions in {len(planned)} cases: {len(verdicts) - failed} passed, {failed} failed "
           f"({wall:.1f} s, engine {engine})")
-    if args.report:
-        write_json(Path(args.report), verdicts, planned, wall, engine)
+    if args.report is not None:
+        try:
+            write_json(Path(args.report), verdicts, planned, wall, engine)
+        except WriteError as err:   # every case ran: the table above is the result, not bad input (2)
+            print(f"cranefmu: error: {err} (the verdicts above are complete)", file=sys.stderr)
+            return 1
         print(f"report: {args.report}")
     return 1 if failed else 0
 
@@ -77,6 +101,10 @@ def add_parser(sub) -> None:
                        "report; exit 1 on a failure, 2 on bad input (docs/experiments.md)")
     p.add_argument("paths", nargs="+", metavar="FILE|DIR", help="experiment files, or directories of *.toml")
     p.add_argument("--report", default=None, metavar="FILE.json", help="also write the verdicts as JSON")
+    from ..cli import MAX_ROWS
+
+    p.add_argument("--max-rows", type=float, default=MAX_ROWS, metavar="N", help="refuse a case whose run would "
+                   f"record more than N rows, before anything runs (default {MAX_ROWS:g}, as cranefmu run)")
     p.add_argument("--jobs", type=int, default=1, metavar="N", help="run the cases on N worker processes "
                    "(default 1: one after the other in this process); with N > 1, fewer than 32 cases run on a "
                    "process pool, 32 or more on a local Dask cluster of N workers (see --engine)")

@@ -46,12 +46,41 @@ def dotted(node: ast.AST) -> str | None:
     return None
 
 
+MAX_LENGTH = 2000   # characters of one expression (the longest shipped is far below): no MemoryError
+MAX_DEPTH = 200     # nesting of its tree (a + b + c ... nests one level a term): no RecursionError
+
+
+def _shown(text: str) -> str:
+    """``text`` quoted for a message, cut to 60 characters."""
+    text = str(text)
+    return repr(text) if len(text) <= 60 else repr(text[:57]) + f"... ({len(text)} characters)"
+
+
+def _depth(tree: ast.AST) -> int:
+    """The nesting depth of ``tree``, walked without recursion."""
+    deepest, stack = 0, [(tree, 1)]
+    while stack:
+        node, d = stack.pop()
+        deepest = max(deepest, d)
+        stack += [(child, d + 1) for child in ast.iter_child_nodes(node)]
+    return deepest
+
+
 def parse(text: str) -> ast.Expression:
     """The checked tree of ``text`` (ExpressionError naming what is not allowed)."""
+    if len(str(text)) > MAX_LENGTH:
+        raise ExpressionError(f"expression {_shown(text)} is not allowed: {len(str(text))} characters, at most "
+                              f"{MAX_LENGTH}")
     try:
         tree = ast.parse(str(text).strip(), mode="eval")
     except SyntaxError as err:
         raise ExpressionError(f"expression {text!r} is not valid: {err.msg}") from None
+    except (RecursionError, MemoryError):
+        raise ExpressionError(f"expression {_shown(text)} is not allowed: nested too deeply (at most "
+                              f"{MAX_DEPTH} levels)") from None
+    if _depth(tree) > MAX_DEPTH:
+        raise ExpressionError(f"expression {_shown(text)} is not allowed: nested {_depth(tree)} levels deep, at most "
+                              f"{MAX_DEPTH} (a sum of many terms nests one level a term)")
     for node in ast.walk(tree):
         if isinstance(node, (ast.Expression, ast.Load, ast.operator, ast.unaryop)):
             if isinstance(node, ast.operator) and type(node) not in _BINARY or \

@@ -422,9 +422,14 @@ def _table_points(value, lines: Lines, table: str, k: int) -> tuple[tuple[float,
     if isinstance(value, str):
         path = (lines.path.parent / value)
         try:
-            rows = [r.split("#")[0].strip() for r in path.read_text(encoding="utf-8").splitlines()]
+            data = path.read_bytes()
+            rows = [r.split("#")[0].strip() for r in data.decode("utf-8").splitlines()]
         except OSError as err:
             raise ExperimentError(f"{where}: table = {value!r}: cannot be read: {err.strerror or err}") from None
+        except UnicodeDecodeError as err:   # a binary file: the line of the first byte that is not text
+            line = data.count(b"\n", 0, err.start) + 1
+            raise ExperimentError(f"{where}: table {path}:{line}: byte {data[err.start]:#04x} is not UTF-8 text "
+                                  "(a CSV of 't, value' lines)") from None
         points = []
         for n, row in enumerate(rows, 1):
             if not row:

@@ -18,6 +18,25 @@ from .process import FMI3_LOGGERS as _LOGGERS
 INTEGERS = ("Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64", "UInt64")
 
 
+def refuse_unsupported(md, where: str) -> None:
+    """Refuse, at load, an input or output the master cannot read or set through fmi3GetInt32/
+    fmi3GetFloat64/fmi3GetBoolean on one value: another integer type (Int8 ... UInt64, read as Int32
+    the FMU refuses or the value is wrong) or an array (``<Dimension>``: the master reads one value).
+    ``where`` names the component and file for the one-line message."""
+    from ..errors import SceneError
+
+    for v in md.modelVariables:
+        if v.causality not in ("input", "output"):
+            continue
+        if getattr(v, "dimensions", None):
+            raise SceneError(f"{where}: {v.causality} {v.name!r} is an array ({v.type} with "
+                             f"{len(v.dimensions)} dimension(s)); not supported: the master couples and records "
+                             "scalars only (docs/foreign_fmus.md)")
+        if v.type in INTEGERS and v.type != "Int32":
+            raise SceneError(f"{where}: {v.causality} {v.name!r} is {v.type}; not supported: the master reads "
+                             "and sets FMI 3.0 integers as Int32 only (docs/foreign_fmus.md)")
+
+
 def normalize(md) -> None:
     """Name an FMI 3.0 description's types as the master's (Float64 -> Real, integers -> Integer)."""
     for v in md.modelVariables:

@@ -187,8 +187,9 @@ class FmuComponent:
             raise SceneError(f"component {name!r}: {fmu_path.name} is not an FMI 2.0 or 3.0 co-simulation FMU "
                              f"(fmiVersion {md.fmiVersion}, co-simulation {'yes' if md.coSimulation else 'no'})")
         if md.fmiVersion == "3.0":
-            from .fmi3 import normalize
+            from .fmi3 import normalize, refuse_unsupported
 
+            refuse_unsupported(md, f"component {name!r}: {fmu_path.name}")
             normalize(md)
         _check_binary(name, fmu_path.name, unzipdir, md.coSimulation.modelIdentifier, md.fmiVersion == "3.0")
         _MODEL_DESCRIPTIONS[unzipdir] = md, switches

@@ -83,14 +83,19 @@ def preview(scene: str | Path, fmus: str | None = None) -> ScenePreview:
     for c in loaded.components:
         md = mds[c.name] = FmuComponent(c.name, c.fmu, fmu_dir(workdir, c.name)).md
         variables[c.name] = {v.name for v in md.modelVariables}
+        discrete = []
         for v in md.modelVariables:
             if v.causality != "output":
                 continue
             name = f"{c.name}.{v.name}"
-            (reals if v.type == "Real" else flags).append(name)
+            if v.type == "Real":
+                reals.append(name)
+            elif v.type in ("Integer", "Enumeration", "Boolean"):
+                discrete.append((v.type == "Boolean", name))   # as the run records them (system.py)
             unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
             if unit:
                 units[name] = unit
+        flags += [name for _, name in sorted(discrete, key=lambda x: x[0])]
     bonds = [f"bond.{n}.{e}" for n, _ in scene_bonds(loaded, mds)[0] for e in ("dE", "E")]
     units.update({b: "J" for b in bonds})
     return ScenePreview(ssp, loaded.name, loaded.stop_time, reals + flags + bonds, units, variables,
@@ -267,6 +272,13 @@ def _finish(claim: OutputFile | None, recorder: Recorder | None) -> Path | None:
 
 
 def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> None:
+    if s.adaptive:   # what the FMU's author declared (FMI 2.0 4.3.1, FMI 3.0 canHandleVariableCommunicationStepSize)
+        fixed = [f"{c.name} (model {c.md.coSimulation.modelIdentifier})" for c in system.comps
+                 if not getattr(getattr(c.md, "coSimulation", None), "canHandleVariableCommunicationStepSize", True)]
+        if fixed:
+            raise SettingsError(f"adaptive is not allowed for this scene: component(s) {', '.join(fixed)} declare "
+                                "canHandleVariableCommunicationStepSize=\"false\" (a fixed communication step only); "
+                                "run with a fixed --step")
     if s.adaptive or s.algorithm == "iterative":
         cannot = [c.name for c in system.comps if not c.can_get_state]
         if cannot:

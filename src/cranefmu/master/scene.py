@@ -107,6 +107,8 @@ class Scene:
     # whether ``bonds`` were inferred from the FMUs' units: decided once the FMUs were read
     # (:func:`.extracted.extracted_scene`); None before (a scene read from its SSD alone)
     bonds_inferred: bool | None = None
+    # the largest stable plain-Jacobi step per set the file carries (:mod:`cranefmu.host_steps`; {}: none)
+    host_steps: dict[str, dict] = field(default_factory=dict)
 
     @property
     def parameters(self) -> dict[str, Value]:
@@ -206,8 +208,11 @@ def read_parameter_set(root, label: str, prefix: str = "") -> dict[str, Paramete
     return out
 
 
-def _bindings(element, label: str, resources: Path, prefix: str) -> dict[str, Parameter]:
-    """The parameters bound on a System or Component: ``source=`` .ssv files and inline sets."""
+def _bindings(element, label: str, resources: Path, prefix: str, copies: dict | None = None) -> dict[str, Parameter]:
+    """The parameters bound on a System or Component: ``source=`` .ssv files and inline sets.  An inline
+    set named after one of the scene's named sets (a key of ``copies``) is not bound: it is that set's
+    copy for hosts that choose a set among a component's bindings (ecos; the build writes them),
+    collected into ``copies[name]`` and checked against the set by :func:`read_ssd`."""
     out: dict[str, Parameter] = {}
     holder = _first(element, "ParameterBindings")
     for binding in _children(holder, "ParameterBinding") if holder is not None else []:
@@ -226,8 +231,23 @@ def _bindings(element, label: str, resources: Path, prefix: str) -> dict[str, Pa
             sets = _children(values, "ParameterSet") if values is not None else []
             where = f"{label}: inline parameters"
         for ps in sets:
+            if copies is not None and not source and ps.get("name") in copies:
+                copies[ps.get("name")].update(read_parameter_set(ps, where, prefix))
+                continue
             _merge(out, read_parameter_set(ps, where, prefix), where)
     return out
+
+
+def _check_copies(copies: dict[str, dict[str, Parameter]], bound: dict[str, Parameter],
+                  sets: dict[str, dict[str, Parameter]], label: str) -> None:
+    """Each component's copy of a named set must give the set's values (the default set with the set over it)."""
+    for name, copy in copies.items():
+        whole = {**bound, **sets[name]}
+        for key, p in copy.items():
+            if key not in whole or whole[key].value != p.value:
+                raise ParameterSetError(f"{label}: the component binding of parameter set {name!r} gives {key} = "
+                                        f"{p.value!r}, but the set gives {whole[key].value if key in whole else 'nothing'}"
+                                        f": bind each set's values once (or the same)")
 
 
 def _merge(into: dict[str, Parameter], new: dict[str, Parameter], where: str) -> None:
@@ -273,6 +293,9 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
     fmu_dir = fmu_dir or resources
     components: list[ComponentSpec] = []
     bound = _bindings(system, label, resources, "")
+    bound_files = {Path(b.get("source")).name for b in system.iter("{*}ParameterBinding") if b.get("source")}
+    set_files = [ssv for ssv in sorted(resources.glob("*.ssv")) if ssv.name not in bound_files]
+    copies: dict[str, dict[str, Parameter]] = {ssv.stem: {} for ssv in set_files}
     elements = _first(system, "Elements")
     for el in [e for e in elements if _local(e)] if elements is not None else []:
         name = el.get("name", "")
@@ -282,7 +305,7 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
         if not source:
             raise SceneError(f"{label}: component {name!r} has no source FMU")
         components.append(ComponentSpec(name, fmu_dir / Path(source).name, source, _connectors(el)))
-        _merge(bound, _bindings(el, f"{label}: component {name!r}", resources, f"{name}."),
+        _merge(bound, _bindings(el, f"{label}: component {name!r}", resources, f"{name}.", copies),
                f"{label}: component {name!r}")
     names = {c.name for c in components}
     connections = []
@@ -311,16 +334,16 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
     for de in _children(root, "DefaultExperiment"):
         start = _number(de.get("startTime"), "DefaultExperiment startTime", label)
         stop = _number(de.get("stopTime"), "DefaultExperiment stopTime", label)
-    bound_files = {Path(b.get("source")).name for b in system.iter("{*}ParameterBinding") if b.get("source")}
-    sets = {}
-    for ssv in sorted(resources.glob("*.ssv")):
-        if ssv.name not in bound_files:
-            sets[ssv.stem] = read_parameter_set(parse_xml(ssv), f"{label}: parameter set {ssv.name}")
+    sets = {ssv.stem: read_parameter_set(parse_xml(ssv), f"{label}: parameter set {ssv.name}") for ssv in set_files}
+    _check_copies(copies, bound, sets, label)
     name = root.get("name") or system.get("name") or ssd.parent.name
     declared = any(ann.get("type") == BONDS_ANNOTATION for ann in system.iter("{*}Annotation"))
     settings, set_settings = read_settings(system, label, stop, set(sets))
+    from ..host_steps import read as read_host_steps
+
     return Scene(name, ssd, components, connections, bound, sets, start, stop, read_bonds(system, label),
-                 read_stop_conditions(system, label), settings, declared, set_settings)
+                 read_stop_conditions(system, label), settings, declared, set_settings,
+                 host_steps=read_host_steps(system))
 
 
 def read_settings(system, label: str, stop_time: float | None,

@@ -138,8 +138,11 @@ class CoSystem:
             reals = [v for v in comp.md.modelVariables if v.causality == "output" and v.type == "Real"]
             self.out_vrs.append([v.valueReference for v in reals])
             self.columns += [f"{comp.name}.{v.name}" for v in reals]
-            self.flag_vrs.append([v for v in comp.md.modelVariables
-                                  if v.causality == "output" and v.type in ("Integer", "Boolean", "Enumeration")])
+            # in the order flags() reads them: Integer and Enumeration (one fmi2GetInteger), then Boolean
+            # (issue 35: in the model description's order a Boolean's column got an Enumeration's value)
+            self.flag_vrs.append(sorted((v for v in comp.md.modelVariables if v.causality == "output"
+                                         and v.type in ("Integer", "Boolean", "Enumeration")),
+                                        key=lambda v: v.type == "Boolean"))
         self.flag_names = [f"{c.name}.{v.name}" for c, vs in zip(self.comps, self.flag_vrs) for v in vs]
         self.columns += self.flag_names   # recorded after the Real outputs, as floats
         self.flag_value = np.zeros(len(self.flag_names))

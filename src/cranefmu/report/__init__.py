@@ -102,7 +102,7 @@ def _stats_rows(stats, settings) -> list[tuple[str, str]]:
 
 def write_report(path, result, *, scene: str = "", units: dict[str, str] | None = None,
                  settings=None, stats=None, warnings: list[str] | tuple = (), source: str = "",
-                 sources: dict[str, str] | None = None, assertions: list | tuple = ()) -> Path:
+                 sources: dict[str, str] | None = None, assertions: list | tuple = (), what: str = "report") -> Path:
     """Write the HTML report of ``result`` to ``path`` and return the path.
 
     ``result`` is a :class:`~cranefmu.master.run.RunResult` (``cranefmu.run(...)``; its scene, settings,
@@ -159,7 +159,6 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
         first = assertions[0]
         title = (f"{'PASS' if all(v.passed for v in assertions) else 'FAIL'}: experiment {first.experiment}, case "
                  f"{first.case} ({scene or 'an unknown scene'}" + (f", {kind} FMUs" if kind else "") + ")")
-    target = Path(path)
-    target.write_text(page(result, title=title, plots=plots, sections=sections, notes=notes, verdict=verdict),
-                      encoding="utf-8")
-    return target
+    from ..whole_file import write
+
+    return write(path, page(result, title=title, plots=plots, sections=sections, notes=notes, verdict=verdict), what)

@@ -23,27 +23,56 @@ def _scene_of(header: list[str]) -> str:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    from ..master.output_file import check_directory
     from ..master.results import read_csv
     from ..master.run import preview
     from . import report_columns, write_report
 
     source = Path(args.result)
     output = Path(args.output) if args.output else source.with_suffix(".html")
-    check_directory(output.resolve().parent, "--output", str(output))
+    from ..whole_file import check
+
+    check(output, "--output")
     try:
-        with open(source, newline="") as f:
-            header = next(csv.reader(f), [])
+        with open(source, "rb") as f:
+            header = next(csv.reader([f.readline().decode("utf-8")]), [])
     except OSError as err:
         raise CraneFmuError(f"RESULT {source} cannot be read: {err.strerror}") from None
+    except UnicodeDecodeError:
+        raise CraneFmuError(f"RESULT {source} is not allowed: line 1 is not UTF-8 text (a CSV of cranefmu run "
+                            "--output is)") from None
     if "time" not in header:
         raise CraneFmuError(f"RESULT {source} is not allowed: no time column in its header (a CSV of cranefmu run "
                             "--output is)")
     scene = args.scene or _scene_of(header)
     units = preview(scene).units if scene else {}
-    data = read_csv(source, report_columns(scene, header[1:]))
-    print(f"report: {write_report(output, data, scene=scene, units=units, source=source.name)}")
+    wanted = report_columns(scene, header[1:])
+    try:
+        data = read_csv(source, wanted)
+    except (ValueError, UnicodeDecodeError, IndexError):
+        raise CraneFmuError(f"RESULT {source} is not allowed: {_first_bad_cell(source, header, wanted)}") from None
+    print(f"report: {write_report(output, data, scene=scene, units=units, source=source.name, what='--output')}")
     return 0
+
+
+def _first_bad_cell(source: Path, header: list[str], wanted: list[str]) -> str:
+    """Where the CSV ``source`` first holds something that is not a number in a column of ``wanted``."""
+    index = [header.index(c) for c in ["time", *wanted] if c in header]
+    with open(source, "rb") as f:
+        for n, raw in enumerate(f, 1):
+            if n == 1:
+                continue
+            try:
+                cells = next(csv.reader([raw.decode("utf-8")]), [])
+            except UnicodeDecodeError:
+                return f"line {n} is not UTF-8 text (a CSV of cranefmu run --output is)"
+            if len(cells) != len(header):
+                return f"line {n} has {len(cells)} cells, the header {len(header)}"
+            for i in index:
+                try:
+                    float(cells[i])
+                except ValueError:
+                    return f"line {n}, column {header[i]}: {cells[i][:40]!r} is not a number"
+    return "it cannot be read as numbers"
 
 
 def add_parser(sub) -> None:
@@ -76,4 +105,4 @@ def report_after_run(path, res, scene, assertions=()) -> Path:
     return write_report(path, res if data is res.result else data, scene=res.scene, units=scene.units,
                         settings=res.settings, stats=res.stats, warnings=res.warnings,
                         sources=res.spec.sources if getattr(res, "spec", None) is not None else None,
-                        assertions=assertions)
+                        assertions=assertions, what="--report")

@@ -14,7 +14,7 @@ def run_studies(names: list[str], output: str, size: str, workers: int | None = 
     """Run the studies ``names`` (sharing one cluster) into ``output``; {name: its failed points}.
     ``prune``: drop the rows of their run tables that they did not read (an earlier request)."""
     failures: dict[str, list[str]] = {}
-    shared = Context(output, size, workers, scheduler, say)
+    shared = ctx = Context(output, size, workers, scheduler, say)
     try:
         for name in names:
             ctx = Context(output, size, workers, scheduler, say, prune)
@@ -25,7 +25,8 @@ def run_studies(names: list[str], output: str, size: str, workers: int | None = 
             failures[name] = ctx.failures
             say(f"study {name} ({size}): {len(ctx.failures)} failed point(s), {clock.perf_counter() - t0:.0f} s; "
                 f"wrote {ctx.output / (STUDIES[name] + '.md')}")
-    finally:
+    finally:   # also when a study is interrupted before it handed back the cluster it started
+        shared._client, shared._cluster = shared._client or ctx._client, shared._cluster or ctx._cluster
         shared.close()
     return failures
 
@@ -41,10 +42,16 @@ def _cmd_study(args: argparse.Namespace) -> int:
     interrupt_once()
     try:
         failures = run_studies(names, args.output, size, args.workers, args.scheduler, prune=args.prune)
-    except KeyboardInterrupt:
-        print(f"cranefmu: study interrupted; finished runs are kept under {args.output}/runs/{size}/, the same "
+    except KeyboardInterrupt as err:
+        import signal
+
+        from ..master.interrupt import signal_name
+
+        signum = getattr(err, "signum", signal.SIGINT)   # SIGTERM, SIGHUP: the CLI's handler
+        by = "" if signum == signal.SIGINT else f" by {signal_name(signum)}"
+        print(f"cranefmu: study interrupted{by}; finished runs are kept under {args.output}/runs/{size}/, the same "
               "command resumes", file=sys.stderr)
-        return 130
+        return 128 + signum
     bad = {k: v for k, v in failures.items() if v}
     if bad:
         for name, lines in bad.items():

@@ -90,10 +90,11 @@ class Context:
         self.failures.append(" ".join(text.split()))
 
     def close(self) -> None:
+        """Close the client and a local cluster, and remove the cluster's scratch folder (in TMPDIR)."""
         if self._client is not None:
-            self._client.close()
-            if self._cluster is not None:
-                self._cluster.close()
+            from ..sweep.engine import close
+
+            close(self._client, self._cluster)
             self._client = self._cluster = None
 
 
@@ -144,14 +145,19 @@ def provenance(command: str) -> str:
 
 def write_csv(path: Path, rows: list[dict]) -> Path:
     """``rows`` (dicts with the same keys) as a CSV; floats with repr (read back exactly)."""
+    import io
+
+    from ..whole_file import write
+
     path = Path(path)
     cols = list(dict.fromkeys(k for r in rows for k in r))
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(cols)
-        for r in rows:
-            w.writerow(["" if r.get(c) is None else repr(r[c]) if isinstance(r.get(c), float) else r.get(c)
-                        for c in cols])
+    f = io.StringIO(newline="")
+    w = csv.writer(f)
+    w.writerow(cols)
+    for r in rows:
+        w.writerow(["" if r.get(c) is None else repr(r[c]) if isinstance(r.get(c), float) else r.get(c)
+                    for c in cols])
+    write(path, f.getvalue(), "study table")   # whole or the old one: never a half table
     return path
 
 
@@ -171,7 +177,9 @@ def write_page(ctx: Context, name: str, title: str, lines: list[str]) -> Path:
         ctx.say(f"runs: {ctx.ran} now, {ctx.reused} reused" + (f", {stale} stale row(s) "
                 f"{'dropped' if dropped else 'kept (--prune drops them)'}" if stale else ""))
     path = ctx.output / f"{name}.md"
-    path.write_text("\n".join(page + lines).rstrip() + "\n")
+    from ..whole_file import write
+
+    write(path, "\n".join(page + lines).rstrip() + "\n", "study page")
     return path
 
 

@@ -206,7 +206,8 @@ def libcosim_timed(columns: list[str], stop: float, ssp: str | None = None, step
 
 def libcosim_run(ssp: str, step: float, steps: int, columns: list[str], scene_dir: str | None = None,
                  fmu_dir: str | None = None, initial_values: dict | None = None) -> dict:
-    """Run ``ssp`` in libcosim (fixed step, plain Jacobi) for ``steps`` steps of ``step`` [s]; with
+    """Run ``ssp`` in libcosim (fixed step, plain Jacobi) for ``steps`` steps of ``step`` [s] (None: the
+    file's own step, from its ``osp:FixedStepAlgorithm``; an OspSystemStructure.xml: its base step); with
     ``scene_dir`` the execution is built by :func:`libcosim_execution` instead of libcosim's SSP loader.
     ``initial_values`` ("component.variable" -> value) are set as libcosim initial values before the
     first step (e.g. the connected inputs as our initialization settled them: :func:`settled_inputs`).
@@ -222,6 +223,8 @@ def libcosim_run(ssp: str, step: float, steps: int, columns: list[str], scene_di
     log_output_level(CosimLogLevel.ERROR)
     if scene_dir is None and ssp.endswith(".xml"):   # an OspSystemStructure.xml: its own base step
         ex, keep = CosimExecution.from_osp_config_file(ssp), []
+    elif scene_dir is None and step is None:        # the file's own fixed step (its osp:FixedStepAlgorithm)
+        ex, keep = CosimExecution.from_ssp_file(ssp), []
     elif scene_dir is None:
         ex, keep = CosimExecution.from_ssp_file(ssp, step_size=int(round(step * NS))), []
     else:
@@ -299,10 +302,21 @@ def fmpy_run(ssp: str, step: float, stop: float, parameters: dict) -> dict:
     return {"result": {n: np.asarray(result[n]) for n in result.dtype.names}, "parameters": read_back}
 
 
+def fmpy_run_set(ssp: str, parameter_set: str, step: float, stop: float) -> dict:
+    """fmpy's ``simulate_ssp`` given one parameter set of the file as fmpy reads it
+    (``read_ssv(ssp, "resources/<set>.ssv")``): how an fmpy user chooses a set.  Returns the result columns."""
+    from fmpy.ssp.simulation import simulate_ssp
+    from fmpy.ssp.ssd import read_ssv
+
+    pset = read_ssv(ssp, f"resources/{parameter_set}.ssv")
+    result = simulate_ssp(ssp, stop_time=stop, step_size=step, parameter_set=pset)
+    return {n: np.asarray(result[n]) for n in result.dtype.names}
+
+
 def ecos_run(ssp: str, step: float, stop: float, columns: list[str], parameter_set: str = "default") -> dict:
     """Run ``ssp`` in ecos (fixed-step plain Jacobi) to ``stop`` [s]: ``init(parameter_set=...)`` names
-    the set the SSD binds ("default": ecos applies a binding only when its set is named), nothing
-    else is handed over.  Returns {"time", column...: values after every step, read in ecos's
+    the set ecos applies ("default", or a named set of a built file: the build binds each set, complete
+    with its settled start, on every component, where ecos reads sets), nothing else is handed over.  Returns {"time", column...: values after every step, read in ecos's
     post-step callback; "parameters" is not read (ecos has no listing)}.  Column names
     "component.variable" (ecos: "component::variable")."""
     from ecospy import EcosLib, EcosSimulation, SimulationListener

@@ -124,6 +124,7 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     Ctrl-C cancels the runs still going and keeps every finished row.
     """
     _refuse_bootstrapping()
+    _check_table_target(output)
     fixed = {**settings, **(parameters or {})}
     if parameter_set is not None:
         fixed["parameter_set"] = parameter_set
@@ -219,14 +220,18 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
             raise ClusterLost(f"lost the Dask scheduler{' at ' + scheduler if scheduler else ''} after {out.ran} "
                               f"run(s); {out.lost} run(s) recorded as lost and every finished row kept in "
                               f"{table.path}: start the cluster again and run the same command to resume")
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as err:
+        from ..master.interrupt import RunInterrupted, signal_name
+
         interrupted = _ignore_sigint()   # a second Ctrl-C must not break the clean-up (restored below)
         try:
             client.cancel(list(futures))
         except Exception:  # noqa: BLE001 - a closing client may refuse; the cluster is closed below
             pass
-        raise KeyboardInterrupt(f"sweep interrupted: {out.ran} run(s) of this session kept in {table.path} "
-                                f"({len(table.done)} in all); the same command resumes the rest") from None
+        signum = getattr(err, "signum", signal.SIGINT)   # SIGTERM, SIGHUP: the CLI's handler (exit 143, 129)
+        by = "" if signum == signal.SIGINT else f" by {signal_name(signum)}"
+        raise RunInterrupted(f"sweep interrupted{by}: {out.ran} run(s) of this session kept in {table.path} "
+                             f"({len(table.done)} in all); the same command resumes the rest", signum=signum) from None
     finally:
         if bar is not None:
             bar.close()
@@ -235,6 +240,20 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
         quiet.setLevel(level)
         if interrupted is not None:
             signal.signal(signal.SIGINT, interrupted)
+
+
+def _check_table_target(output: str | Path) -> None:
+    """The sweep table ``output`` is a file this process can write and read back (to resume): an empty
+    name, a directory or a stream (``-``, a FIFO) is one line, before any work (a missing folder is made)."""
+    from ..master.output_file import descriptor, is_stream
+
+    if not str(output).strip():
+        raise SettingsError(f"output {str(output)!r} is not allowed: an empty name; give a file path")
+    if Path(output).is_dir():
+        raise SettingsError(f"output {str(output)!r} is not allowed: it is an existing directory; give a file path")
+    if descriptor(str(output)) is not None or is_stream(str(output)):
+        raise SettingsError(f"output {str(output)!r} is not allowed: a sweep table is read back to resume; "
+                            "give a file path")
 
 
 def connect(workers: int | None = None, scheduler: str | None = None):
@@ -247,9 +266,12 @@ def connect(workers: int | None = None, scheduler: str | None = None):
         if workers is not None:
             raise SettingsError(f"workers = {workers!r} is not allowed with a scheduler address: the cluster "
                                 "at the address has its own workers")
+        from .scheduler_probe import probe, timeout
+
+        probe(scheduler)   # a port that never answers, or another service: one line within the timeout
         try:
-            return Client(scheduler), None
-        except OSError as err:   # unreachable, refused, timed out: one line, not a traceback
+            return Client(scheduler, timeout=timeout()), None
+        except (OSError, MemoryError, ValueError, TypeError) as err:   # unreachable, refused, timed out, garbled
             raise SettingsError(f"scheduler {scheduler!r}: cannot reach the Dask scheduler there: "
                                 + " ".join(str(err).split())) from None
     n = workers if workers is not None else (os.cpu_count() or 1)

@@ -121,10 +121,13 @@ def drop(path: str | Path, keys: set[str]) -> None:
     path = Path(path)
     with open(path, newline="") as f:
         rows = [r for r in csv.reader(f)]
-    partial = path.with_name(path.name + ".prune")
-    with open(partial, "w", newline="") as f:
-        csv.writer(f).writerows([rows[0]] + [r for r in rows[1:] if r and r[0] not in keys])
-    partial.replace(path)
+    import io
+
+    from ..whole_file import write
+
+    text = io.StringIO(newline="")
+    csv.writer(text).writerows([rows[0]] + [r for r in rows[1:] if r and r[0] not in keys])
+    write(path, text.getvalue(), "sweep table")   # beside it, synced, renamed: the old table or the new
 
 
 def read(path: str | Path) -> list[dict]:

@@ -1,0 +1,95 @@
+"""The largest plain-Jacobi step at which a scene stays stable: the step a host that runs plain Jacobi
+(libcosim 0.11, ecos) can use, where the scene's stored step is for our own coupling (extrapolation,
+re-read feedthrough outputs) and may blow up there (overhead_lift at its stored 2 ms:
+tests/tools/test_hosts_as_loaded.py).
+
+Measured per scene and parameter set by ``benchmarks/jacobi_stable_step.py`` (our ``jacobi-plain``, which
+equals libcosim's run to 3e-12; stable = the run ends without the instability alarm) into
+``host_steps.json``.  The build writes it into every .ssp it makes (:func:`annotate`): the System's
+``org.cranefmu.hosts`` annotation (every set's step, the span it was measured over and the stored step)
+and, for the file's bound set, libcosim's own ``osp:FixedStepAlgorithm baseStepSize`` in the
+DefaultExperiment, which ``CosimExecution.from_ssp_file(path)`` (no step given) runs with.
+``cranefmu info`` shows it (:func:`read`).
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+STORE = Path(__file__).with_name("host_steps.json")   # written by benchmarks/jacobi_stable_step.py
+ANNOTATION = "org.cranefmu.hosts"
+CF_NS = "urn:org.cranefmu.hosts"
+OSP_ANNOTATION = "com.opensimulationplatform"          # libcosim's ssp_parser reads it (prefix "osp:" literally)
+OSP_NS = "http://opensimulationplatform.com/SSP/OSPAnnotations"
+
+
+def measured(scene: str) -> dict[str, dict]:
+    """Set name -> {"step": [s], "span": [s], "stored_step": [s]} of scene ``scene``: the sets whose
+    stable step was found on the ladder; {} for a scene not measured."""
+    if not STORE.is_file():
+        return {}
+    sets = json.loads(STORE.read_text()).get(scene, {})
+    return {name: {k: m[k] for k in ("step", "span", "stored_step")} for name, m in sets.items() if m.get("step")}
+
+
+def annotate(root, steps: dict[str, dict]) -> None:
+    """Add ``steps`` (set name -> {"step", "span", "stored_step"}) to the SSD ``root`` (lxml, in place):
+    the System's ``org.cranefmu.hosts`` annotation, and the "default" set's step as libcosim's fixed-step
+    base step (the set the file binds).  Nothing for an empty ``steps``."""
+    from lxml import etree
+
+    from .master.scene import SSC_NS, SSD_NS
+
+    if not steps:
+        return
+    system = root.find(f"{{{SSD_NS}}}System")
+    holder = system.find(f"{{{SSD_NS}}}Annotations")
+    if holder is None:
+        holder = etree.SubElement(system, f"{{{SSD_NS}}}Annotations")
+    ann = etree.SubElement(holder, f"{{{SSC_NS}}}Annotation", type=ANNOTATION)
+    table = etree.SubElement(ann, f"{{{CF_NS}}}PlainJacobiSteps", nsmap={"cf": CF_NS})
+    for name, m in steps.items():
+        etree.SubElement(table, f"{{{CF_NS}}}ParameterSet", name=name, step=repr(float(m["step"])),
+                         span=repr(float(m["span"])), stored_step=repr(float(m["stored_step"])))
+    if "default" not in steps:
+        return
+    experiment = root.find(f"{{{SSD_NS}}}DefaultExperiment")
+    if experiment is None:
+        experiment = etree.Element(f"{{{SSD_NS}}}DefaultExperiment")
+        system.addnext(experiment)
+    annotations = experiment.find(f"{{{SSD_NS}}}Annotations")
+    if annotations is None:
+        annotations = etree.SubElement(experiment, f"{{{SSD_NS}}}Annotations")
+    osp = etree.SubElement(annotations, f"{{{SSC_NS}}}Annotation", type=OSP_ANNOTATION)
+    algorithm = etree.SubElement(osp, f"{{{OSP_NS}}}Algorithm", nsmap={"osp": OSP_NS})
+    etree.SubElement(algorithm, f"{{{OSP_NS}}}FixedStepAlgorithm", baseStepSize=repr(float(steps["default"]["step"])))
+    # "osp" declared on the root: libcosim iterates osp:Algorithm's children and takes an xmlns attribute
+    # there for an algorithm ("Unknown algorithm: <xmlattr>")
+    etree.cleanup_namespaces(root, top_nsmap={"osp": OSP_NS})
+
+
+def read(system) -> dict[str, dict]:
+    """Set name -> {"step", "span", "stored_step"} [s] from the ``org.cranefmu.hosts`` annotation of an
+    SSD's System element; {} if it has none."""
+    out = {}
+    for ann in system.iter("{*}Annotation"):
+        if ann.get("type") != ANNOTATION:
+            continue
+        for el in ann.iter(f"{{{CF_NS}}}ParameterSet"):
+            try:
+                out[el.get("name")] = {k: float(el.get(k)) for k in ("step", "span", "stored_step")}
+            except (TypeError, ValueError):
+                continue   # a hand-edited entry without numbers: shown as not measured
+    return out
+
+
+def info_lines(steps: dict[str, dict]) -> list[str]:
+    """``cranefmu info`` lines for the steps a file carries."""
+    if not steps:
+        return ["  plain-Jacobi step for other hosts (libcosim, ecos): not measured for this file"]
+    lines = ["  largest plain-Jacobi step at which the scene stays stable (use it in libcosim or ecos, which run "
+             "plain Jacobi; measured by benchmarks/jacobi_stable_step.py, docs/interop.md):"]
+    for name, m in steps.items():
+        lines.append(f"    {name}: {m['step'] * 1e3:g} ms (stored step {m['stored_step'] * 1e3:g} ms; "
+                     f"stable over {m['span']:g} s)")
+    return lines
