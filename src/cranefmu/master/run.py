@@ -38,7 +38,7 @@ from .runspec import RunSpec, resolve
 from .settings import ALGORITHMS, Settings, describe
 from .step_control import ESTIMATES, make_step_control
 from .stop_conditions import StopWatch
-from .system import CoSystem, RunStats
+from .system import RunStats
 
 __all__ = ["run", "simulate", "preview", "execute", "build_execution", "resolve", "RunSpec", "RunResult", "RunStats", "Settings",
            "ALGORITHMS", "RunInterrupted"]
@@ -212,7 +212,7 @@ class Execution:
     """One run's parts, built from its :class:`RunSpec` by :func:`build_execution`: the coupled system,
     its power bonds and the observers the settings ask for (recorder, instability watch, stop watch)."""
 
-    system: CoSystem
+    system: Coupling
     bonds: BondMonitor
     recorder: Recorder
     watch: Watch | None
@@ -223,7 +223,7 @@ def build_execution(spec: RunSpec, loaded, fmu_dirs: Path, claim: OutputFile | N
     """The parts of the run ``spec`` on the scene ``loaded`` (as read from ``spec.ssp``), its FMUs
     instantiated from ``fmu_dirs``, its rows into ``claim``; the system is freed if a part is refused."""
     settings = spec.settings
-    system = CoSystem(loaded, fmu_dirs, settings.extrapolation)
+    system = Coupling(loaded, fmu_dirs, settings.extrapolation)
     try:
         if spec.commands:
             from .commands import CommandFeed
@@ -265,7 +265,7 @@ def _finish(claim: OutputFile | None, recorder: Recorder | None) -> Path | None:
     return claim.finish(recorder.written if recorder is not None else 0)
 
 
-def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> None:
+def _check_capabilities(system: Coupling, s: Settings, bonds: BondMonitor) -> None:
     if s.adaptive or s.algorithm == "iterative":
         cannot = [c.name for c in system.comps if not c.can_get_state]
         if cannot:
@@ -277,26 +277,24 @@ def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> No
         ESTIMATES[s.step_control].refuse(bonds)
 
 
-def _solved(system: CoSystem, s: Settings) -> set[int]:
+def _solved(c: Coupling, s: Settings) -> set[int]:
     """Components of the run's implicit group (none without one)."""
     if not s.implicit or s.algorithm != "jacobi":
         return set()
     from .implicit_group import group_members
 
-    c = Coupling(system)
     return set(group_members(c.components, c.bonds(), list(s.implicit), c.scene_name))
 
 
-def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor, progress: Progress,
+def _loop(coupling: Coupling, s: Settings, recorder: Recorder, bonds: BondMonitor, progress: Progress,
           watch: Watch | None, stopper: StopWatch | None = None, observers: tuple = ()) -> None:
     """Step from start to stop (:func:`.loop.march`): the algorithm and its start-up, the step
     controller and the observers the settings ask for (and ``observers``, e.g. an
     :class:`~.interrupt.Interrupt`), in the order they see each row."""
-    coupling = Coupling(system)
     algorithm = make_algorithm(coupling, s)
     control = make_step_control(coupling, s, bonds)
-    everyone = [recorder, ValueCheck(system, bonds, s.energy_alarm), watch, stopper, *observers, progress]
-    system.stats.stopped = march(coupling, algorithm, control, Sampler(system, bonds),
+    everyone = [recorder, ValueCheck(coupling, bonds, s.energy_alarm), watch, stopper, *observers, progress]
+    coupling.stats.stopped = march(coupling, algorithm, control, Sampler(coupling, bonds),
                                  [o for o in everyone if o is not None], s.start_time)
 
 

@@ -224,12 +224,11 @@ class EccoError:
 ESTIMATES = {"extrapolation": ExtrapolationError, "ecco": EccoError}
 
 
-def make_step_control(system, s, bonds):
-    """The step controller the settings ``s`` ask for (``system``: the run's
-    :class:`~.coupled.Coupling` or :class:`~.system.CoSystem`; ``bonds``: its power-bond monitor)."""
+def make_step_control(coupling: Coupling, s, bonds):
+    """The step controller the settings ``s`` ask for (``coupling``: the run's
+    :class:`~.coupled.Coupling`; ``bonds``: its power-bond monitor)."""
     if not s.adaptive:
         return FixedSteps(s.start_time, s.stop_time, s.step_size)
-    coupling = system if isinstance(system, Coupling) else Coupling(system)
     kind = ESTIMATES[s.step_control]
     return AdaptiveSteps(kind.from_settings(coupling, s, bonds), s.start_time, s.stop_time, s.step_size,
                          s.h_min, s.h_max, kind.order(s))
