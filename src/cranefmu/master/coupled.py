@@ -121,6 +121,9 @@ class Coupling:
         self.stats = RunStats(fmu_time={c.name: 0.0 for c in self.comps}, fmu_calls={c.name: 0 for c in self.comps})
         self.can_rollback = all(c.can_get_state for c in self.comps)
         self.commands = None   # a .commands.CommandFeed: commanded inputs set at every exchange, before the reads
+        self.compiled = True   # use the compiled exchange where it can run (:mod:`.kernel`); False: Python only
+        # more values a stretch's rows carry after the outputs: positions in the read buffer and in input_end
+        self.row_extra: tuple[list[int], list[int]] = ([], [])
         self._prepare_buffers()
         self.whole = Part(self, list(range(len(self.links))))
         self._all = range(len(self.comps))
@@ -175,6 +178,7 @@ class Coupling:
             c.fresh = False
         self._stepping = on
         self._phases: list[Phase] | None = None   # planned at the first exchange in step mode
+        self._kernel = None                        # the compiled exchange bound to those phases
 
     def _variable_names(self, scene: Scene) -> list[str]:
         """'src.out -> dst.in' for each coupling variable, in the order of the coupling vector."""
@@ -552,6 +556,41 @@ class Coupling:
         self.exchange(t0)
 
     # --- stepping -----------------------------------------------------------------------------
+    def jacobi_stretch(self, ts: np.ndarray):
+        """Jacobi steps on the grid ``ts`` in one compiled call: (rows, steps done, failure or None), or
+        None where the compiled exchange does not run."""
+        kernel = self.kernel()
+        if kernel is None or len(ts) < 2:
+            return None
+        rows = np.empty((len(ts) - 1, 1 + len(self.columns) + sum(len(x) for x in self.row_extra)))
+        try:
+            done = kernel.jacobi_steps(ts, self.extrapolation, rows)
+        except CraneFmuError as err:
+            return rows, kernel.done, err
+        return rows, done, None
+
+    def kernel(self):
+        """The compiled exchange bound to this coupling (:class:`.kernel.plan.KernelPlan`), or None where
+        the Python exchange runs (not wanted, no compiler, commands, FMI input derivatives, ...)."""
+        if self._kernel is None and self._phases is not None:
+            self._kernel = False
+            if self.compiled:
+                from .kernel import library
+                from .kernel.plan import KernelPlan
+
+                self._kernel = KernelPlan.make(library(), self) or False
+        return self._kernel or None
+
+    def jacobi_step(self, t: float, h: float) -> None:
+        """Every FMU steps from t to t + h, then every value moves at t + h (:meth:`step`, :meth:`commit`),
+        in compiled code where it can run (the same numbers)."""
+        kernel = self.kernel()
+        if kernel is None:
+            self.step(t, h)
+            self.exchange(t + h)
+        else:
+            kernel.jacobi_step(t, h, self.extrapolation)
+
     def step(self, t: float, h: float, members: Iterable[int] | None = None, ends: bool = True) -> None:
         """The FMUs ``members`` (default all, in component order) step from t to t + h [s]; ``ends``:
         the inputs' values at t + h as fed are noted (for the power bonds; pass False while a step is

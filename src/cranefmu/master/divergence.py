@@ -226,6 +226,9 @@ class Watch:
         self.growth = GrowthAlarm(n) if n and not adaptive else None
         self.imbalance = ImbalanceAlarm(n) if n else None
         self.increments = IncrementAlarm(system.n) if not bonds.bonds and system.n else None
+        # the bond detectors take rows after the fact (a compiled stretch may precede them); the
+        # increments read the coupling values of each step
+        self.batchable = self.increments is None
 
     def simulation_initialized(self, t: float, values) -> None:
         return None
@@ -271,6 +274,8 @@ class Watch:
 class ValueCheck:
     """Fails the run on a non-finite value or a power bond over its energy alarm [J] (None: no
     alarm), naming what and where."""
+
+    batchable = True   # takes rows after the fact: a stretch of compiled steps may precede it (loop.march)
 
     def __init__(self, system, bonds, energy_alarm: float | None):
         self.system, self.bonds, self.energy_alarm = system, bonds, energy_alarm

@@ -53,16 +53,33 @@ class Coupled(Protocol):
     def release(self, snapshot) -> None: ...
 
 
+STRETCH = 256   # most macro steps one compiled call takes when no observer needs them one by one
+
+
 def march(coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler,
           observers: list[Observer], t: float) -> str:
     """Step from t until the controller is done or an observer stops the run; returns why it stopped
-    ('' at the end).  ``sample`` measures what a step gives (flags, bond residuals, the row)."""
+    ('' at the end).  ``sample`` measures what a step gives (flags, bond residuals, the row).
+
+    Where every step is taken as proposed on a fixed grid and every observer takes rows after the fact (``batchable``), the algorithm may take a stretch of steps in one call
+    (:meth:`~.algorithms.Algorithm.stretch`, the compiled Jacobi); the observers then see its rows in
+    order, and one that stops the run or fails it does so at its row (the FMUs have gone on to the end
+    of the stretch)."""
     control.begin(sample.flags())
     reason = _first(o.simulation_initialized(t, sample.row()) for o in observers)
     stats = coupling.stats
     # a step nobody may reject and that needs no snapshot is taken directly (what _attempt does, without its calls)
     direct = not control.rolls_back and not control.judges
+    batched = (direct and hasattr(control, "upcoming") and isinstance(sample, Sampler)
+               and all(getattr(o, "batchable", False) for o in observers))
+    if batched:
+        sample.prepare_stretches()
     while not reason and (h := control.propose(t)) is not None:
+        if batched and not algorithm.needs_snapshot:
+            stretch = algorithm.stretch(control.upcoming(t, STRETCH))
+            if stretch is not None:
+                t, reason = _deliver(stretch, algorithm, control, sample, observers, stats, t)
+                continue
         if direct and not algorithm.needs_snapshot:
             h, iterations = algorithm.step(t, h, None)
             sample.flags()
@@ -83,6 +100,30 @@ def march(coupling: Coupled, algorithm: Algorithm, control: StepControl, sample:
         if not reason:
             control.accepted(h, bonds)
     return reason or ""
+
+
+def _deliver(stretch, algorithm: Algorithm, control: StepControl, sample: Sampler, observers: list[Observer],
+             stats, t: float) -> tuple[float, str | None]:
+    """The rows of a stretch (rows, steps done, failure or None) to the observers, step by step as
+    :func:`march` gives them; then the stretch's failure, if it had one."""
+    rows, done, failure = stretch
+    reason = None
+    for i in range(done):
+        h = control.propose(t)
+        algorithm.accepted()
+        t = control.advance(t, h)
+        _count(stats, h, 1)
+        row = sample.take(rows[i, 1:], h)
+        for o in observers:
+            reason = o.step_complete(t, h, row)
+            if reason:
+                break
+        if reason:
+            break
+        control.accepted(h, sample.bonds)
+    if failure is not None and not reason:
+        raise failure
+    return t, reason
 
 
 def _attempt(coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler, t: float,
@@ -139,6 +180,24 @@ class Sampler:
         if self.bonds.bonds:
             self.bonds.measure(h)
         return self.bonds
+
+    def prepare_stretches(self) -> None:
+        """A compiled stretch's rows also carry what the power bonds measure (after the outputs)."""
+        if self.bonds.bonds:
+            self.system.row_extra = self.bonds.stretch_layout(self.system._read_at)
+
+    def take(self, values: np.ndarray, h: float) -> np.ndarray:
+        """The row of a step of h taken in a stretch (as :meth:`row` gives it) from the stretch's row
+        ``values`` (outputs, discrete outputs, the bonds' values); the bonds measured from it."""
+        row = self.row_
+        n = self.n
+        row[:n] = values[:n]
+        if self.has_flags:
+            self.system.flag_value[:] = values[n - len(self.system.flag_value):n]
+        if self.bonds.bonds:
+            self.bonds.measure_values(values[n:], h)
+            row[n:] = self.bonds.row
+        return row
 
     def row(self) -> np.ndarray:
         row = self.system.fill_outputs(self.row_)

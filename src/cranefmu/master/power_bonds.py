@@ -179,7 +179,25 @@ class BondMonitor:
             v[vpos] = system.read_component(comp)[rpos]
         if self._has_inputs:
             v[self._in_v] = system.input_end[self._in_index]
-        x = v.tolist()
+        self._compute(h)
+
+    def stretch_layout(self, read_at: list[int]) -> tuple[list[int], list[int]]:
+        """What a compiled stretch's rows carry for :meth:`measure_values`: positions in the coupling's
+        read buffer (each component's part starts at ``read_at``) and in its inputs' end values."""
+        return [read_at[c] + int(r) for c, _, rpos in self._reads for r in rpos], self._in_index.tolist()
+
+    def measure_values(self, values: np.ndarray, h: float) -> None:
+        """:meth:`measure` from the values a stretch's row carries (:meth:`stretch_layout`)."""
+        v, at = self._v, 0
+        for _, vpos, _ in self._reads:
+            v[vpos] = values[at:at + len(vpos)]
+            at += len(vpos)
+        if self._has_inputs:
+            v[self._in_v] = values[at:]
+        self._compute(h)
+
+    def _compute(self, h: float) -> None:
+        x = self._v.tolist()
         power, capacity, force = [], [], []
         for off, n, sign in self._sides:
             p = ff = uu = 0.0

@@ -84,6 +84,14 @@ class FixedSteps:
         self.t_next = self.stop if self.n == self.count - 1 else self.start + (self.n + 1) * self.step
         return self.t_next - t
 
+    def upcoming(self, t: float, most: int) -> np.ndarray:
+        """t and the next grid times after it (at most ``most`` steps), as :meth:`propose` gives them."""
+        steps = min(most, self.count - self.n)
+        ts = [t] + [self.start + (self.n + i) * self.step for i in range(1, steps + 1)]
+        if self.n + steps == self.count:
+            ts[-1] = self.stop
+        return np.array(ts)
+
     def prepare(self, t: float, h: float, algorithm) -> None:
         pass
 

@@ -22,6 +22,8 @@ class RunStats:
     bond_energy: dict[str, float] = field(default_factory=dict)  # ECCO residual total per power bond [J]
     bond_carried: dict[str, float] = field(default_factory=dict)  # energy through each bond [J] (sum max|P| h)
     stopped: str = ""                # why a stop condition ended the run early ('' = ran to the end)
+    compiled_steps: int = 0          # macro steps whose exchange ran in compiled code (master/kernel)
+    kernel_calls: int = 0            # calls into it (fewer than those steps where stretches ran in one call)
 
     def real_time_factor(self, simulated: float) -> float:
         return simulated / self.wall_time if self.wall_time > 0 else float("inf")
