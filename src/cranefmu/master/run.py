@@ -38,6 +38,7 @@ from .runspec import RunSpec, resolve
 from .settings import ALGORITHMS, Settings, describe
 from .step_control import ESTIMATES, make_step_control
 from .stop_conditions import StopWatch
+from .threads import one_thread
 from .system import RunStats
 
 __all__ = ["run", "simulate", "preview", "execute", "build_execution", "resolve", "RunSpec", "RunResult", "RunStats", "Settings",
@@ -155,7 +156,7 @@ def _run_here(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt | No
               observers: tuple = ()) -> RunResult:
     """The run in this process: a signal of ``interrupt`` (default SIGINT, main thread) stops it between steps."""
     interrupt = interrupt or Interrupt()
-    with interrupt:
+    with interrupt, one_thread():
         return _run_observed(spec, claim, interrupt, observers)
 
 
