@@ -1,7 +1,8 @@
 """cranefmu: crane dynamics as FMI co-simulation components, and a master to run them.
 
 Public API: :func:`simulate` (run a scene or an .ssp, returns the rows), :func:`run` (the same, with
-statistics), :func:`resolve` (the :class:`RunSpec` a run would take: every setting and where it came
+statistics, a :class:`RunResult`), :class:`Execution` (a run the caller steps; :class:`Observer`,
+:class:`Command` and :class:`Source` plug into it, :class:`RunInterrupted` ends it on a signal), :func:`resolve` (the :class:`RunSpec` a run would take: every setting and where it came
 from; ``run(spec)`` runs it), :func:`build` (build FMUs and scenes), :func:`sweep` (a study of many runs on Dask).
 Scene names resolve through :mod:`cranefmu.scene_catalog`, registered with the master here so the
 master imports nothing of it.
@@ -14,7 +15,8 @@ from .master.scene_names import register_scene_resolver as _register_scene_resol
 
 __version__ = "0.1.0"
 
-__all__ = ["simulate", "run", "resolve", "RunSpec", "build", "sweep", "fmu_path", "__version__"]
+__all__ = ["simulate", "run", "resolve", "RunSpec", "Execution", "RunResult", "RunInterrupted", "Observer", "Command",
+           "Source", "build", "sweep", "fmu_path", "__version__"]
 
 
 def _resolve_scene_name(name: str, fmus: str | None = None) -> Path:
@@ -62,7 +64,7 @@ def fmu_path(name: str, fmus: str | None = None) -> Path:
 
 def __getattr__(name: str):
     # imported lazily so that the physics can be used without fmpy or pythonfmu loaded
-    if name in ("simulate", "run"):
+    if name in ("simulate", "run", "Execution", "RunResult", "RunInterrupted", "Observer", "Command", "Source"):
         from .master import run as master_run
         return getattr(master_run, name)
     if name in ("resolve", "RunSpec"):

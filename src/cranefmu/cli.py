@@ -80,8 +80,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
         from .whole_file import check as check_whole
 
         check_whole(args.report, "--report")   # a directory, /dev/full's folder, "": before the run
-    keep = rows <= KEEP_ROWS or not args.output
     streamed = bool(args.output) and is_stream(args.output)
+    # rows with a file to go to are streamed there and not kept (memory flat in run length): the summary and
+    # figures read their columns back; a report or an experiment's verdicts take them in memory (up to KEEP_ROWS)
+    needs_rows = bool(args.report) or experiment is not None
+    keep = not args.output or (rows <= KEEP_ROWS and (needs_rows or streamed))
     if streamed and prefix is not None and not keep:
         raise CraneFmuError(f"--plot is not allowed with --output {args.output} and {rows:.3g} rows: a stream cannot "
                             f"be read back and at most {KEEP_ROWS:g} rows are kept in memory; write a file instead")
@@ -93,7 +96,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     res = run(replace(spec, keep=keep))
     OUTSIDE.when = f" after the run ended: its {res.rows} rows are in {res.output}" if res.output \
         else " after the run ended"
-    _report(res, keep, say)
+    _report(res, keep, say, None if keep or streamed else _summary_rows(res))
     if prefix is not None:
         from .master.plot import write_plots
         from .master.results import read_csv
@@ -146,8 +149,19 @@ def _by_component(columns: list[str]) -> list[tuple[str, list[str]]]:
     return list(groups.items())
 
 
-def _report(res, kept: bool, out=None) -> None:
-    """The run's statistics, the scene's summary and where the results are (to ``out``, default stdout)."""
+def _summary_rows(res):
+    """The columns the scene's summary reads, read back from the run's CSV (the rows were not kept)."""
+    from .master.results import read_csv
+    from .scenes import summary_columns
+
+    names = set(res.result.dtype.names)
+    wanted = [c for c in summary_columns(res.scene) if c in names and c != "time"]
+    return read_csv(res.output, wanted) if res.rows else None
+
+
+def _report(res, kept: bool, out=None, rows=None) -> None:
+    """The run's statistics, the scene's summary and where the results are (to ``out``, default stdout);
+    ``rows``: the summary's columns read back, where the rows were not kept."""
     from functools import partial
 
     from .scenes import summary
@@ -174,8 +188,8 @@ def _report(res, kept: bool, out=None) -> None:
               "carried")
     for line in res.warnings:
         builtins.print(f"warning: {line}", file=sys.stderr)
-    if kept:
-        for label, text in summary(res.scene, res.result):
+    if kept or rows is not None:
+        for label, text in summary(res.scene, res.result if kept else rows):
             print(f"  {label:<24} {text}")
     else:
         print(f"  (no summary: the {res.rows} rows were streamed to the CSV, more than {KEEP_ROWS} to keep in memory)")

@@ -267,6 +267,12 @@ def summary(name: str, result) -> list[tuple[str, str]]:
     return lines
 
 
+def summary_columns(name: str) -> tuple[str, ...]:
+    """The columns :func:`summary` reads for scene ``name`` (its metrics' and its key outputs)."""
+    info = SCENES.get(name)
+    return tuple(dict.fromkeys(("time", *_metric_columns(name), *(info.key_outputs if info else ()))))
+
+
 def _metric_columns(name: str) -> tuple[str, ...]:
     return {"overhead_lift": ("rope.tension", "pendulum.N_ground"),
             "truck_telescope": ("pendulum.theta", "boom.boom_length", "rope.elongation", "chassis.q1", "chassis.q2",

@@ -8,7 +8,7 @@ import numpy as np
 
 from cranefmu.master.coupling import input_groups, rates
 from cranefmu.master.scene import ConnectionSpec
-from cranefmu.master.system import CoSystem
+from cranefmu.master.coupled import Coupling
 
 
 def _var(name, vr, causality):
@@ -39,10 +39,22 @@ def _scene(interpolate: bool, with_rates: bool):
     return comps, input_groups(comps, [ConnectionSpec("a", "y", "b", "u")])
 
 
-def _host(comps):
-    """What CoSystem.push needs of a CoSystem for groups it did not prepare: the components."""
-    host = SimpleNamespace(comps=comps)
-    host._send = lambda *args: CoSystem._send(host, *args)
+def _host(comps, g):
+    """A Coupling wired to the stand-in components by hand: one group, its set buffer, its arrays."""
+    import ctypes
+
+    host = object.__new__(Coupling)
+    host.comps, host.links = comps, [g]
+    n = len(g.dst_vrs)
+    vrs = g.dst_vrs + (g.dt_vrs + g.dt2_vrs if g.dt_vrs is not None else [])
+    g.sl, g.set_vrs = slice(0, n), vrs
+    g.set_values = (ctypes.c_double * len(vrs))()
+    g.set_view = np.ctypeslib.as_array(g.set_values)
+    for c in comps:   # comp.write(vrs, count, values): the stand-in records it as a setReal
+        c.write = (lambda fmu: lambda vrs, count, values: fmu.setReal(list(vrs)[:count], list(values)[:count]))(c.fmu)
+        c.fresh = False
+    host.fed, host.fed_rate, host.fed_curvature = np.zeros(n), np.zeros(n), np.zeros(n)
+    host.held = np.ones(n, dtype=bool)
     return host
 
 
@@ -52,7 +64,7 @@ def test_capable_fmu_without_rate_inputs_gets_fmi_input_derivatives():
     assert g.fmi_derivatives and g.dt_vrs is None
     # the polynomial through (t, u) = (-2, 1), (-1, 3), (0, 7) is t^2 + 5 t + 7: u' = 5, u'' = 2 at t = 0
     d1, d2 = rates([(-2.0, np.array([1.0])), (-1.0, np.array([3.0])), (0.0, np.array([7.0]))], 0.0)
-    CoSystem.push(_host(comps), g, np.array([7.0]), d1, d2)
+    _host(comps, g).feed_group(0, np.array([7.0]), d1, d2)
     assert comps[1].fmu.calls == [("setReal", [5], [7.0]), ("derivatives", [5], [1], [5.0]),
                                   ("derivatives", [5], [2], [2.0])]
 
@@ -62,8 +74,11 @@ def test_rate_inputs_win_and_incapable_fmus_get_a_zero_order_hold():
         comps, groups = _scene(interpolate, with_rates)
         g = groups[1][0]
         assert g.fmi_derivatives is expected
-        CoSystem.push(_host(comps), g, np.array([7.0]), np.array([6.0]), np.array([2.0]))
+        _host(comps, g).feed_group(0, np.array([7.0]), np.array([6.0]), np.array([2.0]))
         assert not any(c[0] == "derivatives" for c in comps[1].fmu.calls)
+        # the rate inputs (where offered) get the slope and curvature in the same fmi2SetReal
+        assert comps[1].fmu.calls[0] == (("setReal", [5, 6, 7], [7.0, 6.0, 2.0]) if with_rates
+                                         else ("setReal", [5], [7.0]))
 
 
 # --- connection units (issue 4: "apply connection units") ------------------------------------------

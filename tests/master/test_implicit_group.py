@@ -126,7 +126,7 @@ def test_bonds_solved_inside_the_group_are_not_watched_by_the_alarm(built):
         bonds = [Bond(0, 1), Bond(1, 2), Bond(2, 3)]
 
     class System:
-        n_coupling = 3
+        n = 3
 
     watch = Watch(System(), Bonds(), adaptive=False, solved={1, 2})
     assert watch.watched == [0, 2]

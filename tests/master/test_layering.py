@@ -10,7 +10,7 @@ import cranefmu.master
 
 MASTER = Path(cranefmu.master.__file__).parent
 LEAVES = {"errors", "units"}                       # cranefmu modules the master may import
-OUTSIDE = {"fmpy", "numpy", "scipy", "lxml", "tqdm", "matplotlib"}
+OUTSIDE = {"fmpy", "numpy", "scipy", "lxml", "tqdm", "matplotlib", "threadpoolctl"}
 
 
 def _imports(path: Path) -> list[tuple[int, str]]:

@@ -116,18 +116,27 @@ def test_plot_into_a_read_only_directory_is_refused_before_the_run(built, tmp_pa
         subprocess.run(["umount", str(ro)], check=True)
 
 
-def test_a_long_run_streams_its_rows_and_plots_from_the_csv(built, tmp_path, monkeypatch, capsys):
-    """Above KEEP_ROWS rows the CLI keeps none in memory: the CSV has them all, the figures read it back."""
+def test_a_run_with_an_output_file_streams_its_rows_and_reads_back_what_it_shows(built, tmp_path, monkeypatch,
+                                                                                  capsys):
+    """With --output FILE the CLI keeps no row in memory (issue 34: memory flat in run length): the CSV has
+    them all; the summary and the figures read their columns back from it."""
     from cranefmu import cli
+    from cranefmu.master import run as master_run
 
-    monkeypatch.setattr(cli, "KEEP_ROWS", 100)
+    kept = []
+    real_run = master_run.run
+    monkeypatch.setattr(master_run, "run", lambda spec, **kw: kept.append(spec.keep) or real_run(spec, **kw))
     out = tmp_path / "long.csv"
     assert cli.main(["run", "elastic_pendulum", "--stop-time", "0.5", "--step", "1e-3", "--in-process",
                      "--output", str(out),
                      "--plot", "rope.tension,pendulum.theta"]) == 0
     text = capsys.readouterr().out
-    assert "no summary: the 501 rows were streamed" in text and f"results: {out} (501 rows" in text
-    assert len(read_csv(out)) == 501
+    assert kept == [False]
+    rows = read_csv(out)
+    assert len(rows) == 501 and f"results: {out} (501 rows" in text
+    # the summary, from the CSV: the tension's range and final value as the file has them
+    tension = rows["rope.tension"]
+    assert f"rope.tension             min {tension.min():.6g}  max {tension.max():.6g}  final {tension[-1]:.6g}" in text
     assert (tmp_path / "long_rope_tension_pendulum_theta.png").read_bytes()[:4] == b"\x89PNG"
 
 

@@ -14,7 +14,6 @@ from collections.abc import Callable
 from .algorithms import Algorithm, GaussSeidel, Iterative, Jacobi, PlainJacobi, with_start_up
 from .coupled import Coupling
 from .implicit_group import ImplicitGroup
-from .system import CoSystem
 from .waveform import WaveformIterative
 
 ALGORITHMS: dict[str, type[Algorithm]] = {"jacobi": Jacobi, "gauss-seidel": GaussSeidel, "iterative": Iterative,
@@ -35,8 +34,7 @@ def algorithm_class(s) -> type[Algorithm]:
     return ALGORITHMS[s.algorithm]
 
 
-def make_algorithm(system: CoSystem | Coupling, s) -> Algorithm:
+def make_algorithm(coupling: Coupling, s) -> Algorithm:
     """The algorithm ``s`` (the run's :class:`~.settings.Settings`) names, with its start-up."""
-    coupling = system if isinstance(system, Coupling) else Coupling(system)
     algorithm = algorithm_class(s).from_settings(coupling, s)
     return with_start_up(coupling, algorithm, s) if s.algorithm in START_UP else algorithm

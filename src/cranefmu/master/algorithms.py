@@ -44,6 +44,12 @@ class Algorithm(ABC):
     def accepted(self) -> None:
         """The loop accepted the step just taken (a rejected one was rolled back instead)."""
 
+    def stretch(self, ts):
+        """Take the steps of the grid ``ts`` (t, then each step's end) in one call, or return None (the
+        default: step by step).  Returns (rows: time, outputs, discrete outputs per step; steps done;
+        the failure after them or None); :func:`.loop.march` asks where no observer needs each step."""
+        return None
+
     @classmethod
     def from_settings(cls, coupling: Coupling, s) -> Algorithm:
         """The algorithm for the run's settings ``s`` (:class:`~.settings.Settings`); raises
@@ -59,10 +65,11 @@ class Jacobi(Algorithm):
         self.coupling = coupling
 
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
-        c = self.coupling
-        c.step(t, h)
-        c.commit(t + h)
+        self.coupling.jacobi_step(t, h)   # step, then commit(t + h); compiled where it can be
         return h, 1
+
+    def stretch(self, ts):
+        return self.coupling.jacobi_stretch(ts) if type(self) is Jacobi else None
 
 
 class PlainJacobi(Jacobi):
@@ -302,6 +309,9 @@ class StartUp(Algorithm):
 
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
         return self._current.step(t, h, snapshot)
+
+    def stretch(self, ts):
+        return self.main.stretch(ts) if self._current is self.main else None
 
     def accepted(self) -> None:
         current = self._current

@@ -3,7 +3,7 @@
 A :class:`Command` binds a source to one input ``component.variable``.  A source is any object with
 ``at(t) -> (value, rate, curvature)`` (SI units of the input, per second, per second squared): the
 master knows nothing of what it commands.  At every communication point t (each exchange, see
-:meth:`.system.CoSystem.exchange`) :class:`CommandFeed` sets the input to the source's exact value at
+:meth:`.coupled.Coupling.exchange`) :class:`CommandFeed` sets the input to the source's exact value at
 t and, where the FMU offers them, ``<input>_dt`` and ``<input>_dt2`` to its exact rate and curvature,
 so that over the coming step the FMU follows value + s rate + s^2/2 curvature: a profile that is a
 polynomial of degree <= 2 between its breakpoints is followed exactly between communication points
@@ -36,7 +36,7 @@ class Command:
 
 
 class CommandFeed:
-    """The commands of one run, bound to the FMUs of a :class:`~.system.CoSystem`."""
+    """The commands of one run, bound to the FMUs of a :class:`~.coupled.Coupling`."""
 
     def __init__(self, system, commands: tuple[Command, ...] | list[Command]):
         self.bound = []

@@ -19,7 +19,9 @@ from .scene import ConnectionSpec
 
 @dataclass
 class InputGroup:
-    """The connections from one source component into one destination component (one get, one set)."""
+    """The connections from one source component into one destination component (one get, one set):
+    wiring only, built by :func:`input_groups` and completed by :class:`~.coupled.Coupling` (the values
+    themselves live in the coupling's arrays, at :attr:`sl`)."""
 
     src: int
     dst: int
@@ -29,24 +31,20 @@ class InputGroup:
     offset: np.ndarray
     dt_vrs: list[int] | None = None    # the destination's <input>_dt inputs, if it offers them
     dt2_vrs: list[int] | None = None
-    history: list[tuple[float, np.ndarray]] = field(default_factory=list)  # newest last
-    fed: tuple | None = None  # (value, d1, d2) last fed to the destination
-    rates_set: bool = True    # the destination may hold non-zero rates (unknown at the start)
     src_names: list[str] = field(default_factory=list)
     dst_names: list[str] = field(default_factory=list)
     fmi_derivatives: bool = False  # no rate inputs, but the FMU can interpolate: fmi2SetRealInputDerivatives
-    # hot path, set by CoSystem: positions of src_vrs in the source's read vector; ctypes arrays of the
-    # destination's value (and rate) references and values for one fmi2SetReal; a shared zero rate
+    # set by the Coupling: positions of src_vrs in the source's read vector; ctypes arrays of the
+    # destination's value (and rate) references and values for one fmi2SetReal
     src_pos: np.ndarray | None = None
     set_vrs: object = None
     set_values: object = None
     set_view: np.ndarray | None = None
-    zero: np.ndarray | None = None
     keeps_outputs: bool = False  # no output of the destination depends on these inputs (Outputs dependencies)
     keeps_fresh: bool = False    # the same, and in step mode: setting them leaves the destination's read valid
     sl: slice | None = None      # this group's part of the vector of all coupling values
     plain: bool = False          # factor 1 and offset 0: values pass unchanged
-    set_at: int = 0              # where set_values starts in the system's array of all of them
+    set_at: int = 0              # where set_values starts in the coupling's array of all of them
 
 
 def feedthrough(comp: FmuComponent) -> dict[str, set[str]]:

@@ -212,7 +212,7 @@ class Watch:
     returns the error message naming the bond or connection, the time and the advice, or None.
 
     ``bonds`` is the run's :class:`~.power_bonds.BondMonitor` (measured for this step), ``system``
-    its :class:`~.system.CoSystem`."""
+    its :class:`~.coupled.Coupling`."""
 
     def __init__(self, system, bonds, adaptive: bool, solved: set[int] | frozenset[int] = frozenset()):
         """``solved``: components whose values among themselves are solved implicitly (an implicit
@@ -225,7 +225,10 @@ class Watch:
         n = len(watched)
         self.growth = GrowthAlarm(n) if n and not adaptive else None
         self.imbalance = ImbalanceAlarm(n) if n else None
-        self.increments = IncrementAlarm(system.n_coupling) if not bonds.bonds and system.n_coupling else None
+        self.increments = IncrementAlarm(system.n) if not bonds.bonds and system.n else None
+        # the bond detectors take rows after the fact (a compiled stretch may precede them); the
+        # increments read the coupling values of each step
+        self.batchable = self.increments is None
 
     def simulation_initialized(self, t: float, values) -> None:
         return None
@@ -259,9 +262,9 @@ class Watch:
                         "(bounded by a slack or a stop) or far too coarse at this step size. " + ADVICE)
         if self.increments is not None:
             s = self.system
-            g = self.increments.update(s.coupling_values(), s.scale, h)
+            g = self.increments.update(s.values(), s.scale, h)
             if g is not None:
-                name = s.variable_names[g.bond] if s.variable_names else "?"
+                name = s.names[g.bond] if s.names else "?"
                 return (f"connection {name}: its change per step grew {g.factor:.3g} times in the last {g.steps} "
                         f"steps, by t = {t:.9g} s ({g.per_step():.4g} per step, geometric): the explicit coupling "
                         "is unstable at this step size. " + ADVICE)
@@ -271,6 +274,8 @@ class Watch:
 class ValueCheck:
     """Fails the run on a non-finite value or a power bond over its energy alarm [J] (None: no
     alarm), naming what and where."""
+
+    batchable = True   # takes rows after the fact: a stretch of compiled steps may precede it (loop.march)
 
     def __init__(self, system, bonds, energy_alarm: float | None):
         self.system, self.bonds, self.energy_alarm = system, bonds, energy_alarm

@@ -83,7 +83,7 @@ def _digest(ssp: Path) -> str:
 
 def fresh_fmu_dirs(workdir: Path, scene: Scene, target: Path) -> None:
     """Give each component of ``scene`` a directory of its own under ``target`` to be instantiated
-    from (``fmu_<name>``, as :class:`~cranefmu.master.system.CoSystem` expects): this platform's
+    from (``fmu_<name>``, as :class:`~cranefmu.master.coupled.Coupling` expects): this platform's
     shared library copied (a file never loaded before: what keeps the process whole at exit), the
     other files hard-linked and the other folders (resources) symbolic links to the extracted ones,
     so a run makes 3 folders per FMU, not one per folder of its Python package (measured: the

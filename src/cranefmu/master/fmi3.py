@@ -1,5 +1,5 @@
 """FMI 3.0 co-simulation FMUs in the master: fmpy's FMU3Slave seen through the FMI 2.0 calls the
-master makes (:class:`.fmu.FmuComponent`, :class:`.system.CoSystem`).
+master makes (:class:`.fmu.FmuComponent`, :class:`.coupled.Coupling`).
 
 What maps (FMI 3.0 standard, sec. 2.2 and 4): Float64 is the master's Real; the integer types are its
 Integer; fmi3Boolean (a C bool) is read into the master's int arrays; fmi2SetupExperiment's start time

@@ -15,13 +15,13 @@ from .acceleration import IQNILS
 from ..errors import SimulationError
 from .graph import component_graph, is_loop, strongly_connected
 from .residual import relative_residual
-from .system import CoSystem
+from .coupled import Coupling
 
 MAX_ITERATIONS = 200
 MAX_ROUNDS = 12   # initializations redone for outputs an FMU first sets at exitInitializationMode
 
 
-def initialize(system: CoSystem, start_time: float, overrides: dict, tolerance: float,
+def initialize(system: Coupling, start_time: float, overrides: dict, tolerance: float,
                max_iterations: int = MAX_ITERATIONS) -> int:
     """Bring every FMU to the start of the run; returns the number of exchanges used.  ``tolerance``:
     the run's ``init_tolerance`` (its default lives in :class:`~.run.Settings`, the one place).
@@ -70,13 +70,12 @@ def initialize(system: CoSystem, start_time: float, overrides: dict, tolerance: 
             n = len(system.links[i].dst_vrs)
             pinned[i] = late_u[pos:pos + n]
             pos += n
-    for g in system.links:
-        g.history.clear()
+    system.clear_past()
     system.exchange(start_time, order=0)  # values after the FMUs computed their initial states
     return used
 
 
-def _late_links(system: CoSystem, before: np.ndarray, after: np.ndarray, tolerance: float) -> list[int]:
+def _late_links(system: Coupling, before: np.ndarray, after: np.ndarray, tolerance: float) -> list[int]:
     """The connections whose source gives another value after exitInitializationMode than before."""
     out = []
     for i, sl in enumerate(system.slices):
@@ -85,19 +84,19 @@ def _late_links(system: CoSystem, before: np.ndarray, after: np.ndarray, toleran
     return out
 
 
-def _inconsistent_exit(system: CoSystem, late: list[int], before: np.ndarray, after: np.ndarray,
+def _inconsistent_exit(system: Coupling, late: list[int], before: np.ndarray, after: np.ndarray,
                        t: float) -> None:
     i = late[0]
     sl = system.slices[i]
     j = int(np.argmax(np.abs(after[sl] - before[sl])))
     raise SimulationError(f"initialization did not converge at t = {t:.6g} s: connection "
-                          f"{system.variable_names[sl][j]} still changes at exitInitializationMode after "
+                          f"{system.names[sl][j]} still changes at exitInitializationMode after "
                           f"{MAX_ROUNDS} rounds ({before[sl][j]:.6g} in initialization mode, {after[sl][j]:.6g} "
                           "after it): the FMU sets this output only when it leaves initialization mode, and "
                           "its start contradicts the values it was given; check its start values and parameters.")
 
 
-def settle(system: CoSystem, t: float, tolerance: float, max_iterations: int,
+def settle(system: Coupling, t: float, tolerance: float, max_iterations: int,
            pinned: dict[int, np.ndarray] | None = None) -> int:
     """Settle the connections in initialization mode; those in ``pinned`` (connection index ->
     values) carry the given values instead of what their source gives now."""
@@ -125,29 +124,28 @@ def settle(system: CoSystem, t: float, tolerance: float, max_iterations: int,
     return used
 
 
-def _values(system: CoSystem, members: list[int], pinned: dict[int, np.ndarray] | None = None) -> np.ndarray:
+def _values(system: Coupling, members: list[int], pinned: dict[int, np.ndarray] | None = None) -> np.ndarray:
     """What the member connections currently carry (pulled now; a pinned one its pinned values)."""
     if not members:
         return np.zeros(0)
     pinned = pinned or {}
-    return np.concatenate([pinned[i] if i in pinned else system.pull(system.links[i]) for i in members])
+    return np.concatenate([pinned[i] if i in pinned else system.pull(i) for i in members])
 
 
-def _evaluate(system: CoSystem, members: list[int], u: np.ndarray | None,
+def _evaluate(system: Coupling, members: list[int], u: np.ndarray | None,
               pinned: dict[int, np.ndarray] | None = None) -> np.ndarray:
     """Feed ``u`` (or, if None, the sources' current values) into the members; return G(u): what
     the sources give after that."""
     pinned = pinned or {}
     pos = 0
     for i in members:
-        g = system.links[i]
-        n = len(g.dst_vrs)
+        n = len(system.links[i].dst_vrs)
         if u is not None:
             value = u[pos:pos + n]
         else:
-            value = pinned[i] if i in pinned else system.pull(g)
+            value = pinned[i] if i in pinned else system.pull(i)
         zero = np.zeros(n)
-        system.push(g, value, zero, zero)
+        system.feed_group(i, value, zero, zero)
         pos += n
     return _values(system, members, pinned)
 
@@ -157,7 +155,7 @@ def _residual(u: np.ndarray, gu: np.ndarray) -> tuple[float, int]:
     return relative_residual(u, gu, scale, 1e-12 * max(1.0, float(np.max(scale, initial=0.0))))
 
 
-def _iterate(system: CoSystem, members: list[int], t: float, tolerance: float, max_iterations: int,
+def _iterate(system: Coupling, members: list[int], t: float, tolerance: float, max_iterations: int,
              block: list[int] | None, pinned: dict[int, np.ndarray], start: np.ndarray | None = None) -> int:
     acc = IQNILS(omega0=0.5, reuse=0)
     u = _values(system, members, pinned) if start is None else start
@@ -180,7 +178,7 @@ def _iterate(system: CoSystem, members: list[int], t: float, tolerance: float, m
             stalled += 1
             plain = plain or stalled >= 5
         u = gu if plain else scale * acc.next(u / scale, gu / scale)
-    names = [n for i in members for n in system.variable_names[system.slices[i]]]
+    names = [n for i in members for n in system.names[system.slices[i]]]
     where = (" in the loop " + " -> ".join(system.comps[i].name for i in block)) if block else ""
     raise SimulationError(f"initialization did not converge{where} at t = {t:.6g} s: after {max_iterations} "
                           f"iterations connection {names[worst]} still changes by {res:.3g} (relative; tolerance "
@@ -188,7 +186,7 @@ def _iterate(system: CoSystem, members: list[int], t: float, tolerance: float, m
                           "the start values and parameters feeding this connection.")
 
 
-def _call(system: CoSystem, comp, what: str, t: float) -> None:
+def _call(system: Coupling, comp, what: str, t: float) -> None:
     try:
         getattr(comp.fmu, what)()
     except Exception:

@@ -74,6 +74,8 @@ class Interrupt:
     run closes are counted, never raised.
     """
 
+    batchable = True   # takes rows after the fact: a stretch of compiled steps may precede it (loop.march)
+
     def __init__(self, signals: tuple[int, ...] | None = None):
         self.signals = wanted(STOP_SIGNALS if signals is None else signals)
         self.signum: int | None = None

@@ -53,36 +53,113 @@ class Coupled(Protocol):
     def release(self, snapshot) -> None: ...
 
 
+STRETCH = 256   # most macro steps one compiled call takes when no observer needs them one by one
+
+
 def march(coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler,
           observers: list[Observer], t: float) -> str:
     """Step from t until the controller is done or an observer stops the run; returns why it stopped
     ('' at the end).  ``sample`` measures what a step gives (flags, bond residuals, the row)."""
-    control.begin(sample.flags())
-    reason = _first(o.simulation_initialized(t, sample.row()) for o in observers)
-    stats = coupling.stats
-    # a step nobody may reject and that needs no snapshot is taken directly (what _attempt does, without its calls)
-    direct = not control.rolls_back and not control.judges
-    while not reason and (h := control.propose(t)) is not None:
-        if direct and not algorithm.needs_snapshot:
-            h, iterations = algorithm.step(t, h, None)
-            sample.flags()
-        else:
-            taken = _attempt(coupling, algorithm, control, sample, t, h)
-            if taken is None:
-                continue
-            h, iterations = taken
+    m = March(coupling, algorithm, control, sample, observers, t)
+    while m.step(stretch=True):
+        pass
+    return m.reason or ""
+
+
+class March:
+    """The loop of :func:`march`, one macro step (or one stretch) at a time: :meth:`step` until it
+    returns False (the controller is done, or an observer stopped the run: :attr:`reason`).
+
+    Where every step is taken as proposed on a fixed grid and every observer takes rows after the fact
+    (``batchable``), a step may be a stretch of steps in one call of the algorithm
+    (:meth:`~.algorithms.Algorithm.stretch`, the compiled Jacobi); the observers then see its rows in
+    order, and one that stops the run or fails it does so at its row (the FMUs have gone on to the end
+    of the stretch)."""
+
+    def __init__(self, coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler,
+                 observers: list[Observer], t: float):
+        self.coupling, self.algorithm, self.control, self.sample = coupling, algorithm, control, sample
+        self.observers, self.t = observers, t
+        self.stats = coupling.stats
+        control.begin(sample.flags())
+        self.reason = _first(o.simulation_initialized(t, sample.row()) for o in observers)
+        self.done = False   # the controller proposed no further step
+        # a step nobody may reject and that needs no snapshot is taken directly (what _attempt does, without its calls)
+        self.direct = not control.rolls_back and not control.judges
+        self.batched = (self.direct and hasattr(control, "upcoming") and isinstance(sample, Sampler)
+                        and all(getattr(o, "batchable", False) for o in observers))
+        if self.batched:
+            sample.prepare_stretches()
+
+    def step(self, until: float | None = None, stretch: bool = False) -> bool:
+        """Take the next accepted macro step (``stretch``: or a stretch of them, none ending after
+        ``until`` [s] on a fixed grid); False if none was taken (the run is over, or ``t`` is at or past
+        ``until``)."""
+        algorithm, control, sample = self.algorithm, self.control, self.sample
+        while True:
+            if self.reason or self.done:
+                return False
+            t = self.t
+            if until is not None and t >= until - 1e-12 * max(1.0, abs(until)):
+                return False
+            h = control.propose(t)
+            if h is None:
+                self.done = True
+                return False
+            if stretch and self.batched and not algorithm.needs_snapshot:
+                ts = control.upcoming(t, STRETCH)
+                if until is not None:
+                    past = np.flatnonzero(ts[1:] >= until - 1e-12 * max(1.0, abs(until)))
+                    if len(past):
+                        ts = ts[:past[0] + 2]
+                got = algorithm.stretch(ts)
+                if got is not None:
+                    self.t, self.reason = _deliver(got, algorithm, control, sample, self.observers, self.stats, t)
+                    return True
+            if self.direct and not algorithm.needs_snapshot:
+                h, iterations = algorithm.step(t, h, None)
+                sample.flags()
+            else:
+                taken = _attempt(self.coupling, algorithm, control, sample, t, h)
+                if taken is None:
+                    continue
+                h, iterations = taken
+            algorithm.accepted()
+            self.t = t = control.advance(t, h)
+            _count(self.stats, h, iterations)
+            bonds = sample.after(h)
+            row = sample.row()
+            for o in self.observers:   # the first reason to stop: those after it do not see the row
+                self.reason = o.step_complete(t, h, row)
+                if self.reason:
+                    break
+            if not self.reason:
+                control.accepted(h, bonds)
+            return True
+
+
+def _deliver(stretch, algorithm: Algorithm, control: StepControl, sample: Sampler, observers: list[Observer],
+             stats, t: float) -> tuple[float, str | None]:
+    """The rows of a stretch (rows, steps done, failure or None) to the observers, step by step as
+    :func:`march` gives them; then the stretch's failure, if it had one."""
+    rows, done, failure = stretch
+    reason = None
+    for i in range(done):
+        h = control.propose(t)
         algorithm.accepted()
         t = control.advance(t, h)
-        _count(stats, h, iterations)
-        bonds = sample.after(h)
-        row = sample.row()
-        for o in observers:   # the first reason to stop: those after it do not see the row
+        _count(stats, h, 1)
+        row = sample.take(rows[i, 1:], h)
+        for o in observers:
             reason = o.step_complete(t, h, row)
             if reason:
                 break
-        if not reason:
-            control.accepted(h, bonds)
-    return reason or ""
+        if reason:
+            break
+        control.accepted(h, sample.bonds)
+    if failure is not None and not reason:
+        raise failure
+    return t, reason
 
 
 def _attempt(coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler, t: float,
@@ -139,6 +216,24 @@ class Sampler:
         if self.bonds.bonds:
             self.bonds.measure(h)
         return self.bonds
+
+    def prepare_stretches(self) -> None:
+        """A compiled stretch's rows also carry what the power bonds measure (after the outputs)."""
+        if self.bonds.bonds:
+            self.system.row_extra = self.bonds.stretch_layout(self.system._read_at)
+
+    def take(self, values: np.ndarray, h: float) -> np.ndarray:
+        """The row of a step of h taken in a stretch (as :meth:`row` gives it) from the stretch's row
+        ``values`` (outputs, discrete outputs, the bonds' values); the bonds measured from it."""
+        row = self.row_
+        n = self.n
+        row[:n] = values[:n]
+        if self.has_flags:
+            self.system.flag_value[:] = values[n - len(self.system.flag_value):n]
+        if self.bonds.bonds:
+            self.bonds.measure_values(values[n:], h)
+            row[n:] = self.bonds.row
+        return row
 
     def row(self) -> np.ndarray:
         row = self.system.fill_outputs(self.row_)

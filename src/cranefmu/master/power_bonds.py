@@ -13,7 +13,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SceneError
-from .system import CoSystem
 
 RESIDUAL_WARNING = 0.1   # a run warns when a bond's total residual exceeds this fraction of the energy it carried
 NEGLIGIBLE = 1e-3        # ... unless it is below this fraction of the most energy any bond of the scene carried
@@ -32,7 +31,7 @@ class _Side:
     sign: float
     out_vrs: list[int]           # outputs, read in one call
     out_pos: list[int]           # their position in the side's value vector
-    in_index: list[int]          # connected inputs: index into CoSystem.input_end
+    in_index: list[int]          # connected inputs: index into Coupling.input_end
     in_pos: list[int]
     free_vrs: list[int]          # unconnected inputs: read back from the FMU
     free_pos: list[int]
@@ -42,7 +41,7 @@ class _Side:
     in_index_a: np.ndarray | None = None
     in_pos_a: np.ndarray | None = None
 
-    def prepare(self, system: CoSystem) -> None:
+    def prepare(self, system) -> None:
         """Index arrays for :meth:`values`: the side's outputs and unconnected inputs join the
         component's one read per step (shared with the recorder and the exchange)."""
         self.read_pos = system.comps[self.comp].position(self.out_vrs + self.free_vrs)
@@ -50,15 +49,15 @@ class _Side:
         self.in_index_a = np.array(self.in_index, dtype=np.intp)
         self.in_pos_a = np.array(self.in_pos, dtype=np.intp)
 
-    def values(self, system: CoSystem) -> np.ndarray:
+    def values(self, system) -> np.ndarray:
         v = np.empty(2 * self.n)
         if len(self.read_pos):
-            v[self.value_pos] = system.read(self.comp)[self.read_pos]
+            v[self.value_pos] = system.read_component(self.comp)[self.read_pos]
         if self.in_index:
             v[self.in_pos_a] = system.input_end[self.in_index_a]
         return v
 
-    def power(self, system: CoSystem) -> float:
+    def power(self, system) -> float:
         v = self.values(system)
         with np.errstate(over="ignore", invalid="ignore"):  # a blow-up is reported by the run's check
             f, u = v[:self.n], v[self.n:]
@@ -73,7 +72,7 @@ class Bond:
     b: _Side
 
 
-def resolve(system: CoSystem, bonds: list[tuple[str, list[dict]]]) -> list[Bond]:
+def resolve(system, bonds: list[tuple[str, list[dict]]]) -> list[Bond]:
     """Check every side's component and variables and resolve them to value references."""
     names = [c.name for c in system.comps]
     fed = {}  # (component index, input value reference) -> index in the coupling vector
@@ -131,7 +130,7 @@ def resolve(system: CoSystem, bonds: list[tuple[str, list[dict]]]) -> list[Bond]
 class BondMonitor:
     """Observer of the power bonds: per step dE and running total per bond; optional alarm."""
 
-    def __init__(self, system: CoSystem, bonds: list[Bond]):
+    def __init__(self, system, bonds: list[Bond]):
         self.system = system
         self.bonds = bonds
         self.names = [b.name for b in bonds]
@@ -168,7 +167,6 @@ class BondMonitor:
         self._in_v, self._in_index = np.array(in_v, dtype=np.intp), np.array(in_index, dtype=np.intp)
         self._has_inputs = bool(in_v)
         self._sides = [(int(off), s.n, s.sign) for s, off in zip(sides, offsets)]
-        self.system.need_input_ends(in_index)
 
     def measure(self, h: float) -> None:
         """Residual of the step just taken (call after the step, before recording).  The sums of
@@ -178,10 +176,28 @@ class BondMonitor:
             return
         v, system = self._v, self.system
         for comp, vpos, rpos in self._reads:
-            v[vpos] = system.read(comp)[rpos]
+            v[vpos] = system.read_component(comp)[rpos]
         if self._has_inputs:
             v[self._in_v] = system.input_end[self._in_index]
-        x = v.tolist()
+        self._compute(h)
+
+    def stretch_layout(self, read_at: list[int]) -> tuple[list[int], list[int]]:
+        """What a compiled stretch's rows carry for :meth:`measure_values`: positions in the coupling's
+        read buffer (each component's part starts at ``read_at``) and in its inputs' end values."""
+        return [read_at[c] + int(r) for c, _, rpos in self._reads for r in rpos], self._in_index.tolist()
+
+    def measure_values(self, values: np.ndarray, h: float) -> None:
+        """:meth:`measure` from the values a stretch's row carries (:meth:`stretch_layout`)."""
+        v, at = self._v, 0
+        for _, vpos, _ in self._reads:
+            v[vpos] = values[at:at + len(vpos)]
+            at += len(vpos)
+        if self._has_inputs:
+            v[self._in_v] = values[at:]
+        self._compute(h)
+
+    def _compute(self, h: float) -> None:
+        x = self._v.tolist()
         power, capacity, force = [], [], []
         for off, n, sign in self._sides:
             p = ff = uu = 0.0

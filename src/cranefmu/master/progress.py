@@ -8,6 +8,8 @@ import time as clock
 class Progress:
     """Shows a bar after ``delay`` seconds of wall time, if stderr is a terminal; never steers."""
 
+    batchable = True   # takes rows after the fact: a stretch of compiled steps may precede it (loop.march)
+
     def __init__(self, start: float, stop: float, enabled: bool | None = None, delay: float = 3.0):
         self.start, self.stop = start, stop
         self.enabled = sys.stderr.isatty() if enabled is None else enabled

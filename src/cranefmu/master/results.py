@@ -24,6 +24,8 @@ class Recorder:
     recorded, ``written`` of them are on disk.  The values given are copied (the caller may reuse its array).
     """
 
+    batchable = True   # takes rows after the fact: a stretch of compiled steps may precede it (loop.march)
+
     BLOCK = 1024   # rows per preallocated block in memory
 
     def __init__(self, columns: list[str], fd: int | None = None, name: str = "", keep: bool = True,

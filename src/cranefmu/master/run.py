@@ -11,50 +11,28 @@ defined once in :mod:`.settings`; a run request is resolved once into a :class:`
 from __future__ import annotations
 
 import inspect
-import math
-import tempfile
-import time as clock
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
 
-from .algorithm_table import make_algorithm
 from .bond_inference import scene_bonds
-from .coupled import Coupling
-from .divergence import ValueCheck, Watch
-from ..errors import CraneFmuError, SettingsError, SimulationError
-from .extracted import extracted_scene, fresh_fmu_dirs
-from .initialization import initialize
+from ..errors import SettingsError
+from .extracted import extracted_scene
 from .interrupt import Interrupt, RunInterrupted, signal_name
-from .loop import Sampler, march
 from .output_file import OutputFile
-from .process import discard, forget_extracted
-from .power_bonds import BondMonitor, resolve as resolve_bonds
-from .progress import Progress
-from .results import Recorder
 from .scene_names import resolve_scene
 from .runspec import RunSpec, resolve
+from .execution import Execution, RunResult, build_execution
+from .loop import Observer
+from .commands import Command, Source
 from .settings import ALGORITHMS, Settings, describe
-from .step_control import ESTIMATES, make_step_control
-from .stop_conditions import StopWatch
-from .system import CoSystem, RunStats
+from .threads import one_thread
+from .system import RunStats
 
 __all__ = ["run", "simulate", "preview", "execute", "build_execution", "resolve", "RunSpec", "RunResult", "RunStats", "Settings",
+           "Execution", "Observer", "Command", "Source",
            "ALGORITHMS", "RunInterrupted"]
-
-
-@dataclass
-class RunResult:
-    result: np.ndarray           # the rows kept in memory (empty with keep=False)
-    stats: RunStats
-    output: Path | None          # the CSV holding the rows, if one was asked for
-    scene: str
-    settings: Settings | None = None
-    rows: int = 0                # rows recorded (also those not kept in memory)
-    end_time: float = math.nan   # simulated time of the last row [s]
-    warnings: list[str] = field(default_factory=list)   # what the run found suspicious (also on stderr)
-    spec: RunSpec | None = None  # the request run: settings with where each came from
 
 
 @dataclass
@@ -91,7 +69,7 @@ def preview(scene: str | Path, fmus: str | None = None) -> ScenePreview:
             if v.type == "Real":
                 reals.append(name)
             elif v.type in ("Integer", "Enumeration", "Boolean"):
-                discrete.append((v.type == "Boolean", name))   # as the run records them (system.py)
+                discrete.append((v.type == "Boolean", name))   # as the run records them (coupled.py)
             unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None)
             if unit:
                 units[name] = unit
@@ -161,93 +139,24 @@ def _run_here(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt | No
               observers: tuple = ()) -> RunResult:
     """The run in this process: a signal of ``interrupt`` (default SIGINT, main thread) stops it between steps."""
     interrupt = interrupt or Interrupt()
-    with interrupt:
+    with interrupt, one_thread():
         return _run_observed(spec, claim, interrupt, observers)
 
 
 def _run_observed(spec: RunSpec, claim: OutputFile | None, interrupt: Interrupt, observers: tuple = ()) -> RunResult:
-    settings = spec.settings
-    system = recorder = progress = fmu_dirs = None
-    wall0 = clock.perf_counter()
+    """The run as one :class:`~.execution.Execution` stepped to its end (unless a signal came while it loaded)."""
+    from .execution import Execution
+
+    execution = Execution(spec, claim, observers, interrupt)
     try:
-        workdir, loaded = extracted_scene(spec.ssp)
-        fmu_dirs = Path(tempfile.mkdtemp(prefix="run_", dir=workdir))
-        fresh_fmu_dirs(workdir, loaded, fmu_dirs)   # never instantiate twice from one directory
-        execution = build_execution(spec, loaded, fmu_dirs, claim)
-        system, bonds, recorder = execution.system, execution.bonds, execution.recorder
-        starts = spec.overrides if system.commands is None else \
-            {**spec.overrides, **system.commands.start_values(settings.start_time)}
-        system.stats.init_iterations = initialize(system, settings.start_time, starts, settings.init_tolerance)
-        progress = Progress(settings.start_time, settings.stop_time, settings.progress)
         if interrupt.signum is None:
-            _loop(system, settings, recorder, bonds, progress, execution.watch, execution.stopper,
-                  (interrupt, *observers))
-        system.stats.wall_time = clock.perf_counter() - wall0
-        system.stats.master_time = system.stats.wall_time - sum(system.stats.fmu_time.values())
-        system.stats.bond_energy = bonds.totals()
-        system.stats.bond_carried = bonds.carried_totals()
-        recorder.close()
-        where = _finish(claim, recorder)
-        result = RunResult(recorder.result(), system.stats, where, loaded.name, settings, recorder.count,
-                           recorder.last_time, bonds.warnings(), spec)
-    except CraneFmuError as err:
-        where = _finish(claim, recorder)
-        if recorder is not None and isinstance(err, SimulationError) and recorder.count:
-            if recorder.write_error:
-                raise SimulationError(str(err), recorder.result(), where) from None
-            kept = f" The {recorder.count} rows computed so far are in {where}." if where \
-                else f" {recorder.count} rows were computed before the failure."
-            raise SimulationError(str(err) + kept, recorder.result(), where) from None
-        raise
+            execution._to_end()
+        result = execution.finish()
     finally:
-        if progress is not None:
-            progress.close()
-        if system is not None:
-            system.free()
-        if fmu_dirs is not None:
-            forget_extracted(fmu_dirs)
-            discard(fmu_dirs)
-        _finish(claim, recorder)
+        execution.close()
     if interrupt.signum is not None:
-        raise RunInterrupted(_interrupted(interrupt.signum, result), result.result, where, interrupt.signum)
+        raise RunInterrupted(_interrupted(interrupt.signum, result), result.result, result.output, interrupt.signum)
     return result
-
-
-@dataclass
-class Execution:
-    """One run's parts, built from its :class:`RunSpec` by :func:`build_execution`: the coupled system,
-    its power bonds and the observers the settings ask for (recorder, instability watch, stop watch)."""
-
-    system: CoSystem
-    bonds: BondMonitor
-    recorder: Recorder
-    watch: Watch | None
-    stopper: StopWatch | None
-
-
-def build_execution(spec: RunSpec, loaded, fmu_dirs: Path, claim: OutputFile | None = None) -> Execution:
-    """The parts of the run ``spec`` on the scene ``loaded`` (as read from ``spec.ssp``), its FMUs
-    instantiated from ``fmu_dirs``, its rows into ``claim``; the system is freed if a part is refused."""
-    settings = spec.settings
-    system = CoSystem(loaded, fmu_dirs, settings.extrapolation)
-    try:
-        if spec.commands:
-            from .commands import CommandFeed
-
-            system.commands = CommandFeed(system, spec.commands)
-        bonds = BondMonitor(system, resolve_bonds(system, scene_bonds(loaded, {c.name: c.md for c in system.comps})[0]))
-        _check_capabilities(system, settings, bonds)
-        watch = Watch(system, bonds, settings.adaptive, _solved(system, settings)) if settings.instability_alarm else None
-        conditions = loaded.stop_conditions if settings.stop_when is None \
-            else {v: "" for v in settings.stop_when}
-        stopper = StopWatch(system.columns + bonds.columns, conditions) if conditions else None
-        recorder = Recorder(system.columns + bonds.columns, claim.fd if claim else None,
-                            str(claim.target) if claim else "", keep=spec.keep,
-                            path=str(claim.part or claim.target) if claim else "")
-    except BaseException:
-        system.free()
-        raise
-    return Execution(system, bonds, recorder, watch, stopper)
 
 
 def _interrupted(signum: int, result: RunResult) -> str:
@@ -257,60 +166,6 @@ def _interrupted(signum: int, result: RunResult) -> str:
     where = f"in {result.output}" if result.output else "in memory only (no output file)"
     return (f"interrupted by {signal_name(signum)} at t = {result.end_time:.9g} s: the {result.rows} rows "
             f"computed so far are {where}")
-
-
-def _finish(claim: OutputFile | None, recorder: Recorder | None) -> Path | None:
-    """Close the CSV and put it in place (again on later calls): where its rows are, or None."""
-    if recorder is not None and not recorder.write_error:
-        try:
-            recorder.close()
-        except SimulationError:
-            pass   # the caller reports the first failure
-    if claim is None:
-        return None
-    return claim.finish(recorder.written if recorder is not None else 0)
-
-
-def _check_capabilities(system: CoSystem, s: Settings, bonds: BondMonitor) -> None:
-    if s.adaptive:   # what the FMU's author declared (FMI 2.0 4.3.1, FMI 3.0 canHandleVariableCommunicationStepSize)
-        fixed = [f"{c.name} (model {c.md.coSimulation.modelIdentifier})" for c in system.comps
-                 if not getattr(getattr(c.md, "coSimulation", None), "canHandleVariableCommunicationStepSize", True)]
-        if fixed:
-            raise SettingsError(f"adaptive is not allowed for this scene: component(s) {', '.join(fixed)} declare "
-                                "canHandleVariableCommunicationStepSize=\"false\" (a fixed communication step only); "
-                                "run with a fixed --step")
-    if s.adaptive or s.algorithm == "iterative":
-        cannot = [c.name for c in system.comps if not c.can_get_state]
-        if cannot:
-            what = "adaptive" if s.adaptive else "algorithm = 'iterative'"
-            raise SettingsError(f"{what} is not allowed for this scene: component(s) {', '.join(cannot)} cannot save "
-                                "and restore their state (canGetAndSetFMUstate is false); use a fixed step with "
-                                "jacobi or gauss-seidel")
-    if s.adaptive:   # before initialization, not when the loop builds the controller
-        ESTIMATES[s.step_control].refuse(bonds)
-
-
-def _solved(system: CoSystem, s: Settings) -> set[int]:
-    """Components of the run's implicit group (none without one)."""
-    if not s.implicit or s.algorithm != "jacobi":
-        return set()
-    from .implicit_group import group_members
-
-    c = Coupling(system)
-    return set(group_members(c.components, c.bonds(), list(s.implicit), c.scene_name))
-
-
-def _loop(system: CoSystem, s: Settings, recorder: Recorder, bonds: BondMonitor, progress: Progress,
-          watch: Watch | None, stopper: StopWatch | None = None, observers: tuple = ()) -> None:
-    """Step from start to stop (:func:`.loop.march`): the algorithm and its start-up, the step
-    controller and the observers the settings ask for (and ``observers``, e.g. an
-    :class:`~.interrupt.Interrupt`), in the order they see each row."""
-    coupling = Coupling(system)
-    algorithm = make_algorithm(coupling, s)
-    control = make_step_control(coupling, s, bonds)
-    everyone = [recorder, ValueCheck(system, bonds, s.energy_alarm), watch, stopper, *observers, progress]
-    system.stats.stopped = march(coupling, algorithm, control, Sampler(system, bonds),
-                                 [o for o in everyone if o is not None], s.start_time)
 
 
 def simulate(scene: str | Path, **options) -> np.ndarray:
@@ -338,3 +193,4 @@ def _signature(fn, drop: tuple[str, ...] = ()) -> inspect.Signature:
 run.__doc__ = run.__doc__.replace("{settings}", describe())
 run.__signature__ = _signature(run)
 simulate.__signature__ = _signature(simulate)
+

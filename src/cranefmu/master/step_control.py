@@ -84,6 +84,14 @@ class FixedSteps:
         self.t_next = self.stop if self.n == self.count - 1 else self.start + (self.n + 1) * self.step
         return self.t_next - t
 
+    def upcoming(self, t: float, most: int) -> np.ndarray:
+        """t and the next grid times after it (at most ``most`` steps), as :meth:`propose` gives them."""
+        steps = min(most, self.count - self.n)
+        ts = [t] + [self.start + (self.n + i) * self.step for i in range(1, steps + 1)]
+        if self.n + steps == self.count:
+            ts[-1] = self.stop
+        return np.array(ts)
+
     def prepare(self, t: float, h: float, algorithm) -> None:
         pass
 
@@ -224,12 +232,11 @@ class EccoError:
 ESTIMATES = {"extrapolation": ExtrapolationError, "ecco": EccoError}
 
 
-def make_step_control(system, s, bonds):
-    """The step controller the settings ``s`` ask for (``system``: the run's
-    :class:`~.coupled.Coupling` or :class:`~.system.CoSystem`; ``bonds``: its power-bond monitor)."""
+def make_step_control(coupling: Coupling, s, bonds):
+    """The step controller the settings ``s`` ask for (``coupling``: the run's
+    :class:`~.coupled.Coupling`; ``bonds``: its power-bond monitor)."""
     if not s.adaptive:
         return FixedSteps(s.start_time, s.stop_time, s.step_size)
-    coupling = system if isinstance(system, Coupling) else Coupling(system)
     kind = ESTIMATES[s.step_control]
     return AdaptiveSteps(kind.from_settings(coupling, s, bonds), s.start_time, s.stop_time, s.step_size,
                          s.h_min, s.h_max, kind.order(s))

@@ -40,6 +40,8 @@ def read_stop_conditions(system, label: str) -> dict[str, str]:
 class StopWatch:
     """Checks each recorded row for the first non-zero stop variable."""
 
+    batchable = True   # takes rows after the fact: a stretch of compiled steps may precede it (loop.march)
+
     def __init__(self, columns: list[str], conditions: dict[str, str]):
         unknown = [v for v in conditions if v not in columns]
         if unknown:

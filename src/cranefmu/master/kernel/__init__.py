@@ -1,0 +1,115 @@
+"""The compiled exchange: ``exchange.c`` built at first use into the per-user cache and loaded with ctypes.
+
+Route (measured, benchmarks/results/master_kernel.md): a plain C99 shared library compiled with
+setuptools' compiler (the same one that builds extensions: no compiler command line written here) and
+called through ctypes, which is in the standard library; the kernel is called once per macro step, or
+once per stretch of steps, so the call's own cost (about a microsecond with ctypes) is not what limits.
+The library is checked once per process against numpy: its extrapolation product must give numpy's
+bits for every size in use (it reproduces OpenBLAS's gemv; another BLAS may differ), else the Python
+exchange runs.  Without a compiler (or setuptools) the Python exchange runs: the same numbers, slower;
+one line on stderr says so.
+"""
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+SOURCE = Path(__file__).with_name("exchange.c")
+DISABLE = "CRANEFMU_PYTHON_EXCHANGE"   # set (to anything but '' or '0'): always the Python exchange
+
+_LIB: ctypes.CDLL | None = None
+_TRIED = False
+_CHECKED: set[int] = set()   # sizes whose product was checked against numpy
+why_not = ""                 # why the compiled exchange is not used ('' when it is)
+
+
+def _flags(compiler_type: str) -> list[str]:
+    # the Python path's arithmetic: no contraction of a * b + c into an fma that numpy does not do
+    return ["-O2", "-ffp-contract=off", "-std=c99"] if compiler_type == "unix" else ["/O2", "/fp:precise"]
+
+
+def _build(target: Path) -> None:
+    """Compile exchange.c into the shared library ``target`` (setuptools' compiler, atomic rename)."""
+    from setuptools._distutils.ccompiler import new_compiler
+    from setuptools._distutils.sysconfig import customize_compiler
+
+    cc = new_compiler()
+    customize_compiler(cc)
+    with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
+        objects = cc.compile([str(SOURCE)], output_dir=tmp, extra_postargs=_flags(cc.compiler_type))
+        built = Path(tmp) / target.name
+        cc.link_shared_object(objects, str(built), libraries=["m"] if cc.compiler_type == "unix" else [])
+        os.replace(built, target)
+
+
+def library() -> ctypes.CDLL | None:
+    """The compiled kernel, built into the cache on first use; None where it cannot be (see :data:`why_not`)."""
+    global _LIB, _TRIED, why_not
+    if _TRIED:
+        return _LIB
+    _TRIED = True
+    if os.environ.get(DISABLE, "") not in ("", "0"):
+        why_not = f"{DISABLE} is set"
+        return None
+    from ...cache import cache_root, locked
+
+    digest = hashlib.sha256(SOURCE.read_bytes() + sys.platform.encode()).hexdigest()[:16]
+    folder = cache_root() / "kernel" / digest
+    target = folder / ("cf_exchange" + (".dll" if sys.platform == "win32" else ".so"))
+    try:
+        if not target.is_file():
+            with locked(folder):
+                if not target.is_file():
+                    _build(target)
+        lib = ctypes.CDLL(str(target))
+    except Exception as err:   # no compiler, no setuptools, a read-only cache: the Python exchange
+        why_not = f"the compiled exchange could not be built ({type(err).__name__}: {str(err).splitlines()[0] if str(err) else ''})"
+        print(f"cranefmu: {why_not}; the exchange runs in Python (same results, slower)", file=sys.stderr)
+        return None
+    double_p, int_ = ctypes.POINTER(ctypes.c_double), ctypes.c_int
+    lib.cf_dot_gemv.argtypes = [double_p, double_p, int_, int_, double_p]
+    lib.cf_dot_gemv.restype = None
+    lib.cf_weights.argtypes = [double_p, int_, ctypes.c_double, double_p, double_p]
+    lib.cf_weights.restype = None
+    lib.cf_jacobi_step.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, int_]
+    lib.cf_jacobi_step.restype = int_
+    lib.cf_jacobi_steps.argtypes = [ctypes.c_void_p, ctypes.c_void_p, int_, int_, ctypes.c_void_p]
+    lib.cf_jacobi_steps.restype = int_
+    _LIB = lib
+    return lib
+
+
+def agrees_with_numpy(lib: ctypes.CDLL, sizes: list[int], trials: int = 40) -> bool:
+    """The kernel's extrapolation product gives numpy's ``w @ stack`` bit for bit for these sizes
+    (random values over 12 decades, random point spacings, two and three points)."""
+    from ..coupling import _lagrange_weights
+
+    todo = sorted(set(sizes) - _CHECKED)
+    if not todo:
+        return True
+    rng = np.random.default_rng(34)
+    ptr = lambda a: a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))   # noqa: E731
+    for n in todo:
+        for k in (2, 3):
+            for _ in range(trials):
+                ts = sorted(rng.uniform(0.0, 1.0, k).tolist())
+                t = ts[-1] + float(rng.uniform(0.0, 0.1))
+                w1, w2 = _lagrange_weights(ts, t)
+                c1, c2 = np.empty(k), np.empty(k)
+                lib.cf_weights(ptr(np.array(ts)), k, t, ptr(c1), ptr(c2))
+                if not (np.array_equal(c1, w1) and np.array_equal(c2, w2)):
+                    return False
+                stack = rng.normal(size=(k, n)) * 10.0 ** rng.uniform(-6, 6, size=(k, n))
+                for w in (w1, w2):
+                    out = np.empty(n)
+                    lib.cf_dot_gemv(ptr(np.ascontiguousarray(w)), ptr(stack), k, n, ptr(out))
+                    if not np.array_equal(out, w @ stack):
+                        return False
+    _CHECKED.update(todo)
+    return True

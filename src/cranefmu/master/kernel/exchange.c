@@ -1,0 +1,311 @@
+/* The exchange of a macro step in compiled code: FMUs step, the inputs' end values, then every value
+ * moves (gather, scale, record, extrapolate with Lagrange weights, scatter, fmi2SetReal), through the
+ * FMUs' own FMI function pointers.  The arithmetic is the Python path's (cranefmu/master/coupled.py),
+ * operation for operation, so that both give the same bits; build with floating-point contraction off.
+ *
+ * The extrapolation products reproduce numpy's `w @ stack` for a (k, n) stack as OpenBLAS's gemv
+ * computes it on x86-64 (measured; checked against numpy at load by cranefmu.master.kernel): the
+ * elements of the leading multiple of 4 fuse the first two products, the rest accumulate in order.
+ */
+#define _POSIX_C_SOURCE 199309L   /* clock_gettime */
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <time.h>
+
+typedef int (*do_step_f)(void *, double, double, int);
+typedef int (*get_real_f)(void *, const unsigned int *, size_t, double *);
+typedef int (*set_real_f)(void *, const unsigned int *, size_t, const double *);
+typedef int (*get_int_f)(void *, const unsigned int *, size_t, int *);
+
+typedef struct {
+    /* components */
+    int n_comps;
+    void **inst;                 /* fmi2Component per component */
+    void **do_step, **get_real, **set_real;
+    unsigned int **read_vrs;     /* per component: the value references of its one fmi2GetReal */
+    int32_t *read_n, *read_at;   /* their count, and where they go in read_buf */
+    int32_t *fresh;              /* per component: read_buf holds what the FMU would return now */
+    double *fmu_time;            /* seconds inside doStep, per component */
+    int64_t *fmu_calls;
+    double *read_buf;
+    /* the coupling vector */
+    int32_t n;
+    double *past;                /* 3 x n ring */
+    int32_t *ring;               /* [count, row0, row1, row2] oldest first */
+    double *times;               /* [t0, t1, t2] oldest first */
+    double *fed, *fed_rate, *fed_curv, *input_end, *scale;
+    uint8_t *held;
+    /* phases */
+    int32_t n_phases;
+    int32_t *ph_start, *ph_n, *ph_plain;
+    int32_t *ph_src_off, *ph_src_n, *src;                 /* sources per phase */
+    int64_t *gather;             /* per coupling position: index into read_buf */
+    double *factor, *offset;     /* per coupling position */
+    int64_t *set_values;         /* per coupling position: index into set_buf */
+    int32_t *ph_rate_off, *ph_rate_n;
+    int64_t *rate_sel, *set_d1, *set_d2;                  /* rate_sel relative to the phase */
+    double *set_buf;
+    int32_t *ph_write_off, *ph_write_n;
+    int32_t *w_comp, *w_count, *w_start, *w_stales;
+    unsigned int **w_vrs;
+    double *scratch;             /* 5 x n: the phase's stack (up to 3 x n), d1, d2 */
+    /* the row */
+    int32_t n_real;
+    int64_t *row_gather;
+    int32_t n_flag_reads;        /* discrete outputs: one fmi2GetInteger/Boolean each */
+    int32_t *f_comp, *f_n, *f_bool;
+    void **f_get;                /* fmi2GetInteger or fmi2GetBoolean of that component */
+    unsigned int **f_vrs;
+    int32_t *f_buf;              /* room for the largest read */
+    int32_t n_flags;
+    int32_t n_extra_read, n_extra_end;   /* more values per row: read_buf[extra_read[i]], input_end[extra_end[i]] */
+    int64_t *extra_read, *extra_end;
+    /* error report */
+    int32_t err_comp, err_status, err_what;   /* what: 1 doStep, 2 getReal, 3 setReal, 4 get discrete */
+} cf_plan;
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+#ifdef _WIN32
+    timespec_get(&ts, TIME_UTC);
+#else
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+#endif
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* sum_i w[i] * a[i][j] as OpenBLAS's gemv gives it for a stack of k rows of n (module doc) */
+static double dot_gemv(const double *w, const double *a, int k, int n, int j)
+{
+    int vec = j < n - n % 4;
+    if (k == 2) {
+        if (vec)
+            return fma(w[0], a[j], w[1] * a[n + j]);
+        return fma(w[1], a[n + j], w[0] * a[j]);
+    }
+    if (vec)
+        return fma(w[0], a[j], w[1] * a[n + j]) + w[2] * a[2 * n + j];
+    return fma(w[2], a[2 * n + j], fma(w[1], a[n + j], w[0] * a[j]));
+}
+
+/* the first and second derivative weights of the polynomial through (ts[i], u_i) at t, as
+ * coupling.lagrange_weights computes them */
+static void weights(const double *ts, int k, double t, double *w1, double *w2)
+{
+    if (k == 2) {
+        w1[0] = 1.0 / (ts[0] - ts[1]);
+        w1[1] = 1.0 / (ts[1] - ts[0]);
+        w2[0] = w2[1] = 0.0;
+        return;
+    }
+    for (int i = 0; i < 3; i++) {
+        double o[2];
+        int m = 0;
+        for (int j = 0; j < 3; j++)
+            if (j != i)
+                o[m++] = ts[j];
+        double den = 1.0;
+        den *= ts[i] - o[0];
+        den *= ts[i] - o[1];
+        w1[i] = ((t - o[0]) + (t - o[1])) / den;
+        w2[i] = 2.0 / den;
+    }
+}
+
+static int read_comp(cf_plan *p, int c)
+{
+    if (p->fresh[c])
+        return 0;
+    int s = ((get_real_f)p->get_real[c])(p->inst[c], p->read_vrs[c], (size_t)p->read_n[c],
+                                         p->read_buf + p->read_at[c]);
+    if (s > 1) {
+        p->err_comp = c; p->err_status = s; p->err_what = 2;
+        return -1;
+    }
+    p->fresh[c] = 1;
+    return 0;
+}
+
+/* the ring's row for the values at t (coupled.Coupling._new_point) */
+static double *new_point(cf_plan *p, double t)
+{
+    int32_t *r = p->ring;
+    int count = r[0];
+    if (count > 0 && p->times[count - 1] == t)
+        return p->past + (size_t)r[count] * p->n;
+    int row;
+    if (count < 3) {
+        row = 0;
+        for (;;) {
+            int used = 0;
+            for (int i = 0; i < count; i++)
+                used |= r[1 + i] == row;
+            if (!used)
+                break;
+            row++;
+        }
+        r[1 + count] = row;
+        p->times[count] = t;
+        r[0] = count + 1;
+    } else {
+        row = r[1];
+        r[1] = r[2]; r[2] = r[3]; r[3] = row;
+        p->times[0] = p->times[1]; p->times[1] = p->times[2]; p->times[2] = t;
+    }
+    return p->past + (size_t)row * p->n;
+}
+
+/* every value moves at t (coupled.Coupling.exchange), extrapolation order `order` */
+static int exchange(cf_plan *p, double t, int order)
+{
+    double *new = new_point(p, t);
+    int count = p->ring[0];
+    int k = order + 1 < count ? order + 1 : count;
+    double w1[3], w2[3];
+    int extrapolate = order > 0 && count >= 2;
+    if (extrapolate)
+        weights(p->times + (count - k), k, t, w1, w2);
+    for (int f = 0; f < p->n_phases; f++) {
+        for (int s = p->ph_src_off[f]; s < p->ph_src_off[f] + p->ph_src_n[f]; s++)
+            if (read_comp(p, p->src[s]))
+                return -1;
+        int a = p->ph_start[f], n = p->ph_n[f];
+        for (int j = a; j < a + n; j++) {
+            double v = p->read_buf[p->gather[j]];
+            if (!p->ph_plain[f])
+                v = v * p->factor[j] + p->offset[j];
+            new[j] = v;
+            p->set_buf[p->set_values[j]] = v;
+            p->fed[j] = v;
+        }
+        double *d1 = p->scratch + 3 * (size_t)p->n, *d2 = p->scratch + 4 * (size_t)p->n;
+        if (extrapolate) {
+            double *stack = p->scratch;
+            for (int i = 0; i < k; i++) {
+                const double *row = p->past + (size_t)p->ring[1 + count - k + i] * p->n + a;
+                for (int j = 0; j < n; j++)
+                    stack[i * n + j] = row[j];
+            }
+            for (int j = 0; j < n; j++) {
+                d1[j] = dot_gemv(w1, stack, k, n, j);
+                d2[j] = order > 1 ? dot_gemv(w2, stack, k, n, j) : 0.0;
+            }
+        } else {
+            for (int j = 0; j < n; j++)
+                d1[j] = d2[j] = 0.0;
+        }
+        for (int r = p->ph_rate_off[f]; r < p->ph_rate_off[f] + p->ph_rate_n[f]; r++) {
+            p->set_buf[p->set_d1[r]] = d1[p->rate_sel[r]];
+            p->set_buf[p->set_d2[r]] = d2[p->rate_sel[r]];
+        }
+        for (int j = 0; j < n; j++) {
+            p->fed_rate[a + j] = d1[j];
+            p->fed_curv[a + j] = d2[j];
+            p->held[a + j] = (uint8_t)!extrapolate;
+        }
+        for (int w = p->ph_write_off[f]; w < p->ph_write_off[f] + p->ph_write_n[f]; w++) {
+            int c = p->w_comp[w];
+            int s = ((set_real_f)p->set_real[c])(p->inst[c], p->w_vrs[w], (size_t)p->w_count[w],
+                                                 p->set_buf + p->w_start[w]);
+            if (s > 1) {
+                p->err_comp = c; p->err_status = s; p->err_what = 3;
+                return -1;
+            }
+            if (p->w_stales[w])
+                p->fresh[c] = 0;
+        }
+    }
+    for (int j = 0; j < p->n; j++) {   /* np.maximum: a NaN wins */
+        double v = fabs(new[j]), s = p->scale[j];
+        p->scale[j] = (v != v || s != s) ? (v != v ? v : s) : (v > s ? v : s);
+    }
+    return 0;
+}
+
+static int step_all(cf_plan *p, double t, double h)
+{
+    for (int c = 0; c < p->n_comps; c++) {
+        double t0 = now_seconds();
+        p->fresh[c] = 0;
+        int s = ((do_step_f)p->do_step[c])(p->inst[c], t, h, 1);
+        p->fmu_time[c] += now_seconds() - t0;
+        p->fmu_calls[c] += 1;
+        if (s > 1) {
+            p->err_comp = c; p->err_status = s; p->err_what = 1;
+            return -1;
+        }
+    }
+    double hh = 0.5 * h;
+    for (int j = 0; j < p->n; j++)   /* coupled.Coupling.note_ends */
+        p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
+    return 0;
+}
+
+/* the row after a step (loop.Sampler): every Real output, then every discrete output as a float */
+static int fill_row(cf_plan *p, double *row)
+{
+    int at = p->n_real;
+    for (int q = 0; q < p->n_flag_reads; q++) {
+        int c = p->f_comp[q], m = p->f_n[q];
+        int s = ((get_int_f)p->f_get[q])(p->inst[c], p->f_vrs[q], (size_t)m, p->f_buf);
+        if (s > 1) {
+            p->err_comp = c; p->err_status = s; p->err_what = 4;
+            return -1;
+        }
+        for (int i = 0; i < m; i++)
+            row[at + i] = p->f_bool[q] ? (p->f_buf[i] ? 1.0 : 0.0) : (double)p->f_buf[i];
+        at += m;
+    }
+    for (int c = 0; c < p->n_comps; c++)
+        if (read_comp(p, c))
+            return -1;
+    for (int j = 0; j < p->n_real; j++)
+        row[j] = p->read_buf[p->row_gather[j]];
+    double *extra = row + p->n_real + p->n_flags;
+    for (int i = 0; i < p->n_extra_read; i++)
+        extra[i] = p->read_buf[p->extra_read[i]];
+    for (int i = 0; i < p->n_extra_end; i++)
+        extra[p->n_extra_read + i] = p->input_end[p->extra_end[i]];
+    return 0;
+}
+
+/* One Jacobi macro step from t: every FMU steps, the inputs' end values are noted, every value moves
+ * at t + h.  Returns 0, or -1 with the failure in err_*. */
+int cf_jacobi_step(cf_plan *p, double t, double h, int order)
+{
+    if (step_all(p, t, h))
+        return -1;
+    return exchange(p, t + h, order);
+}
+
+/* `steps` Jacobi macro steps on the grid ts[0..steps] (step i from ts[i] to ts[i + 1], h = their
+ * difference, as the loop's FixedSteps proposes it), each row (time, the Real outputs, the discrete
+ * outputs, the extra values) into rows[i * (1 + n_real + n_flags + n_extra_read + n_extra_end)].  Returns the steps done, or -1 - steps done on a
+ * failure (err_*). */
+int cf_jacobi_steps(cf_plan *p, const double *ts, int order, int steps, double *rows)
+{
+    for (int i = 0; i < steps; i++) {
+        double t = ts[i], h = ts[i + 1] - ts[i];
+        if (step_all(p, t, h) || exchange(p, ts[i + 1], order))
+            return -1 - i;
+        double *row = rows + (size_t)i * (1 + p->n_real + p->n_flags + p->n_extra_read + p->n_extra_end);
+        row[0] = ts[i + 1];
+        if (fill_row(p, row + 1))
+            return -1 - i;
+    }
+    return steps;
+}
+
+/* the extrapolation product alone, for the check against numpy at load: out[j] = sum_i w[i] a[i][j] */
+void cf_dot_gemv(const double *w, const double *a, int k, int n, double *out)
+{
+    for (int j = 0; j < n; j++)
+        out[j] = dot_gemv(w, a, k, n, j);
+}
+
+void cf_weights(const double *ts, int k, double t, double *w1, double *w2)
+{
+    weights(ts, k, t, w1, w2);
+}

@@ -1,0 +1,224 @@
+"""A :class:`~..coupled.Coupling`'s arrays and FMI function pointers handed to the compiled kernel
+(``cf_plan`` of exchange.c): built once per run after the exchange is planned, synchronised with the
+Python-side state (ring order, fresh reads, statistics) around each kernel call."""
+from __future__ import annotations
+
+import ctypes
+
+import numpy as np
+
+from ...errors import SimulationError
+
+_P = ctypes.c_void_p
+_I32P = ctypes.POINTER(ctypes.c_int32)
+
+
+class CPlan(ctypes.Structure):
+    _fields_ = [
+        ("n_comps", ctypes.c_int), ("inst", _P), ("do_step", _P), ("get_real", _P), ("set_real", _P),
+        ("read_vrs", _P), ("read_n", _P), ("read_at", _P), ("fresh", _P), ("fmu_time", _P), ("fmu_calls", _P),
+        ("read_buf", _P),
+        ("n", ctypes.c_int32), ("past", _P), ("ring", _P), ("times", _P), ("fed", _P), ("fed_rate", _P),
+        ("fed_curv", _P), ("input_end", _P), ("scale", _P), ("held", _P),
+        ("n_phases", ctypes.c_int32), ("ph_start", _P), ("ph_n", _P), ("ph_plain", _P),
+        ("ph_src_off", _P), ("ph_src_n", _P), ("src", _P), ("gather", _P), ("factor", _P), ("offset", _P),
+        ("set_values", _P), ("ph_rate_off", _P), ("ph_rate_n", _P), ("rate_sel", _P), ("set_d1", _P),
+        ("set_d2", _P), ("set_buf", _P), ("ph_write_off", _P), ("ph_write_n", _P), ("w_comp", _P),
+        ("w_count", _P), ("w_start", _P), ("w_stales", _P), ("w_vrs", _P), ("scratch", _P),
+        ("n_real", ctypes.c_int32), ("row_gather", _P), ("n_flag_reads", ctypes.c_int32), ("f_comp", _P),
+        ("f_n", _P), ("f_bool", _P), ("f_get", _P), ("f_vrs", _P), ("f_buf", _P), ("n_flags", ctypes.c_int32),
+        ("n_extra_read", ctypes.c_int32), ("n_extra_end", ctypes.c_int32), ("extra_read", _P), ("extra_end", _P),
+        ("err_comp", ctypes.c_int32), ("err_status", ctypes.c_int32), ("err_what", ctypes.c_int32)]
+
+
+def _address(f) -> int | None:
+    """The C address of an fmpy FMI function (None for a Python wrapper, e.g. wrap_fmi_calls')."""
+    if not isinstance(f, ctypes._CFuncPtr):
+        return None
+    return ctypes.cast(f, ctypes.c_void_p).value
+
+
+class KernelPlan:
+    """The compiled kernel bound to one coupling; :meth:`make` returns None where it cannot run it."""
+
+    def __init__(self, lib, coupling):
+        self.lib, self.c = lib, coupling
+        self._keep: list = []   # every array the C struct points into
+
+    @classmethod
+    def make(cls, lib, coupling) -> KernelPlan | None:
+        """None where the Python exchange must run: commanded inputs, FMI input derivatives, wrapped FMI
+        calls, or a product size whose bits the kernel does not reproduce here."""
+        from . import agrees_with_numpy
+
+        if lib is None or coupling.commands is not None or coupling._phases is None:
+            return None
+        if any(w.derivatives for ph in coupling._phases for w in ph.writes):
+            return None
+        functions = [f for comp in coupling.comps
+                     for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
+        if any(_address(f) is None for f in functions):
+            return None
+        if not agrees_with_numpy(lib, sorted({ph.n for ph in coupling._phases})):
+            return None
+        plan = cls(lib, coupling)
+        plan._build()
+        return plan
+
+    def _array(self, values, dtype) -> int:
+        a = np.ascontiguousarray(np.array(values, dtype=dtype))
+        self._keep.append(a)
+        return a.ctypes.data
+
+    def _pointers(self, objs) -> int:
+        arr = (ctypes.c_void_p * max(1, len(objs)))(*objs)
+        self._keep.append(arr)
+        return ctypes.addressof(arr)
+
+    def _build(self) -> None:
+        c = self.c
+        comps = c.comps
+        p = CPlan()
+        i32, i64, f64 = np.int32, np.int64, np.float64
+        p.n_comps = len(comps)
+        p.inst = self._pointers([comp._c for comp in comps])
+        p.do_step = self._pointers([_address(comp._do_step) for comp in comps])
+        p.get_real = self._pointers([_address(comp._get_real) for comp in comps])
+        p.set_real = self._pointers([_address(comp._set_real) for comp in comps])
+        for comp in comps:
+            comp.read()   # the read tuple exists (the buffer of the exchange plan)
+        p.read_vrs = self._pointers([ctypes.addressof(comp._read[0]) for comp in comps])
+        p.read_n = self._array([comp._read[1] for comp in comps], i32)
+        p.read_at = self._array(c._read_at, i32)
+        self.fresh = np.zeros(len(comps), dtype=i32)
+        self.fmu_time = np.zeros(len(comps))
+        self.fmu_calls = np.zeros(len(comps), dtype=i64)
+        self._keep += [self.fresh, self.fmu_time, self.fmu_calls]
+        p.fresh, p.fmu_time, p.fmu_calls = self.fresh.ctypes.data, self.fmu_time.ctypes.data, self.fmu_calls.ctypes.data
+        p.read_buf = ctypes.addressof(c._read_all)
+        p.n = c.n
+        self.ring = np.zeros(4, dtype=i32)
+        self.times = np.zeros(3)
+        self._keep += [self.ring, self.times]
+        p.past, p.ring, p.times = c._past.ctypes.data, self.ring.ctypes.data, self.times.ctypes.data
+        p.fed, p.fed_rate, p.fed_curv = c.fed.ctypes.data, c.fed_rate.ctypes.data, c.fed_curvature.ctypes.data
+        p.input_end, p.scale, p.held = c.input_end.ctypes.data, c.scale.ctypes.data, c.held.ctypes.data
+        phases = c._phases
+        p.n_phases = len(phases)
+        p.ph_start = self._array([ph.sl.start for ph in phases], i32)
+        p.ph_n = self._array([ph.n for ph in phases], i32)
+        p.ph_plain = self._array([int(ph.plain) for ph in phases], i32)
+        index = {id(comp): i for i, comp in enumerate(comps)}
+        src, src_off = [], []
+        for ph in phases:
+            src_off.append(len(src))
+            src += [index[id(comp)] for comp in ph.source_comps]
+        p.ph_src_off, p.ph_src_n = self._array(src_off, i32), self._array([len(ph.source_comps) for ph in phases], i32)
+        p.src = self._array(src, i32)
+        n = max(1, c.n)
+        gather, factor, offset, set_values = np.zeros(n, i64), np.zeros(n), np.zeros(n), np.zeros(n, i64)
+        rate_sel, set_d1, set_d2, rate_off, writes, write_off = [], [], [], [], [], []
+        for ph in phases:
+            sl = ph.sl
+            gather[sl], factor[sl], offset[sl], set_values[sl] = ph.gather, ph.factor, ph.offset, ph.set_values
+            rate_off.append(len(rate_sel))
+            rate_sel += ph.rate_sel.tolist()
+            set_d1 += ph.set_d1.tolist()
+            set_d2 += ph.set_d2.tolist()
+            write_off.append(len(writes))
+            writes += ph.writes
+        p.gather, p.factor, p.offset = self._array(gather, i64), self._array(factor, f64), self._array(offset, f64)
+        p.set_values = self._array(set_values, i64)
+        p.ph_rate_off = self._array(rate_off, i32)
+        p.ph_rate_n = self._array([len(ph.rate_sel) for ph in phases], i32)
+        p.rate_sel, p.set_d1, p.set_d2 = self._array(rate_sel, i64), self._array(set_d1, i64), self._array(set_d2, i64)
+        p.set_buf = ctypes.addressof(c._set_all)
+        p.ph_write_off = self._array(write_off, i32)
+        p.ph_write_n = self._array([len(ph.writes) for ph in phases], i32)
+        p.w_comp = self._array([index[id(w.comp)] for w in writes], i32)
+        p.w_count = self._array([w.count for w in writes], i32)
+        p.w_start = self._array([w.start for w in writes], i32)
+        p.w_stales = self._array([int(w.stales) for w in writes], i32)
+        p.w_vrs = self._pointers([ctypes.addressof(w.vrs) for w in writes])
+        p.scratch = self._array(np.zeros(5 * n), f64)
+        p.n_real = c.n_real
+        p.row_gather = self._array(c._row_gather, i64)
+        reads = c._flag_reads
+        p.n_flag_reads = len(reads)
+        p.f_comp = self._array([index[id(comp)] for comp, *_ in reads], i32)
+        p.f_n = self._array([m for _, _, m, _, _ in reads], i32)
+        p.f_bool = self._array([int(b) for *_, b in reads], i32)
+        p.f_get = self._pointers([_address(comp._get_boolean if b else comp._get_integer)
+                                  for comp, _, _, _, b in reads])
+        p.f_vrs = self._pointers([ctypes.addressof(vrs) for _, vrs, _, _, _ in reads])
+        p.f_buf = self._array(np.zeros(max([1] + [m for _, _, m, _, _ in reads])), i32)
+        p.n_flags = len(c.flag_names)
+        read_idx, end_idx = c.row_extra
+        p.n_extra_read, p.n_extra_end = len(read_idx), len(end_idx)
+        p.extra_read, p.extra_end = self._array(read_idx, i64), self._array(end_idx, i64)
+        self.p = p
+        self.ptr = ctypes.addressof(p)
+
+    # --- around a call ----------------------------------------------------------------------------
+    def _enter(self) -> None:
+        c = self.c
+        c.stats.kernel_calls += 1
+        count = len(c._rows)
+        self.ring[0] = count
+        self.ring[1:1 + count] = c._rows
+        self.times[:count] = c._times
+        self.fresh[:] = [comp.fresh for comp in c.comps]
+        self.fmu_time[:] = 0.0
+        self.fmu_calls[:] = 0
+
+    def _leave(self) -> None:
+        c = self.c
+        count = int(self.ring[0])
+        c._rows = self.ring[1:1 + count].tolist()
+        c._times = self.times[:count].tolist()
+        for comp, fresh in zip(c.comps, self.fresh.tolist()):
+            comp.fresh = bool(fresh)
+        stats = c.stats
+        for comp, dt, calls in zip(c.comps, self.fmu_time.tolist(), self.fmu_calls.tolist()):
+            stats.fmu_time[comp.name] += dt
+            stats.fmu_calls[comp.name] += calls
+
+    def jacobi_step(self, t: float, h: float, order: int) -> None:
+        """One Jacobi macro step (coupled.Coupling.step, then commit) in compiled code."""
+        self._enter()
+        status = self.lib.cf_jacobi_step(self.ptr, t, h, order)
+        self._leave()
+        if status:
+            self._raise(t, h)
+        self.c.stats.compiled_steps += 1
+
+    def jacobi_steps(self, ts: np.ndarray, order: int, rows: np.ndarray) -> int:
+        """Jacobi macro steps on the grid ``ts`` (len(ts) - 1 of them), each row (time, outputs, discrete
+        outputs) into ``rows``; returns how many were done (all; a failure is raised after the rows
+        before it are in ``rows``: the caller's ``done`` attribute says how many)."""
+        steps = len(ts) - 1
+        self._enter()
+        done = self.lib.cf_jacobi_steps(self.ptr, ts.ctypes.data, order, steps, rows.ctypes.data)
+        self._leave()
+        if done < 0:
+            self.done = -1 - done
+            self.c.stats.compiled_steps += self.done
+            self._raise(float(ts[self.done]), float(ts[self.done + 1] - ts[self.done]))
+        self.done = done
+        self.c.stats.compiled_steps += done
+        return done
+
+    def _raise(self, t: float, h: float) -> None:
+        """The error the Python path raises for the failure the kernel reported."""
+        p = self.p
+        comp = self.c.comps[p.err_comp]
+        what = {1: "fmi2DoStep", 2: "fmi2GetReal", 3: "fmi2SetReal", 4: "fmi2GetInteger"}[p.err_what]
+        try:
+            comp._failed(what, p.err_status)
+        except Exception:
+            if p.err_what == 1:
+                raise SimulationError(f"component {comp.name} failed in the step from t = {t:.9g} s (H = {h:.3g} s): "
+                                      f"{comp.last_error()}. Try a smaller --step, --adaptive, or --algorithm "
+                                      "iterative.") from None
+            doing = {2: "reading its outputs", 3: "setting its inputs", 4: "reading its discrete outputs"}[p.err_what]
+            raise self.c.refused(comp, doing) from None
