@@ -71,10 +71,7 @@ def test_fmpy_runs_hook_sway_crane_motion_from_the_files_own_set(built):
     assert np.max(np.abs(out["pendulum.x"] - ours["pendulum.x"][1:201])) < 1e-2 * travel   # measured 2.4e-3
 
 
-ECOS_SETS = [("truck_telescope", "luff30"), ("hook_sway", "crane_motion"), ("overhead_lift", "loose")]
-
-
-@pytest.mark.parametrize("scene,parameter_set", ECOS_SETS)
+@pytest.mark.parametrize("scene,parameter_set", NAMED)
 def test_ecos_starts_a_named_set_of_the_built_file_settled(built, scene, parameter_set):
     """ecos given the built file and ``init(parameter_set=NAME)``, 5 steps: every key output that does not
     read a connected input is ours (jacobi-plain, the same set) to 1e-9 of its largest value.  Before, the
