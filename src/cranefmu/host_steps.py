@@ -29,7 +29,9 @@ def measured(scene: str) -> dict[str, dict]:
     if not STORE.is_file():
         return {}
     sets = json.loads(STORE.read_text()).get(scene, {})
-    return {name: {k: m[k] for k in ("step", "span", "stored_step")} for name, m in sets.items() if m.get("step")}
+    order = sorted(sets, key=lambda name: (name != "default", name))   # the default set first
+    return {name: {k: sets[name][k] for k in ("step", "span", "stored_step")} for name in order
+            if sets[name].get("step")}
 
 
 def annotate(root, steps: dict[str, dict]) -> None:
