@@ -105,10 +105,12 @@ def measure(scene: str, parameter_set: str, span_cap: float) -> dict:
         why = attempt(scene, parameter_set, h, span, reference)
         print(f"  {scene} {parameter_set} H = {h * 1e3:g} ms: {why or 'stable'}", flush=True)
         if why is None:
-            return {"step": h, "stored_step": top, "span": span, "failed": failed,
-                    "stop_condition_end": ends[0] if ends and ends[0] < span * (1 - 1e-9) else None, "wall": round(time.perf_counter() - t0, 1)}
+            tipped = ends[0] if ends and ends[0] < span * (1 - 1e-9) else None
+            return {"step": h, "stored_step": top, "span": span, "failed": failed, "stop_condition_end": tipped,
+                    "wall": round(time.perf_counter() - t0, 1)}
         failed.append([h, why])
-    return {"step": None, "stored_step": top, "span": span, "failed": failed, "wall": round(time.perf_counter() - t0, 1)}
+    return {"step": None, "stored_step": top, "span": span, "failed": failed,
+            "wall": round(time.perf_counter() - t0, 1)}
 
 
 def cap_at_default(sets: dict, pset: str, scene: str, fmpy: bool = True) -> None:

@@ -245,9 +245,10 @@ def _check_copies(copies: dict[str, dict[str, Parameter]], bound: dict[str, Para
         whole = {**bound, **sets[name]}
         for key, p in copy.items():
             if key not in whole or whole[key].value != p.value:
+                given = whole[key].value if key in whole else "nothing"
                 raise ParameterSetError(f"{label}: the component binding of parameter set {name!r} gives {key} = "
-                                        f"{p.value!r}, but the set gives {whole[key].value if key in whole else 'nothing'}"
-                                        f": bind each set's values once (or the same)")
+                                        f"{p.value!r}, but the set gives {given}: bind each set's values once "
+                                        "(or the same)")
 
 
 def _merge(into: dict[str, Parameter], new: dict[str, Parameter], where: str) -> None:

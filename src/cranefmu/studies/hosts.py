@@ -338,7 +338,8 @@ def fmpy_run_until(ssp: str, parameter_set: str, step: float, stop: float) -> st
 def ecos_run(ssp: str, step: float, stop: float, columns: list[str], parameter_set: str = "default") -> dict:
     """Run ``ssp`` in ecos (fixed-step plain Jacobi) to ``stop`` [s]: ``init(parameter_set=...)`` names
     the set ecos applies ("default", or a named set of a built file: the build binds each set, complete
-    with its settled start, on every component, where ecos reads sets), nothing else is handed over.  Returns {"time", column...: values after every step, read in ecos's
+    with its settled start, on every component, where ecos reads sets), nothing else is handed over.
+    Returns {"time", column...: values after every step, read in ecos's
     post-step callback; "parameters" is not read (ecos has no listing)}.  Column names
     "component.variable" (ecos: "component::variable")."""
     from ecospy import EcosLib, EcosSimulation, SimulationListener
