@@ -120,6 +120,8 @@ def test_libcosim_starts_the_osp_export_at_rest(built, tmp_path, scene, columns)
                 "--osp", str(folder)]) == 0
     text = (folder / "OspSystemStructure.xml").read_text()
     h = float(text.split("<BaseStepSize>")[1].split("<")[0])
+    stored = read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR).settings["step_size"]
+    assert h == min(stored, measured(scene)["default"]["step"])   # libcosim runs plain Jacobi at it
     theirs = in_child(libcosim_run, str(folder / "OspSystemStructure.xml"), h, 3, columns)
     ours = _ours(scene, None, h, 3)
     assert theirs["ok"]
