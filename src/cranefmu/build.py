@@ -194,8 +194,9 @@ def ssp_is_stale(scene_dir: Path) -> bool:
 def ssp_generators() -> list[Path]:
     """The package files that write an .ssp (the component bindings are generated): a change to them
     makes every .ssp stale."""
+    measured = [host_steps_module.STORE] if host_steps_module.STORE.is_file() else []   # the steps annotated
     return [PACKAGE_DIR / "build.py", PACKAGE_DIR / "master" / "scene.py", PACKAGE_DIR / "settled_start.py",
-            PACKAGE_DIR / "host_steps.py", *[host_steps_module.STORE][:host_steps_module.STORE.is_file()],
+            PACKAGE_DIR / "host_steps.py", *measured,
             PACKAGE_DIR / "master" / "initialization.py", *sorted((PACKAGE_DIR / "compose").glob("*.py"))]
 
 
@@ -218,7 +219,10 @@ def ssd_with_component_bindings(scene_dir: Path, start: dict[str, float] | None 
     from .master.untrusted import parse_xml
 
     scene = read_scene_folder(scene_dir, fmu_dir or FMU_DIR)
-    real = lambda values: {k: Parameter(k, "Real", v) for k, v in (values or {}).items()}   # noqa: E731
+
+    def real(values: dict[str, float] | None) -> dict[str, Parameter]:
+        return {k: Parameter(k, "Real", v) for k, v in (values or {}).items()}
+
     variants = [("default", {**scene.bound, **real(start)})]
     variants += [(name, {**scene.bound, **scene.sets[name], **real(own)}) for name, own in (set_starts or {}).items()]
     root = parse_xml(scene_dir / "SystemStructure.ssd")
@@ -270,12 +274,13 @@ def build_ssp(scene_dir: Path, dest: Path | None = None, fmu_dir: Path | None = 
 def _zip_scene(scene_dir: Path, target: Path, starts: dict[str | None, dict[str, float]],
                fmu_dir: Path | None = None, host_steps: dict[str, dict] | None = None) -> None:
     """The .ssp of ``scene_dir`` with each .ssv's settled start (``starts[set name]``, None: the
-    default set, which the SSD binds) added to it and, for the default set, to the component bindings."""
+    default set, which the SSD binds) added to it and to the component bindings; each named set's file
+    made complete (the default values it does not change added) and bound by name on every component."""
     from .master.scene import read_scene_folder
 
     bound = _bound_files(scene_dir)
     named = {k: v for k, v in starts.items() if k is not None}
-    default = read_scene_folder(scene_dir, FMU_DIR).bound if named else {}
+    default = read_scene_folder(scene_dir, fmu_dir or FMU_DIR).bound if named else {}
     with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as zf:
         zf.writestr("SystemStructure.ssd", ssd_with_component_bindings(scene_dir, starts.get(None), fmu_dir, named,
                                                                        host_steps))

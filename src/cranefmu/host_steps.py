@@ -16,9 +16,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from .master.host_steps import ANNOTATION, CF_NS, read  # noqa: F401 - the reader is the master's (a scene file's part)
+
 STORE = Path(__file__).with_name("host_steps.json")   # written by benchmarks/jacobi_stable_step.py
-ANNOTATION = "org.cranefmu.hosts"
-CF_NS = "urn:org.cranefmu.hosts"
 OSP_ANNOTATION = "com.opensimulationplatform"          # libcosim's ssp_parser reads it (prefix "osp:" literally)
 OSP_NS = "http://opensimulationplatform.com/SSP/OSPAnnotations"
 
@@ -29,7 +29,9 @@ def measured(scene: str) -> dict[str, dict]:
     if not STORE.is_file():
         return {}
     sets = json.loads(STORE.read_text()).get(scene, {})
-    return {name: {k: m[k] for k in ("step", "span", "stored_step")} for name, m in sets.items() if m.get("step")}
+    order = sorted(sets, key=lambda name: (name != "default", name))   # the default set first
+    return {name: {k: sets[name][k] for k in ("step", "span", "stored_step")} for name in order
+            if sets[name].get("step")}
 
 
 def annotate(root, steps: dict[str, dict]) -> None:
@@ -66,21 +68,6 @@ def annotate(root, steps: dict[str, dict]) -> None:
     # "osp" declared on the root: libcosim iterates osp:Algorithm's children and takes an xmlns attribute
     # there for an algorithm ("Unknown algorithm: <xmlattr>")
     etree.cleanup_namespaces(root, top_nsmap={"osp": OSP_NS})
-
-
-def read(system) -> dict[str, dict]:
-    """Set name -> {"step", "span", "stored_step"} [s] from the ``org.cranefmu.hosts`` annotation of an
-    SSD's System element; {} if it has none."""
-    out = {}
-    for ann in system.iter("{*}Annotation"):
-        if ann.get("type") != ANNOTATION:
-            continue
-        for el in ann.iter(f"{{{CF_NS}}}ParameterSet"):
-            try:
-                out[el.get("name")] = {k: float(el.get(k)) for k in ("step", "span", "stored_step")}
-            except (TypeError, ValueError):
-                continue   # a hand-edited entry without numbers: shown as not measured
-    return out
 
 
 def info_lines(steps: dict[str, dict]) -> list[str]:

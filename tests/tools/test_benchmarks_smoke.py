@@ -49,6 +49,8 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
                          ["benchmarks/results/implicit_bond.md"]),
     "integrators.py": (["--cases", "girder-elastic"], ["benchmarks/results/integrators.md"]),
     "interop_difference.py": (["--smoke"], ["benchmarks/results/interop_difference_smoke.md"]),
+    "jacobi_stable_step.py": (["--smoke"], ["benchmarks/results/jacobi_stable_step_smoke.md",
+                                            "benchmarks/results/host_steps_smoke.json"]),
     "long_run_memory.py": (["--stop", "0.5", "--every", "0.1", "--results", "{tmp}/memory"], ["{tmp}/memory"]),
     # one case (the one whose setting had to change); all four took 118 s at load 7-9
     "master_calls.py": (["--before", "HEAD", "--rounds", "1", "--scenes", "overhead_lift", "--out", "{tmp}/calls.md"],

@@ -2,7 +2,11 @@
 output through symbolic links, to standard output, FIFOs and targets that cannot be replaced; Integer
 values beyond 32 bits; SIGHUP and bursts of signals at random times; modules in the working
 directory that shadow the real ones; archives that are not zips or unpack to too much; a deleted
-working directory; stale build files."""
+working directory; stale build files.  Issue 35: one writer for every whole file (full disks on a
+1 MB tmpfs, /dev/full, links, FIFOs, directories, standard output), foreign FMUs' discrete outputs,
+declared limits and FMI 3.0 types (tests/c_fmu/flags.c), --scheduler without an answer, SIGTERM to
+check/sweep/study, check --max-rows, bounded expressions, binary and text-in-numbers CSVs, compose
+confined to its folder, a full temporary folder named."""
 from __future__ import annotations
 
 import os

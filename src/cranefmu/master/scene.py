@@ -107,7 +107,7 @@ class Scene:
     # whether ``bonds`` were inferred from the FMUs' units: decided once the FMUs were read
     # (:func:`.extracted.extracted_scene`); None before (a scene read from its SSD alone)
     bonds_inferred: bool | None = None
-    # the largest stable plain-Jacobi step per set the file carries (:mod:`cranefmu.host_steps`; {}: none)
+    # the largest stable plain-Jacobi step per set the file carries (:mod:`.host_steps`; {}: none)
     host_steps: dict[str, dict] = field(default_factory=dict)
 
     @property
@@ -245,9 +245,10 @@ def _check_copies(copies: dict[str, dict[str, Parameter]], bound: dict[str, Para
         whole = {**bound, **sets[name]}
         for key, p in copy.items():
             if key not in whole or whole[key].value != p.value:
+                given = whole[key].value if key in whole else "nothing"
                 raise ParameterSetError(f"{label}: the component binding of parameter set {name!r} gives {key} = "
-                                        f"{p.value!r}, but the set gives {whole[key].value if key in whole else 'nothing'}"
-                                        f": bind each set's values once (or the same)")
+                                        f"{p.value!r}, but the set gives {given}: bind each set's values once "
+                                        "(or the same)")
 
 
 def _merge(into: dict[str, Parameter], new: dict[str, Parameter], where: str) -> None:
@@ -339,7 +340,7 @@ def read_ssd(ssd: Path, resources: Path, fmu_dir: Path | None = None, label: str
     name = root.get("name") or system.get("name") or ssd.parent.name
     declared = any(ann.get("type") == BONDS_ANNOTATION for ann in system.iter("{*}Annotation"))
     settings, set_settings = read_settings(system, label, stop, set(sets))
-    from ..host_steps import read as read_host_steps
+    from .host_steps import read as read_host_steps
 
     return Scene(name, ssd, components, connections, bound, sets, start, stop, read_bonds(system, label),
                  read_stop_conditions(system, label), settings, declared, set_settings,

@@ -313,10 +313,33 @@ def fmpy_run_set(ssp: str, parameter_set: str, step: float, stop: float) -> dict
     return {n: np.asarray(result[n]) for n in result.dtype.names}
 
 
+def fmpy_run_until(ssp: str, parameter_set: str, step: float, stop: float) -> str:
+    """:func:`fmpy_run_set` to ``stop`` [s]: "ran", or the time and the error where it stopped (an FMU's
+    refusal of a step, of any kind, is the answer, not an exception)."""
+    import fmpy.ssp.simulation as sim
+
+    last = [0.0]
+    do_step = sim.do_step
+
+    def timed(component, t, size):
+        last[0] = t
+        return do_step(component, t, size)
+
+    sim.do_step = timed
+    try:
+        fmpy_run_set(ssp, parameter_set, step, stop)
+    except Exception as err:   # noqa: BLE001 (what stopped it is the result)
+        return f"failed at t = {last[0]:.3g} s ({str(err)[:60]})"
+    finally:
+        sim.do_step = do_step
+    return "ran"
+
+
 def ecos_run(ssp: str, step: float, stop: float, columns: list[str], parameter_set: str = "default") -> dict:
     """Run ``ssp`` in ecos (fixed-step plain Jacobi) to ``stop`` [s]: ``init(parameter_set=...)`` names
     the set ecos applies ("default", or a named set of a built file: the build binds each set, complete
-    with its settled start, on every component, where ecos reads sets), nothing else is handed over.  Returns {"time", column...: values after every step, read in ecos's
+    with its settled start, on every component, where ecos reads sets), nothing else is handed over.
+    Returns {"time", column...: values after every step, read in ecos's
     post-step callback; "parameters" is not read (ecos has no listing)}.  Column names
     "component.variable" (ecos: "component::variable")."""
     from ecospy import EcosLib, EcosSimulation, SimulationListener
