@@ -35,13 +35,14 @@ METRICS = ("max", "min", "max_abs", "mean", "first_crossing", "smallest_peak", "
            "damping", *REGISTRY)
 COMMAND_KINDS = ("hoist", "lower", "telescope", "luff", "slew", "travel", "setpoint", "table")
 BOOM_MOTIONS = ("telescope", "luff", "slew")   # kinds bound to a boom's command input when no inputs are given
-CASE_KEYS = {"description", "scene", "parameter_set", "set", "commands", "assert", "expect_stop"}
+CASE_KEYS = {"description", "scene", "parameter_set", "set", "commands", "assert", "expect_stop", "emergency_stop"}
 EXPECT_STOP_KEYS = {"reason", "during"}
 TOP_KEYS = CASE_KEYS | {"name", "cases"}
 ASSERT_KEYS = {"name", "column", "value", "always", "finally", "at", "during", "metric", "level", "static", "mode",
                "n_modes", "min", "max", "equals", "rel", "abs", "source", "description"}
 COMMAND_KEYS = {"kind", "inputs", "rate_inputs", "initial", "moves", "table", "interpolation", "shaper",
-                "frequency", "damping", "description"}
+                "frequency", "damping", "description", "when", "action", "stop_ramp"}
+EMERGENCY_KEYS = {"when", "ramp", "description"}
 MOVE_KEYS = {"start", "to", "speed", "accel_time", "decel_time", "jerk_time"}
 
 
@@ -64,6 +65,9 @@ class CommandSpec:
     damping: str | float = 0.0
     offset: float = 0.0                          # subtracted from the profile (a boom motion's start, .crane_commands)
     quantities: dict = field(default_factory=dict)   # "to", "initial", "speed" -> the unit written (SI inside)
+    when: str | None = None                      # an event condition on result columns (.events)
+    action: str = "start"                        # what the event does: start the profile, or stop the motion
+    stop_ramp: float = 0.0                       # s: action stop (and an emergency stop) brings it to rest over this
 
 
 @dataclass(frozen=True)
@@ -118,6 +122,7 @@ class Case:
     assertions: tuple[AssertionSpec, ...] = ()
     where: str = ""                               # FILE:LINE of the case's table (of the file for the base)
     expect_stop: ExpectedStop | None = None       # the run is to stop early (else an early stop fails it)
+    emergency_stop: tuple[str, float, str] | None = None   # (condition, ramp [s], FILE:LINE): stops every command
     keys: dict = field(default_factory=dict)      # key of the case (scene, set, a run setting) -> FILE:LINE
 
 
@@ -180,7 +185,8 @@ def _make(experiment: str, case: str, path: Path, values: dict, where: str, line
                               f"named {dup!r}")
     return Case(experiment, case, path, values["scene"], values.get("parameter_set"), values.get("parameters", {}),
                 values.get("settings", {}), values.get("commands", ()), values.get("assertions", ()), where,
-                values.get("expect_stop"), values.get("keys", {}))
+                expect_stop=values.get("expect_stop"), keys=values.get("keys", {}),
+                emergency_stop=values.get("emergency_stop"))
 
 
 def _known(table: dict, allowed: set[str], lines: Lines, name: str) -> None:
@@ -238,6 +244,8 @@ def _case_fields(data: dict, lines: Lines, table: str) -> dict:
         out["settings"] = given
     if "expect_stop" in data:
         out["expect_stop"] = _expect_stop(data["expect_stop"], lines, table)
+    if "emergency_stop" in data:
+        out["emergency_stop"] = _emergency_stop(data["emergency_stop"], lines, table)
     if "commands" in data:
         items = _tables(data["commands"], lines, table, "commands")
         out["commands"] = tuple(_command(c, lines, f"{prefix}commands", k) for k, c in enumerate(items))
@@ -245,6 +253,32 @@ def _case_fields(data: dict, lines: Lines, table: str) -> dict:
         items = _tables(data["assert"], lines, table, "assert")
         out["assertions"] = tuple(_assertion(a, lines, f"{prefix}assert", k) for k, a in enumerate(items))
     return out
+
+
+def _condition(value, where: str, key: str = "when") -> str:
+    from .events import EventError, parse_condition
+
+    try:
+        parse_condition(value)
+    except CraneFmuError as err:
+        raise ExperimentError(f"{where}: {key}: {err}") from None
+    return value
+
+
+def _emergency_stop(value, lines: Lines, table: str) -> tuple[str, float, str]:
+    """``emergency_stop = {when = "chassis.N3 < 10 kN", ramp = "0.5 s"}``: every command stops at the event."""
+    where = lines.at(table, "emergency_stop")
+    if not isinstance(value, dict) or "when" not in value:
+        raise ExperimentError(f"{where}: emergency_stop = {value!r} is not allowed: a table {{when = \"<column> < "
+                              "<value>\", ramp = \"0.5 s\"}} (ramp: the time to rest, default 0)")
+    unknown = set(value) - EMERGENCY_KEYS
+    if unknown:
+        raise ExperimentError(f"{where}: emergency_stop: {sorted(unknown)[0]}: unknown key; allowed "
+                              f"{', '.join(sorted(EMERGENCY_KEYS))}")
+    ramp = _number(value.get("ramp", 0.0), lines, table, "emergency_stop", unit="s", name="ramp")
+    if ramp < 0:
+        raise ExperimentError(f"{where}: emergency_stop: ramp = {ramp:g} s is not allowed: >= 0")
+    return _condition(value["when"], where, "emergency_stop: when"), ramp, where
 
 
 def _expect_stop(value, lines: Lines, table: str) -> ExpectedStop:
@@ -413,6 +447,21 @@ def _command(c: dict, lines: Lines, table: str, k: int) -> CommandSpec:
         kw["shaper"] = c["shaper"]
         kw["frequency"] = _number(c["frequency"], lines, table, "frequency", k, expression=True)
         kw["damping"] = _number(c.get("damping", 0.0), lines, table, "damping", k, expression=True)
+    if "when" in c:
+        kw["when"] = _condition(c["when"], lines.at(table, "when", k))
+        action = c.get("action", "start")
+        if action not in ("start", "stop"):
+            raise ExperimentError(f"{lines.at(table, 'action', k)}: action = {action!r} is not allowed: start (the "
+                                  "profile runs from the event) or stop (the motion comes to rest at the event)")
+        kw["action"] = action
+        if "stop_ramp" in c:
+            kw["stop_ramp"] = _number(c["stop_ramp"], lines, table, "stop_ramp", k, unit="s")
+            if kw["stop_ramp"] < 0 or action != "stop":
+                raise ExperimentError(f"{lines.at(table, 'stop_ramp', k)}: stop_ramp is not allowed here: a time "
+                                      ">= 0 s, with action = \"stop\"")
+    elif "action" in c or "stop_ramp" in c:
+        raise ExperimentError(f"{lines.at(table, 'action' if 'action' in c else 'stop_ramp', k)}: "
+                              f"{'action' if 'action' in c else 'stop_ramp'} needs when = \"<condition>\"")
     return CommandSpec(**kw)
 
 

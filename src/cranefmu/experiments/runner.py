@@ -76,12 +76,15 @@ def prepare(paths: list[str | Path], overrides: dict | None = None) -> list[Plan
     return planned
 
 
-def commands_of(specs: tuple[CommandSpec, ...], values: dict) -> list:
-    """The master's :class:`~cranefmu.master.commands.Command` objects of a case's commands."""
+def commands_of(specs: tuple[CommandSpec, ...], values: dict, emergency: tuple | None = None) -> list:
+    """The master's :class:`~cranefmu.master.commands.Command` objects of a case's commands; a command with
+    ``when`` and the case's ``emergency`` stop (condition, ramp, where) become event sources (:mod:`.events`)."""
     from ..master.commands import Command
+    from .events import RateOf, Trigger, Triggered
     from .profiles import ProfileError, moves, shaped, shifted, table
 
     out = []
+    stop_all = Trigger(emergency[0], values, "emergency stop") if emergency else None
     for c in specs:
         try:
             if c.moves:
@@ -94,11 +97,19 @@ def commands_of(specs: tuple[CommandSpec, ...], values: dict) -> list:
                 profile = shifted(profile, -c.offset)
         except (ProfileError, CraneFmuError) as err:
             raise ExperimentError(f"{c.where}: {err}") from None
+        rate = profile.derivative() if c.rate_inputs else None
+        if c.when is not None or stop_all is not None:
+            source = profile
+            if c.when is not None:
+                source = Triggered(source, Trigger(c.when, values, c.where), c.action, c.stop_ramp)
+            if stop_all is not None:
+                source = Triggered(source, stop_all, "stop", emergency[1])
+            profile, rate = source, RateOf(source) if c.rate_inputs else None
         out += [Command(target, profile) for target in c.inputs]
         if c.rate_inputs:
-            rate = profile.derivative()
             out += [Command(target, rate) for target in c.rate_inputs]
     return out
+
 
 
 def _run_one(spec, columns: list[str]) -> tuple[dict, str, float, str]:
@@ -304,6 +315,20 @@ def _measure(p: Planned, a):
     return got
 
 
+def _check_events(case: Case, scene: SceneInterface, values: dict) -> None:
+    """Refuse, before the run, an event condition naming what is neither a result column nor a parameter."""
+    from .events import Trigger
+
+    found = [(c.when, c.keys.get("when", c.where)) for c in case.commands if c.when is not None]
+    if case.emergency_stop is not None:
+        found.append((case.emergency_stop[0], case.emergency_stop[2]))
+    for condition, where in found:
+        try:
+            Trigger(condition, values).watch(list(scene.columns))
+        except CraneFmuError as err:
+            raise ExperimentError(f"{where}: {err}") from None
+
+
 def _check_times(case: Case, start: float, stop: float, values: dict) -> None:
     """Refuse, before the run, what cannot be judged in its rows: an ``at`` or a ``during`` window outside
     [start, stop], an ``expect_stop`` window past the stop, ``min > max``, a shaper whose delay exceeds the
@@ -369,7 +394,7 @@ def prepare_case(case: Case, results: set[str], overrides: dict) -> Planned:
     settings = {"progress": False, **case.settings, **overrides}
     try:
         spec = resolve(str(scene.ssp), parameter_set=case.parameter_set, parameters=case.parameters,
-                       commands=commands_of(case.commands, values), **settings)
+                       commands=commands_of(case.commands, values, case.emergency_stop), **settings)
     except ExperimentError:
         raise
     except CraneFmuError as err:
@@ -377,6 +402,7 @@ def prepare_case(case: Case, results: set[str], overrides: dict) -> Planned:
         key = next((k for k in case.settings if text.startswith(f"{k} ") or f" {k} =" in text), None)
         raise ExperimentError(f"{case.keys.get(key, case.where) if key else case.where}: {text}") from None
     _check_times(case, float(spec.settings.start_time), float(spec.settings.stop_time), values)
+    _check_events(case, scene, values)
     if not case.assertions and case.expect_stop is None:
         raise ExperimentError(f"{case.where}: case {case.name} asserts nothing: give [[assert]] tables or "
                               "expect_stop (a run with nothing asserted cannot pass)")

@@ -101,3 +101,15 @@ def _split(target: str, system):
         raise SceneError(f"command on {target!r}: write component.variable with a component of "
                          f"{system.scene.name}: {', '.join(sorted(system.by_name))}")
     return comp, var
+
+
+def event_watchers(commands, columns: list[str]) -> list:
+    """The observers that command sources ask for (a source with ``watchers()``: one started or stopped by
+    an event on the run's rows), each told the run's ``columns`` once (``watch``); one per watcher object."""
+    found = {}
+    for cmd in commands or ():
+        for w in (cmd.source.watchers() if hasattr(cmd.source, "watchers") else ()):
+            found.setdefault(id(w), w)
+    for w in found.values():
+        w.watch(list(columns))
+    return list(found.values())

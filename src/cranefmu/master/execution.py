@@ -167,8 +167,12 @@ class Execution:
             self.progress = Progress(s.start_time, s.stop_time, s.progress)
             algorithm = make_algorithm(c, s)
             control = make_step_control(c, s, self.bonds)
+            from .commands import event_watchers
+
+            # sources started or stopped by an event see each row before the next exchange feeds them
+            events = event_watchers(spec.commands, c.columns + self.bonds.columns)
             everyone = [self.recorder, ValueCheck(c, self.bonds, s.energy_alarm), parts.watch, parts.stopper,
-                        *([interrupt] if interrupt is not None else []), *observers, self.progress]
+                        *events, *([interrupt] if interrupt is not None else []), *observers, self.progress]
             self._sample = Sampler(c, self.bonds)
             self._march = March(c, algorithm, control, self._sample, [o for o in everyone if o is not None],
                                 s.start_time)
