@@ -40,6 +40,15 @@ def test_oscillator_bit_for_bit(lib, monkeypatch, oscillator_ssp, extrapolation)
     assert max(np.ptp(compiled.result[n]) for n in compiled.result.dtype.names[1:]) > 1e-3
 
 
+@pytest.mark.parametrize("extrapolation", [0, 1, 2])
+def test_gauss_seidel_oscillator_bit_for_bit(lib, monkeypatch, oscillator_ssp, extrapolation):
+    python, compiled = _both(monkeypatch, oscillator_ssp, algorithm="gauss-seidel", extrapolation=extrapolation,
+                             step_size=1e-3, stop_time=0.3, parameters={"mass.x0": 0.1})
+    assert (python.stats.compiled_steps, compiled.stats.compiled_steps) == (0, 300 - extrapolation)
+    assert _equal(python.result, compiled.result)
+    assert max(np.ptp(compiled.result[n]) for n in compiled.result.dtype.names[1:]) > 1e-3
+
+
 def test_stretch_of_steps_in_one_call_bit_for_bit(lib, monkeypatch, oscillator_ssp):
     """No observer needs the steps one by one (the recorder, the value check, the bond's watch take rows
     after the fact): the compiled Jacobi takes stretches of them in one call, its rows carrying what the
@@ -60,6 +69,15 @@ def test_crane_scene_bit_for_bit(lib, monkeypatch):
     assert python.stats.steps == compiled.stats.steps == 100
     assert (python.stats.compiled_steps, compiled.stats.compiled_steps) == (0, 98)   # after a start-up of 2
     assert compiled.stats.kernel_calls == 1   # one stretch: the bonds' values ride in its rows
+
+
+def test_gauss_seidel_crane_scene_bit_for_bit(lib, monkeypatch):
+    """truck_telescope with Gauss-Seidel: each component fed along the polynomial through its sources' new
+    values, outputs that feed through held at their end values."""
+    python, compiled = _both(monkeypatch, "truck_telescope", algorithm="gauss-seidel", extrapolation=1,
+                             step_size=1e-3, stop_time=0.1)
+    assert _equal(python.result, compiled.result)
+    assert (python.stats.compiled_steps, compiled.stats.compiled_steps) == (0, 99)
 
 
 def test_product_matches_numpy_on_every_size(lib):

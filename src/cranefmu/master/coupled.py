@@ -557,6 +557,15 @@ class Coupling:
         self.exchange(t0)
 
     # --- stepping -----------------------------------------------------------------------------
+    def gauss_seidel_step(self, plan, t: float, h: float) -> bool:
+        """The Gauss-Seidel step of ``plan`` (:class:`~.algorithms.GaussSeidel`) in compiled code, at the
+        run's extrapolation order; False (nothing done) where the compiled exchange does not run."""
+        kernel = self.kernel()
+        if kernel is None or not self._rows:
+            return False
+        kernel.gauss_seidel_step(plan, t, h, self.extrapolation)
+        return True
+
     def jacobi_stretch(self, ts: np.ndarray):
         """Jacobi steps on the grid ``ts`` in one compiled call: (rows, steps done, failure or None), or
         None where the compiled exchange does not run."""
