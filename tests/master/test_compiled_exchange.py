@@ -82,3 +82,21 @@ def test_gauss_seidel_crane_scene_bit_for_bit(lib, monkeypatch):
 
 def test_product_matches_numpy_on_every_size(lib):
     assert kernel.agrees_with_numpy(lib, list(range(1, 41)), trials=10)
+
+
+def test_without_a_compiler_one_line_says_so_and_python_runs(monkeypatch, tmp_path, capsys):
+    """A build that fails (no compiler, no setuptools) leaves the Python exchange, with one line on stderr."""
+    monkeypatch.setenv("CRANEFMU_CACHE_DIR", str(tmp_path))
+    monkeypatch.delenv(kernel.DISABLE, raising=False)
+    monkeypatch.setattr(kernel, "_TRIED", False)
+    monkeypatch.setattr(kernel, "_LIB", None)
+    monkeypatch.setattr(kernel, "why_not", "")
+
+    def no_compiler(target):
+        raise OSError("no C compiler here")
+
+    monkeypatch.setattr(kernel, "_build", no_compiler)
+    assert kernel.library() is None
+    assert "OSError: no C compiler here" in kernel.why_not
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].endswith("the exchange runs in Python (same results, slower)")
