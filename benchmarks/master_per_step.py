@@ -1,7 +1,7 @@
 """CPU time per macro step of the master with K = 1, 3, 5 trivial C FMUs, against libcosim and ecos
 stepping the same FMUs (issue 34's anchor: libcosim about 11-15 us a macro step).
 
-    .venv/bin/python benchmarks/master_per_step.py [--steps 4000] [--rounds 3] [--out DIR]
+    .venv/bin/python benchmarks/master_per_step.py [--steps 4000] [--rounds 3] [--before COMMIT] [--out DIR]
 
 The FMU is the project's C test FMU (SpringSupport: src/cranefmu/studies/c_fmu, built here with the
 machine's compiler): K instances in a ring, each one's position y feeding the next one's force F
@@ -15,6 +15,9 @@ fresh process each: CPU time (``time.process_time``) of a run of ``steps`` macro
   increments detector reads each step's coupling values);
 - cranefmu, compiled stretch: the same, alarm off: no observer needs the steps one by one, so stretches
   of 256 steps run in one call (rows recorded into a buffer, then handed to the recorder);
+- cranefmu before: with ``--before COMMIT``, the master of that commit (``cranefmu/master`` from ``git
+  archive``, the rest of this checkout; as benchmarks/master_overhead.py builds it), settings as the Python
+  exchange's;
 - libcosim (libcosimpy ``CosimExecution.from_ssp_file``, fixed step, no observer) and ecos (ecospy
   ``EcosSimulation``, fixed step): both zero-order hold (plain Jacobi), nothing recorded.
 
@@ -72,7 +75,7 @@ def ours(n, alarm, per_step):
     obs = (EveryStep(),) if per_step else ()
     r = run(ssp, stop_time=n * h, step_size=h, algorithm="jacobi", extrapolation=1, keep=False, progress=False,
             instability_alarm=alarm, observers=obs)
-    return r.stats.steps, r.stats.compiled_steps, r.stats.kernel_calls
+    return r.stats.steps, getattr(r.stats, "compiled_steps", 0), getattr(r.stats, "kernel_calls", 0)
 
 def libcosim(n):
     from libcosimpy.CosimExecution import CosimExecution
@@ -91,7 +94,7 @@ def ecos(n):
         sim.terminate()
     return n, 0, 0
 
-go = {"cranefmu, Python exchange": lambda n: ours(n, True, False),
+go = {"cranefmu, Python exchange": lambda n: ours(n, True, False), "cranefmu before": lambda n: ours(n, True, False),
       "cranefmu, compiled per step": lambda n: ours(n, True, True),
       "cranefmu, compiled stretch": lambda n: ours(n, False, False),
       "libcosim": libcosim, "ecos": ecos}[host]
@@ -105,12 +108,16 @@ print("RESULT " + json.dumps(out))
 """
 
 
-def measure(host: str, ssp: Path, steps: int) -> dict:
+def measure(host: str, ssp: Path, steps: int, before: Path | None = None) -> dict:
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
     if host == "cranefmu, Python exchange":
         env["CRANEFMU_PYTHON_EXCHANGE"] = "1"
-    done = subprocess.run([sys.executable, "-c", CHILD, host, str(ssp), str(steps), str(H)], capture_output=True,
-                          text=True, env=env, timeout=900)
+    child_host = host
+    if host.startswith("cranefmu before"):
+        env["PYTHONPATH"] = str(before) + os.pathsep + env.get("PYTHONPATH", "")
+        child_host = "cranefmu before"
+    done = subprocess.run([sys.executable, "-c", CHILD, child_host, str(ssp), str(steps), str(H)],
+                          capture_output=True, text=True, env=env, timeout=900, cwd=HERE.parent)
     line = [x for x in done.stdout.splitlines() if x.startswith("RESULT ")]
     if not line:
         return {"error": (done.stderr.strip().splitlines() or ["no output"])[-1]}
@@ -124,19 +131,23 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=4000)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--ks", default="1,3,5")
+    ap.add_argument("--before", default=None, help="also the master of this commit (Python exchange)")
     ap.add_argument("--out", type=Path, default=RESULTS)
     a = ap.parse_args()
     from cranefmu.studies.c_fmu.build import build
+    from master_overhead import _package_with_master_of
 
-    table: dict[str, dict[int, dict]] = {h: {} for h in HOSTS}
+    hosts = ([f"cranefmu before ({a.before})"] if a.before else []) + HOSTS
+    table: dict[str, dict[int, dict]] = {h: {} for h in hosts}
     with tempfile.TemporaryDirectory() as tmp:
+        before = _package_with_master_of(a.before, Path(tmp) / "before") if a.before else None
         fmu = build(Path(tmp) / "SpringSupport.fmu")
         for k in (int(x) for x in a.ks.split(",")):
             ssp = make_ssp(fmu, k, Path(tmp) / f"ring{k}.ssp")
-            for host in HOSTS:
+            for host in hosts:
                 best = None
                 for _ in range(a.rounds):
-                    r = measure(host, ssp, a.steps)
+                    r = measure(host, ssp, a.steps, before)
                     if "error" in r:
                         best = r
                         break
@@ -146,11 +157,12 @@ def main() -> None:
                       flush=True)
     ks = sorted({k for row in table.values() for k in row})
     lines = ["# CPU time per macro step, K trivial C FMUs (SpringSupport ring)", "",
-             f"`python benchmarks/master_per_step.py --steps {a.steps} --rounds {a.rounds}` (best of the rounds; "
+             f"`python benchmarks/master_per_step.py --steps {a.steps} --rounds {a.rounds}"
+             + (f" --before {a.before}" if a.before else "") + "` (best of the rounds; "
              "CPU of the run of N steps minus the run of N/4, per step; H = 1 ms; one BLAS thread). "
              "See the script's docstring for each host's settings.", "",
              "| host | " + " | ".join(f"K = {k} [us]" for k in ks) + " |", "| --- |" + " --- |" * len(ks)]
-    for host in HOSTS:
+    for host in hosts:
         cells = [f"{table[host][k]['us']:.1f}" if "us" in table[host].get(k, {}) else
                  f"failed: {table[host].get(k, {}).get('error', '-')[:60]}" for k in ks]
         lines.append(f"| {host} | " + " | ".join(cells) + " |")

@@ -106,6 +106,7 @@ class Coupling:
         self.fed_curvature = np.zeros(n)
         self.held = np.ones(n, dtype=bool)   # ... as a plain hold (its end value is the value)
         self.input_end = np.zeros(n)       # each input's value at the end of the last step, as fed
+        self.ends_wanted = False           # someone reads input_end (a power bond with a connected input)
         self.scale = np.zeros(n)           # running max |value| per coupling variable
         # recorded: every Real output; watched for events: every Integer/Boolean output
         self.out_vrs, self.columns, self.flag_vrs = [], [], []
@@ -559,6 +560,15 @@ class Coupling:
         self.exchange(t0)
 
     # --- stepping -----------------------------------------------------------------------------
+    def gauss_seidel_step(self, plan, t: float, h: float) -> bool:
+        """The Gauss-Seidel step of ``plan`` (:class:`~.algorithms.GaussSeidel`) in compiled code, at the
+        run's extrapolation order; False (nothing done) where the compiled exchange does not run."""
+        kernel = self.kernel()
+        if kernel is None or not self._rows:
+            return False
+        kernel.gauss_seidel_step(plan, t, h, self.extrapolation)
+        return True
+
     def jacobi_stretch(self, ts: np.ndarray):
         """Jacobi steps on the grid ``ts`` in one compiled call: (rows, steps done, failure or None), or
         None where the compiled exchange does not run."""
@@ -625,6 +635,8 @@ class Coupling:
         """The inputs' values at the end of the step of h, as fed; with ``values``: those of ``part`` are these."""
         if values is not None:
             self.input_end[part.at] = values
+            return
+        if not self.ends_wanted:   # nobody reads them (no power bond takes a connected input)
             return
         moved = self.fed + h * (self.fed_rate + 0.5 * h * self.fed_curvature)
         np.copyto(self.input_end, np.where(self.held, self.fed, moved))

@@ -166,6 +166,8 @@ class BondMonitor:
         self._reads = [(c, np.array(v, dtype=np.intp), np.array(r, dtype=np.intp)) for c, (v, r) in reads.items()]
         self._in_v, self._in_index = np.array(in_v, dtype=np.intp), np.array(in_index, dtype=np.intp)
         self._has_inputs = bool(in_v)
+        if self._has_inputs:
+            self.system.ends_wanted = True   # the coupling notes its inputs' end values each step
         self._sides = [(int(off), s.n, s.sign) for s, off in zip(sides, offsets)]
 
     def measure(self, h: float) -> None:

@@ -1,9 +1,11 @@
 """The compiled exchange: ``exchange.c`` built at first use into the per-user cache and loaded with ctypes.
 
-Route (measured, benchmarks/results/master_kernel.md): a plain C99 shared library compiled with
-setuptools' compiler (the same one that builds extensions: no compiler command line written here) and
-called through ctypes, which is in the standard library; the kernel is called once per macro step, or
-once per stretch of steps, so the call's own cost (about a microsecond with ctypes) is not what limits.
+Route: a plain C99 shared library compiled with setuptools' compiler (the one that builds extensions: no
+compiler command line written here) and called through ctypes, from the standard library.  Measured
+(benchmarks/results/kernel_call_cost.md): a ctypes call costs about 0.75 us more than a cffi one; the
+kernel is called once per macro step (21-27 us a step in the loop, benchmarks/results/master_per_step.md)
+or once per stretch of up to 256 steps, so cffi would save at most a few per cent of a step, for a
+run-time dependency; ctypes it is.
 The library is checked once per process against numpy: its extrapolation product must give numpy's
 bits for every size in use (it reproduces OpenBLAS's gemv; another BLAS may differ), else the Python
 exchange runs.  Without a compiler (or setuptools) the Python exchange runs: the same numbers, slower;
@@ -81,6 +83,8 @@ def library() -> ctypes.CDLL | None:
     lib.cf_jacobi_step.restype = int_
     lib.cf_jacobi_steps.argtypes = [ctypes.c_void_p, ctypes.c_void_p, int_, int_, ctypes.c_void_p]
     lib.cf_jacobi_steps.restype = int_
+    lib.cf_gauss_seidel_step.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, int_]
+    lib.cf_gauss_seidel_step.restype = int_
     _LIB = lib
     return lib
 

@@ -61,6 +61,16 @@ typedef struct {
     int32_t n_flags;
     int32_t n_extra_read, n_extra_end;   /* more values per row: read_buf[extra_read[i]], input_end[extra_end[i]] */
     int64_t *extra_read, *extra_end;
+    /* connection groups (Gauss-Seidel feeds them one by one) */
+    int32_t n_groups;
+    int32_t *g_start, *g_n, *g_src, *g_dst, *g_set_at, *g_rates, *g_keeps_fresh;
+    int64_t *g_gather;           /* per coupling position: the source's value in read_buf */
+    unsigned int **g_vrs;
+    /* Gauss-Seidel: per component in stepping order, the groups fed from those stepped before it and
+     * (where its outputs feed through) every group into it, held at its end value after its step */
+    int32_t n_stages;
+    int32_t *s_comp, *s_fed_off, *s_fed_n, *s_held_off, *s_held_n, *s_groups;
+    int32_t ends_wanted;
     /* error report */
     int32_t err_comp, err_status, err_what;   /* what: 1 doStep, 2 getReal, 3 setReal, 4 get discrete */
 } cf_plan;
@@ -269,6 +279,112 @@ static int fill_row(cf_plan *p, double *row)
     for (int i = 0; i < p->n_extra_end; i++)
         extra[p->n_extra_read + i] = p->input_end[p->extra_end[i]];
     return 0;
+}
+
+/* coupled.Coupling.feed_group: a group's value, rate and curvature into the set buffer and the FMU */
+static int feed_group(cf_plan *p, int g, const double *value, const double *d1, const double *d2, int held)
+{
+    int a = p->g_start[g], n = p->g_n[g], at = p->g_set_at[g], c = p->g_dst[g];
+    int count = n;
+    for (int j = 0; j < n; j++)
+        p->set_buf[at + j] = value[j];
+    if (p->g_rates[g]) {
+        for (int j = 0; j < n; j++) {
+            p->set_buf[at + n + j] = d1[j];
+            p->set_buf[at + 2 * n + j] = d2[j];
+        }
+        count = 3 * n;
+    }
+    int s = ((set_real_f)p->set_real[c])(p->inst[c], p->g_vrs[g], (size_t)count, p->set_buf + at);
+    if (s > 1) {
+        p->err_comp = c; p->err_status = s; p->err_what = 3;
+        return -1;
+    }
+    if (!p->g_keeps_fresh[g])
+        p->fresh[c] = 0;
+    for (int j = 0; j < n; j++) {
+        p->fed[a + j] = value[j];
+        p->fed_rate[a + j] = d1[j];
+        p->fed_curv[a + j] = d2[j];
+        p->held[a + j] = (uint8_t)held;
+    }
+    return 0;
+}
+
+/* One Gauss-Seidel macro step from t (algorithms.GaussSeidel.step, extrapolation `order`): each
+ * component in turn gets the inputs whose source stepped before it along the polynomial through the past
+ * values and the source's new value, steps, and (where its outputs feed through) holds its inputs at
+ * their end values; then the inputs' end values, then every value moves at t + h. */
+int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
+{
+    double *u = p->scratch, *d1 = p->scratch + p->n, *d2 = p->scratch + 2 * (size_t)p->n;
+    double *stack = p->scratch + 3 * (size_t)p->n;   /* up to 2 x n more: the scratch holds 5 x n */
+    int count = p->ring[0];
+    int k = order < count ? order : count;            /* past points used (coupled.Coupling._last) */
+    double w1[3], w2[3];
+    if (order > 0) {
+        double ts[3];
+        for (int i = 0; i < k; i++)
+            ts[i] = p->times[count - k + i];
+        ts[k] = t + h;
+        weights(ts, k + 1, t, w1, w2);
+    }
+    const double *newest = count ? p->past + (size_t)p->ring[count] * p->n : NULL;
+    for (int q = 0; q < p->n_stages; q++) {
+        for (int e = p->s_fed_off[q]; e < p->s_fed_off[q] + p->s_fed_n[q]; e++) {
+            int g = p->s_groups[e], a = p->g_start[g], n = p->g_n[g];
+            if (read_comp(p, p->g_src[g]))
+                return -1;
+            for (int j = 0; j < n; j++)   /* coupled.Coupling.pull: read x factor + offset */
+                u[j] = p->read_buf[p->g_gather[a + j]] * p->factor[a + j] + p->offset[a + j];
+            if (order == 0) {
+                for (int j = 0; j < n; j++)
+                    d1[j] = d2[j] = 0.0;
+                if (feed_group(p, g, u, d1, d2, 0))
+                    return -1;
+                continue;
+            }
+            for (int i = 0; i < k; i++) {
+                const double *row = p->past + (size_t)p->ring[1 + count - k + i] * p->n + a;
+                for (int j = 0; j < n; j++)
+                    stack[i * n + j] = row[j];
+            }
+            for (int j = 0; j < n; j++)
+                stack[k * n + j] = u[j];
+            for (int j = 0; j < n; j++) {
+                d1[j] = dot_gemv(w1, stack, k + 1, n, j);
+                d2[j] = dot_gemv(w2, stack, k + 1, n, j);
+            }
+            if (feed_group(p, g, newest + a, d1, d2, 0))
+                return -1;
+        }
+        int c = p->s_comp[q];
+        double t0 = now_seconds();
+        p->fresh[c] = 0;
+        int s = ((do_step_f)p->do_step[c])(p->inst[c], t, h, 1);
+        p->fmu_time[c] += now_seconds() - t0;
+        p->fmu_calls[c] += 1;
+        if (s > 1) {
+            p->err_comp = c; p->err_status = s; p->err_what = 1;
+            return -1;
+        }
+        double hh = 0.5 * h;
+        for (int e = p->s_held_off[q]; e < p->s_held_off[q] + p->s_held_n[q]; e++) {
+            int g = p->s_groups[e], a = p->g_start[g], n = p->g_n[g];
+            for (int j = 0; j < n; j++) {   /* coupled.Coupling.hold_ends */
+                u[j] = p->fed[a + j] + h * (p->fed_rate[a + j] + hh * p->fed_curv[a + j]);
+                d1[j] = d2[j] = 0.0;
+            }
+            if (feed_group(p, g, u, d1, d2, 0))
+                return -1;
+        }
+    }
+    if (p->ends_wanted) {
+        double hh = 0.5 * h;
+        for (int j = 0; j < p->n; j++)
+            p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
+    }
+    return exchange(p, t + h, order);
 }
 
 /* One Jacobi macro step from t: every FMU steps, the inputs' end values are noted, every value moves

@@ -28,6 +28,10 @@ class CPlan(ctypes.Structure):
         ("n_real", ctypes.c_int32), ("row_gather", _P), ("n_flag_reads", ctypes.c_int32), ("f_comp", _P),
         ("f_n", _P), ("f_bool", _P), ("f_get", _P), ("f_vrs", _P), ("f_buf", _P), ("n_flags", ctypes.c_int32),
         ("n_extra_read", ctypes.c_int32), ("n_extra_end", ctypes.c_int32), ("extra_read", _P), ("extra_end", _P),
+        ("n_groups", ctypes.c_int32), ("g_start", _P), ("g_n", _P), ("g_src", _P), ("g_dst", _P), ("g_set_at", _P),
+        ("g_rates", _P), ("g_keeps_fresh", _P), ("g_gather", _P), ("g_vrs", _P),
+        ("n_stages", ctypes.c_int32), ("s_comp", _P), ("s_fed_off", _P), ("s_fed_n", _P), ("s_held_off", _P),
+        ("s_held_n", _P), ("s_groups", _P), ("ends_wanted", ctypes.c_int32),
         ("err_comp", ctypes.c_int32), ("err_status", ctypes.c_int32), ("err_what", ctypes.c_int32)]
 
 
@@ -59,7 +63,8 @@ class KernelPlan:
                      for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
         if any(_address(f) is None for f in functions):
             return None
-        if not agrees_with_numpy(lib, sorted({ph.n for ph in coupling._phases})):
+        sizes = {ph.n for ph in coupling._phases} | {g.sl.stop - g.sl.start for g in coupling.links}
+        if not agrees_with_numpy(lib, sorted(sizes)):
             return None
         plan = cls(lib, coupling)
         plan._build()
@@ -140,7 +145,7 @@ class KernelPlan:
         p.w_start = self._array([w.start for w in writes], i32)
         p.w_stales = self._array([int(w.stales) for w in writes], i32)
         p.w_vrs = self._pointers([ctypes.addressof(w.vrs) for w in writes])
-        p.scratch = self._array(np.zeros(5 * n), f64)
+        p.scratch = self._array(np.zeros(8 * n), f64)
         p.n_real = c.n_real
         p.row_gather = self._array(c._row_gather, i64)
         reads = c._flag_reads
@@ -153,11 +158,56 @@ class KernelPlan:
         p.f_vrs = self._pointers([ctypes.addressof(vrs) for _, vrs, _, _, _ in reads])
         p.f_buf = self._array(np.zeros(max([1] + [m for _, _, m, _, _ in reads])), i32)
         p.n_flags = len(c.flag_names)
+        links = c.links
+        p.n_groups = len(links)
+        p.g_start = self._array([g.sl.start for g in links], i32)
+        p.g_n = self._array([g.sl.stop - g.sl.start for g in links], i32)
+        p.g_src = self._array([g.src for g in links], i32)
+        p.g_dst = self._array([g.dst for g in links], i32)
+        p.g_set_at = self._array([g.set_at for g in links], i32)
+        p.g_rates = self._array([int(g.dt_vrs is not None) for g in links], i32)
+        p.g_keeps_fresh = self._array([int(g.keeps_fresh) for g in links], i32)
+        g_gather = np.zeros(n, i64)
+        for g in links:
+            g_gather[g.sl] = [c._read_at[g.src] + int(j) for j in g.src_pos]
+        p.g_gather = self._array(g_gather, i64)
+        p.g_vrs = self._pointers([ctypes.addressof(g.set_vrs) for g in links])
+        self._stages = None
         read_idx, end_idx = c.row_extra
         p.n_extra_read, p.n_extra_end = len(read_idx), len(end_idx)
         p.extra_read, p.extra_end = self._array(read_idx, i64), self._array(end_idx, i64)
         self.p = p
         self.ptr = ctypes.addressof(p)
+
+    def _set_stages(self, plan) -> None:
+        """The Gauss-Seidel plan (algorithms.GaussSeidel.plan: per component in stepping order, the part fed
+        from those stepped before it and the part held after its step, or None) as the kernel's arrays."""
+        p, groups, fed_off, fed_n, held_off, held_n = self.p, [], [], [], [], []
+        for _, stepped, held in plan:
+            fed_off.append(len(groups))
+            groups += [gi for gi, _ in stepped._groups]
+            fed_n.append(len(stepped._groups))
+            held_off.append(len(groups))
+            groups += [gi for gi, _ in held._groups] if held is not None else []
+            held_n.append(len(held._groups) if held is not None else 0)
+        p.n_stages = len(plan)
+        p.s_comp = self._array([d for d, _, _ in plan], np.int32)
+        p.s_fed_off, p.s_fed_n = self._array(fed_off, np.int32), self._array(fed_n, np.int32)
+        p.s_held_off, p.s_held_n = self._array(held_off, np.int32), self._array(held_n, np.int32)
+        p.s_groups = self._array(groups, np.int32)
+        self._stages = plan
+
+    def gauss_seidel_step(self, plan, t: float, h: float, order: int) -> None:
+        """One Gauss-Seidel macro step (algorithms.GaussSeidel.step) in compiled code."""
+        if self._stages is not plan:
+            self._set_stages(plan)
+        self.p.ends_wanted = int(self.c.ends_wanted)
+        self._enter()
+        status = self.lib.cf_gauss_seidel_step(self.ptr, t, h, order)
+        self._leave()
+        if status:
+            self._raise(t, h)
+        self.c.stats.compiled_steps += 1
 
     # --- around a call ----------------------------------------------------------------------------
     def _enter(self) -> None:
