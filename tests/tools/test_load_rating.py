@@ -135,6 +135,7 @@ def test_360_is_the_least_settled_load_over_every_slewing_angle(length, angle):
     """Against the settled load on a 1-deg grid and a 0.01-deg grid around 180 deg (where the front governs:
     the settled load has a kink at 180 deg, the least lies a fraction of a degree beside it)."""
     least, where = rating.tipping_360(length, angle)
+    assert type(least) is float and type(where) is float   # plain numbers in the chart's CSV
     grid = np.concatenate([np.arange(0.0, 360.0, 1.0), np.arange(179.0, 181.0, 0.01)])
     brute = min(rating.tipping_load(length, angle, s) for s in grid)
     assert least <= brute * (1 + 1e-12) and least == pytest.approx(brute, rel=1e-5)

@@ -146,17 +146,18 @@ def _cell(row: dict | None, where: str) -> str:
     return f"{row[f'rated_{where}'] / 1e3:.2f}" + ("*" if row[f"governs_{where}"] == "structure" else "")
 
 
-def tilt_share(table: list[dict]) -> tuple[float, float]:
-    """(least, largest) share [-] by which the tilt-free tipping loads lie above the settled ones over the
-    rear, the side and the front of the chart ``table``."""
-    ratios = [r[f"tipping_{w}_tilt_free"] / r[f"tipping_{w}"] - 1.0 for r in table for w, _ in DIRECTIONS
-              if math.isfinite(r[f"tipping_{w}"])]
-    return min(ratios), max(ratios)
+def tilt_share(table: list[dict]) -> tuple[float, float, dict, str]:
+    """(least, largest share [-] by which the tilt-free tipping loads lie above the settled ones over the
+    rear, the side and the front of the chart ``table``, the row and direction of the largest)."""
+    ratios = [(r[f"tipping_{w}_tilt_free"] / r[f"tipping_{w}"] - 1.0, i, w) for i, r in enumerate(table)
+              for w, _ in DIRECTIONS if math.isfinite(r[f"tipping_{w}"])]
+    (low, _, _), (high, i, w) = min(ratios), max(ratios)
+    return low, high, table[i], w
 
 
 def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float | None) -> list[str]:
     back, back_slew = backward_stability()
-    low, high = tilt_share(table)
+    low, high, at, at_where = tilt_share(table)
     off_front = max(abs(r["slew_360"] - 180.0) for r in table)
     below_front = max(1.0 - r["tipping_360"] / r["tipping_front"] for r in table)
     deduct = ", ".join(f"{name} {kg:g} kg" for name, kg in DEDUCTIONS)
@@ -171,7 +172,9 @@ def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float |
              "with the soil's settled tilt, the scene's own tipping, `scenes.pad_tipping_load`: the chassis tilted by "
              "the pads' settlements there and the boom lowered with it; the tilt-free rigid statics, "
              f"`scenes.pad_tipping_load_tilt_free`, lie {100 * low:.2f} to {100 * high:.2f} % above on this chart, "
-             "where the crane has already tipped), and the structural limit (marked *): "
+             f"where the crane has already tipped; the most at boom {at['length']:g} m, radius {at['radius']:g} m "
+             f"over the {at_where}, where the load's lever beyond the pad edge is short against the radius the tilt "
+             "adds), and the structural limit (marked *): "
              f"{ALLOWABLES.describe()}, both ASSUMED (seed 000 gives no cylinder or boom section data); the "
              "cylinder force and the boom's moment at the pin are the statics of the seed's boom (`studies/rating.py`).",
              f"- **Every slewing direction**: over the rear (0 deg), the side (90 deg), the front (180 deg, over the "

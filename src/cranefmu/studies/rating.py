@@ -147,7 +147,7 @@ def tipping_360(length: float, angle_deg: float) -> tuple[float, float]:
         here = (vals[k], float(near[k]) % 360.0)
         fine = _golden(settled, near[k] - NEAR_STEP, near[k] + NEAR_STEP)
         best = min(best, here, (fine[0], fine[1] % 360.0))
-    return best
+    return float(best[0]), float(best[1])
 
 
 def _boom(length: float, angle_deg: float):
