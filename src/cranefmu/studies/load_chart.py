@@ -279,12 +279,12 @@ def plot(table: list[dict], static: list[dict], dyn: list[dict], path) -> None:
         sel = [r for r in static if r["length"] == L and math.isfinite(r["scene"])]
         if sel:
             ax.plot([r["radius"] for r in sel], [r["scene"] / 1e3 for r in sel], "ko", mfc="none", ms=6,
-                    label="tipping over the rear, co-simulated scene at rest")
+                    label="tipping, truck_telescope at rest (rear, no tilt)")
         for v, marker in zip(SPEEDS, ("v", "s", "D")):
             pts = [r for r in dyn if r["length"] == L and r["speed"] == v and r["status"] == "ok"]
             if pts:
                 ax.plot([r["radius"] for r in pts], [r["rated"] / 1e3 for r in pts], marker, color="k", ms=6,
-                        label=f"rated over the rear while telescoping at {v} m/s")
+                        label=f"rated, truck_telescope telescoping {v} m/s")
         ax.set_yscale("log")
         ax.set_xlim(0.0, 23.0)
         ax.set_xticks(range(0, 23, 5))
