@@ -2,14 +2,16 @@
 
 The chart (:mod:`.rating`): the crane on four outriggers (truck_slewing's chassis), gross rated loads over
 the rear, the side, the front and 360 deg (the least over all slewing angles), each the lesser of 85 % of
-the static tipping load (ASME B30.5 / SAE J765 on outriggers) and a structural limit (luffing cylinder and
+the static tipping load with the soil's settled tilt (the scene's own tipping, ``scenes.pad_tipping_load``;
+ASME B30.5 / SAE J765 on outriggers) and a structural limit (luffing cylinder and
 boom bending, assumed allowables: seed 000 gives no section data), within the boom's working angles; the
 hook block and rigging listed as deductions; backward stability without load.  EN 13000's own stability
 criterion is not included: its exact form was not verified from a source.
 
-Checks beside it (truck_telescope, two outriggers: its over-the-rear tipping equals the four-pad one, the
-front outrigger reaction N1 = 0 from ``cranefmu.scenes.static_outrigger_loads``): the co-simulated scene at rest (N1 at the start at two loads, its linear zero)
-against the static tipping load; and while telescoping (from the retracted boom to the length, at
+Checks beside it (truck_telescope, two outriggers: its static tipping, the front outrigger reaction N1 = 0
+from ``cranefmu.scenes.static_outrigger_loads``, is the four pads' tilt-free one over the rear,
+``closed_form_max_load``, above the chart's settled-tilt rear load): the co-simulated scene at rest (N1 at
+the start at two loads, its linear zero) against that static tipping load; and while telescoping (from the retracted boom to the length, at
 seed 000's speeds, then free sway), the largest load whose run keeps N1 > 0, by secant rounds on the
 sweep engine (sweep/load_chart.py), rated gross at 85 % of it (stability only).
 """
@@ -22,8 +24,8 @@ import numpy as np
 from ..sweep.load_chart import (L_MAX, L_MIN, STEP, closed_form_max_load, dynamic_chart, slewing_max_loads,
                                 static_chart)
 from .common import Context, pyplot, write_csv, write_page
-from .rating import (ALLOWABLES, BACKWARD_LIMIT, DEDUCTIONS, MAX_ANGLE, MIN_ANGLE, STABILITY_FACTOR,
-                     backward_stability, cell, radius_range)
+from .rating import (ALLOWABLES, BACKWARD_LIMIT, DEDUCTIONS, DIRECTIONS, MAX_ANGLE, MIN_ANGLE, NEAR,
+                     STABILITY_FACTOR, backward_stability, cell, radius_range, tipping_loads_tilt_free)
 
 HOOK_BLOCK = dict(DEDUCTIONS)["hook block"]   # [kg] listed on the chart as a deduction (assumed)
 RIGGING = dict(DEDUCTIONS)["slings and shackles (rigging)"]
@@ -88,6 +90,8 @@ def chart() -> list[dict]:
                 continue
             row = {"length": length, "radius": radius, "angle": c.angle}
             row.update({f"tipping_{w}": c.tipping[w] for w, _ in ZONES})
+            row.update({f"tipping_{w}_tilt_free": float(v) for (w, _), v in
+                        zip(DIRECTIONS, tipping_loads_tilt_free(length, c.angle, [s for _, s in DIRECTIONS]))})
             row.update({"slew_360": c.slew_360, "structural": c.structural, "structural_member": c.member})
             row.update({f"rated_{w}": c.rated(w) for w, _ in ZONES})
             row.update({f"governs_{w}": c.governs(w) for w, _ in ZONES})
@@ -142,8 +146,20 @@ def _cell(row: dict | None, where: str) -> str:
     return f"{row[f'rated_{where}'] / 1e3:.2f}" + ("*" if row[f"governs_{where}"] == "structure" else "")
 
 
+def tilt_share(table: list[dict]) -> tuple[float, float, dict, str]:
+    """(least, largest share [-] by which the tilt-free tipping loads lie above the settled ones over the
+    rear, the side and the front of the chart ``table``, the row and direction of the largest)."""
+    ratios = [(r[f"tipping_{w}_tilt_free"] / r[f"tipping_{w}"] - 1.0, i, w) for i, r in enumerate(table)
+              for w, _ in DIRECTIONS if math.isfinite(r[f"tipping_{w}"])]
+    (low, _, _), (high, i, w) = min(ratios), max(ratios)
+    return low, high, table[i], w
+
+
 def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float | None) -> list[str]:
     back, back_slew = backward_stability()
+    low, high, at, at_where = tilt_share(table)
+    off_front = max(abs(r["slew_360"] - 180.0) for r in table)
+    below_front = max(1.0 - r["tipping_360"] / r["tipping_front"] for r in table)
     deduct = ", ".join(f"{name} {kg:g} kg" for name, kg in DEDUCTIONS)
     lines = ["On four outriggers fully extended (truck_slewing's chassis: seed 000's base l7 = 3.08 m along the "
              "truck and, assumed, across), boom telescoped with both segments extended equally, the load at rest "
@@ -152,15 +168,23 @@ def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float |
              f"- **Gross rated loads** [t]: the hook block and rigging are part of them.  Deduct from the chart value: "
              f"{deduct} (assumed: seed 000 gives neither).",
              f"- **Rated = the lesser of** the stability limit, {STABILITY_FACTOR:.0%} of the static tipping load "
-             "(ASME B30.5 / SAE J765 on outriggers; tipping: the resultant of all weights on a pad edge, rigid "
-             "statics without the soil's tilt, `scenes.pad_tipping_load`), and the structural limit (marked *): "
+             "(ASME B30.5 / SAE J765 on outriggers; tipping: the resultant of all weights on a pad edge, the statics "
+             "with the soil's settled tilt, the scene's own tipping, `scenes.pad_tipping_load`: the chassis tilted by "
+             "the pads' settlements there and the boom lowered with it; the tilt-free rigid statics, "
+             f"`scenes.pad_tipping_load_tilt_free`, lie {100 * low:.2f} to {100 * high:.2f} % above on this chart, "
+             f"where the crane has already tipped; the most at boom {at['length']:g} m, radius {at['radius']:g} m "
+             f"over the {at_where}, where the load's lever beyond the pad edge is short against the radius the tilt "
+             "adds), and the structural limit (marked *): "
              f"{ALLOWABLES.describe()}, both ASSUMED (seed 000 gives no cylinder or boom section data); the "
              "cylinder force and the boom's moment at the pin are the statics of the seed's boom (`studies/rating.py`).",
              f"- **Every slewing direction**: over the rear (0 deg), the side (90 deg), the front (180 deg, over the "
              "cab: the truck body sits 0.89 m ahead of the slewing centre and the front pads only 1.452 m ahead of "
-             "it, so the front governs), and 360 deg, the least over all slewing angles (a 0.25-deg search, refined): "
-             + ("over the front at every point of this chart." if all(r["slew_360"] == 180.0 for r in table) else
-                "at the slewing angles of load_chart.csv (slew_360).") + "  Where the slewing direction is not "
+             "it, so the front governs), and 360 deg, the least over all slewing angles (the tilt-free loads on a "
+             f"0.25-deg grid locate the minima, the settled load is searched within {NEAR:g} deg of each and refined): "
+             + (f"over the front at every point of this chart (within {off_front:.2f} deg of 180 deg, at most "
+                f"{100 * below_front:.4f} % below the load at 180 deg: the settled tilt's own kink there)."
+                if off_front < 1.0 else "at the slewing angles of load_chart.csv (slew_360).")
+             + "  Where the slewing direction is not "
              "fixed, the 360-deg table applies.",
              f"- **Working range**: boom angles {MIN_ANGLE:g} to {MAX_ANGLE:g} deg (assumed: seed 000 gives none); "
              "radius from the slewing axis.",
@@ -209,7 +233,8 @@ def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float |
               f"From {L_MIN} m to the boom length at each speed (trapezoid, 3 s ramps, load height held by the "
               f"winch), then {settle or 6:g} s of free sway; tipping load = the largest load whose run keeps N1 > 0 "
               f"(secant on the smallest N1 of the run), rated gross at {STABILITY_FACTOR:.0%} of it (stability only, over the "
-              f"rear, where truck_telescope's two outriggers and the four pads tip alike).  Jacobi, extrapolation 1, H = {STEP:g} s.",
+              f"rear; truck_telescope's two outriggers have no settled tilt in these statics: its static tipping is the "
+              f"four pads' tilt-free one, above the chart's settled-tilt rear load).  Jacobi, extrapolation 1, H = {STEP:g} s.",
               "", "| angle [deg] | boom [m] | radius [m] | speed [m/s] | static tipping [kg] | telescoping tipping [kg] "
               "| of static | of closed form | rated while telescoping [kg] | runs |",
               "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
@@ -231,22 +256,22 @@ def page(table: list[dict], static: list[dict], dyn: list[dict], settle: float |
 
 def plot(table: list[dict], static: list[dict], dyn: list[dict], path) -> None:
     """One panel per boom length (so each length can be told apart): gross rated loads over the rear, the side
-    and the front (= 360 deg here), the structural limit and the tipping loads, within the working radii; the
+    and the front (~ 360 deg here), from the settled-tilt tipping loads, the structural limit and the tipping loads, within the working radii; the
     co-simulated checks of that length (over the rear)."""
-    from .rating import structural_limit, tipping_loads
+    from .rating import structural_limit, tipping_load
 
     plt = pyplot()
     fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), sharey=True)
     styles = {"rear": ("C0", "-"), "side": ("C2", "--"), "front": ("C3", "-")}
     for ax, L in zip(axes.flat, LENGTHS):
         lo, hi = radius_range(L)
-        radius = np.linspace(lo, hi, 121)
+        radius = np.linspace(lo, hi, 61)
         angles = np.degrees(np.arccos(radius / L))
-        tips = np.array([tipping_loads(L, a, [0.0, 90.0, 180.0]) for a in angles])
+        tips = np.array([[tipping_load(L, a, s) for _, s in DIRECTIONS] for a in angles])
         struct = np.array([structural_limit(L, a)[0] for a in angles])
         for k, where in enumerate(("rear", "side", "front")):
             color, ls = styles[where]
-            label = "over the front = 360 deg" if where == "front" else f"over the {where}"
+            label = "over the front ~ 360 deg" if where == "front" else f"over the {where}"
             ax.plot(radius, np.minimum(STABILITY_FACTOR * tips[:, k], struct) / 1e3, ls, color=color, lw=1.8,
                     label=f"rated, {label}")
             ax.plot(radius, tips[:, k] / 1e3, ":", color=color, lw=0.9, label=f"tipping, {label}")
@@ -254,12 +279,12 @@ def plot(table: list[dict], static: list[dict], dyn: list[dict], path) -> None:
         sel = [r for r in static if r["length"] == L and math.isfinite(r["scene"])]
         if sel:
             ax.plot([r["radius"] for r in sel], [r["scene"] / 1e3 for r in sel], "ko", mfc="none", ms=6,
-                    label="tipping over the rear, co-simulated scene at rest")
+                    label="tipping, truck_telescope at rest (rear, no tilt)")
         for v, marker in zip(SPEEDS, ("v", "s", "D")):
             pts = [r for r in dyn if r["length"] == L and r["speed"] == v and r["status"] == "ok"]
             if pts:
                 ax.plot([r["radius"] for r in pts], [r["rated"] / 1e3 for r in pts], marker, color="k", ms=6,
-                        label=f"rated over the rear while telescoping at {v} m/s")
+                        label=f"rated, truck_telescope telescoping {v} m/s")
         ax.set_yscale("log")
         ax.set_xlim(0.0, 23.0)
         ax.set_xticks(range(0, 23, 5))

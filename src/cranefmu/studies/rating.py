@@ -1,12 +1,15 @@
 """Rated loads of the truck crane on four outriggers (truck_slewing's Chassis4 and Boom defaults), as a
 manufacturer's chart states them: every slewing direction, the lesser of stability and structure, gross.
 
-Stability (rigid statics, tilt-free, as :func:`cranefmu.scenes.pad_tipping_load`): the hook load at which
-the resultant of all weights reaches an edge of the pad rectangle, for the boom slewed to sigma (0 over the
-rear, 90 deg over the side, 180 deg over the front, where the cab is: the truck body sits 0.89 m ahead of the
-slewing centre, the front pads 1.452 m ahead, so the front governs).  The 360-deg value is the least over
-all slewing angles.  Stability limit = 85 % of tipping on outriggers (ASME B30.5 / SAE J765,
-/work/shared/notes/crane-standards.md).
+Stability (the statics with the soil's settled tilt, :func:`cranefmu.scenes.pad_tipping_load`: the scene's
+own tipping): the hook load at which the resultant of all weights reaches an edge of the pad rectangle with
+the chassis tilted by the pads' settlements there and the boom lowered with it, for the boom slewed to sigma
+(0 over the rear, 90 deg over the side, 180 deg over the front, where the cab is: the truck body sits 0.89 m
+ahead of the slewing centre, the front pads 1.452 m ahead, so the front governs).  The 360-deg value is the
+least over all slewing angles: located with the tilt-free statics (vectorised, cheap; 0.04-5 % above the
+settled loads on this chart, :func:`tipping_loads_tilt_free`), then the settled load searched around each
+tilt-free minimum that the tilt could make the least (:func:`tipping_360`).  Stability limit = 85 % of
+tipping on outriggers (ASME B30.5 / SAE J765, /work/shared/notes/crane-standards.md).
 
 Structure (at rest, per g; seed 000 gives no section or cylinder data, so the allowables are ASSUMED and
 stated on the chart): the luffing cylinder pushes F = g cos(phi) (S + m L) / lever (the boom's moment about
@@ -52,9 +55,11 @@ class Allowables:
 ALLOWABLES = Allowables()
 
 
-def tipping_loads(length: float, angle_deg: float, slews_deg) -> np.ndarray:
-    """Tipping hook loads [kg] for each slewing angle of ``slews_deg`` [deg] (inf: never tips that way);
-    :func:`cranefmu.scenes.pad_tipping_load` over an array (the geometry built once)."""
+def tipping_loads_tilt_free(length: float, angle_deg: float, slews_deg) -> np.ndarray:
+    """Tilt-free tipping hook loads [kg] (the chassis level: rigid statics) for each slewing angle of
+    ``slews_deg`` [deg] (inf: never tips that way): :func:`cranefmu.scenes.pad_tipping_load_tilt_free` over an
+    array (the geometry built once).  Above the scene's tipping (:func:`tipping_load`): only a guide to where
+    the least over the slewing angles lies."""
     from ..scenes import _pad_geometry
 
     cp, xs, zs, mass, moment, ms = _pad_geometry(None, length, angle_deg)
@@ -73,19 +78,26 @@ def tipping_loads(length: float, angle_deg: float, slews_deg) -> np.ndarray:
     return out
 
 
-def tipping_360(length: float, angle_deg: float) -> tuple[float, float]:
-    """(least tipping load [kg] over all slewing angles, the slewing angle [deg] where it is): a 0.25-deg grid
-    (with 0, 90, 180, 270 on it), refined by golden-section search in the grid's best cell."""
-    grid = np.arange(0.0, 360.0, 0.25)
-    loads = tipping_loads(length, angle_deg, grid)
-    i = int(np.argmin(loads))
-    lo, hi = grid[i] - 0.25, grid[i] + 0.25
-    f = lambda s: float(tipping_loads(length, angle_deg, [s])[0])   # noqa: E731
-    best, where = float(loads[i]), float(grid[i])
+def tipping_load(length: float, angle_deg: float, slew_deg: float) -> float:
+    """Tipping hook load [kg] with the settled tilt (the scene's own), boom ``length`` [m] at ``angle_deg``
+    slewed to ``slew_deg`` [deg]: :func:`cranefmu.scenes.pad_tipping_load` (inf: never tips that way)."""
+    from ..scenes import pad_tipping_load
+
+    return pad_tipping_load(length, angle_deg, slew_deg)
+
+
+TILT_SHARE = 0.2     # the settled tilt lowers a tipping load by less than this share (measured 0.04-5.3 % here;
+                     # checked at every load the 360-deg search evaluates)
+NEAR = 3.0           # [deg] the settled least is searched within this of a tilt-free minimum (shifts ~1 deg)
+NEAR_STEP = 0.25     # [deg] grid of that search, refined by golden section
+
+
+def _golden(f, lo: float, hi: float, steps: int = 30) -> tuple[float, float]:
+    """(least value, where) of ``f`` on [lo, hi] by golden-section search (``f`` unimodal there)."""
     r = (math.sqrt(5.0) - 1.0) / 2.0
     a, b = hi - r * (hi - lo), lo + r * (hi - lo)
     fa, fb = f(a), f(b)
-    for _ in range(40):
+    for _ in range(steps):
         if fa < fb:
             hi, b, fb = b, a, fa
             a = hi - r * (hi - lo)
@@ -94,10 +106,48 @@ def tipping_360(length: float, angle_deg: float) -> tuple[float, float]:
             lo, a, fa = a, b, fb
             b = lo + r * (hi - lo)
             fb = f(b)
-    for s, v in ((a, fa), (b, fb)):
-        if v < best:
-            best, where = v, s
-    return best, where % 360.0
+    return min((fa, a), (fb, b))
+
+
+def tipping_360(length: float, angle_deg: float) -> tuple[float, float]:
+    """(least settled-tilt tipping load [kg] over all slewing angles, the slewing angle [deg] where it is).
+
+    The tilt-free loads on a 0.25-deg grid (0, 90, 180, 270 on it) give the local minima; those whose
+    tilt-free load is within the tilt's reach of the least (below least / (1 - TILT_SHARE)) are candidates:
+    around each the settled load (:func:`tipping_load`) on a NEAR_STEP grid within NEAR deg, the best point
+    refined by golden section over its two grid cells.  Raises if a settled load lies more than TILT_SHARE
+    below the tilt-free one (the candidates could then miss the least)."""
+    grid = np.arange(0.0, 360.0, 0.25)
+    free = tipping_loads_tilt_free(length, angle_deg, grid)
+    if not np.isfinite(free).any():
+        return math.inf, 0.0
+    prev, nxt = np.roll(free, 1), np.roll(free, -1)
+    minima = np.flatnonzero(np.isfinite(free) & (free <= prev) & (free <= nxt))
+    bound = float(free.min()) / (1.0 - TILT_SHARE)
+    cache: dict[float, float] = {}
+
+    def settled(s: float) -> float:
+        s = float(s) % 360.0
+        if s not in cache:
+            v = tipping_load(length, angle_deg, s)
+            ref = float(tipping_loads_tilt_free(length, angle_deg, [s])[0])
+            if math.isfinite(ref) and v < (1.0 - TILT_SHARE) * ref:
+                raise RuntimeError(f"tipping_360({length!r} m, {angle_deg!r} deg): the settled tilt lowers the "
+                                   f"tipping load at {s:g} deg by {1 - v / ref:.1%}: allowed < {TILT_SHARE:.0%}")
+            cache[s] = v
+        return cache[s]
+
+    best = (math.inf, 0.0)
+    for i in minima:
+        if free[i] > bound:
+            continue
+        near = grid[i] + np.arange(-NEAR, NEAR + NEAR_STEP / 2, NEAR_STEP)
+        vals = [settled(s) for s in near]
+        k = int(np.argmin(vals))
+        here = (vals[k], float(near[k]) % 360.0)
+        fine = _golden(settled, near[k] - NEAR_STEP, near[k] + NEAR_STEP)
+        best = min(best, here, (fine[0], fine[1] % 360.0))
+    return float(best[0]), float(best[1])
 
 
 def _boom(length: float, angle_deg: float):
@@ -126,7 +176,7 @@ def _segments(length: float, p) -> list[tuple[float, float, float]]:
 
 def boom_moment(length: float, angle_deg: float, load: float) -> float:
     """Bending moment [N m] of the boom at the cylinder pin D at rest with ``load`` [kg] (tilt-free): the load
-    and head at the tip and each uniform segment's part beyond D, about D."""
+    and head at the tip and each uniform segment's part beyond D, about D (the chassis level)."""
     p, _ = _boom(length, angle_deg)
     a = p.cyl_boom_arm
     first = (load + p.m_head) * (length - a)
@@ -177,8 +227,10 @@ def cell(length: float, radius: float) -> Cell | None:
     angle = math.degrees(math.acos(radius / length))
     if not MIN_ANGLE - 1e-9 <= angle <= MAX_ANGLE + 1e-9:
         return None
-    tips = dict(zip((d for d, _ in DIRECTIONS), tipping_loads(length, angle, [s for _, s in DIRECTIONS]).tolist()))
+    tips = {d: tipping_load(length, angle, s) for d, s in DIRECTIONS}
     tips["360"], slew = tipping_360(length, angle)
+    if tips["360"] > min(tips[d] for d, _ in DIRECTIONS):   # the three directions are slewing angles too
+        tips["360"], slew = min((tips[d], s) for d, s in DIRECTIONS)
     structural, member = structural_limit(length, angle)
     return Cell(length, radius, angle, tips, slew, structural, member)
 
