@@ -36,6 +36,11 @@ from .physics.params import ParameterError, allowed_text, check_value, enumerati
 EXTRAPOLATION_SUFFIXES = ("_dt", "_dt2")  # d/dt and d2/dt2 of a coupling input
 ENUMERATIONS_TOOL = "org.cranefmu.enumerations"  # VendorAnnotations tool listing each switch's names
 PORTS_TOOL = "org.cranefmu.ports"  # VendorAnnotations tool declaring the mechanical ports (docs/composition.md)
+PYTHON_HOST_TOOL = "org.cranefmu.pythonhost"   # VendorAnnotations tool: what a host needs to run this FMU
+#: said in the model's description: a host reads there first what it needs (the native FMU drops it)
+PYTHON_HOST_NOTE = ("pythonfmu FMU: the host process needs a shared CPython 3.10-3.13 with numpy and scipy (a C "
+                    "host preloads libpython3.X.so, LD_PRELOAD); the native FMU of the same model needs none "
+                    "(cranefmu docs/fmus.md)")
 
 
 _PINNED_LIBRARIES: set[str] = set()   # BLAS/OpenMP libraries of this process already pinned to one thread
@@ -291,6 +296,7 @@ class CraneSlave(Fmi2Slave):
         except (ParameterError, FloatingPointError, ValueError) as err:
             self._fail("initialization refused", err)
             raise
+        self._init_error = None   # a value refused in initialization mode and corrected before its end
         one_blas_thread()   # after the model is built: its libraries (scipy's expm) are loaded
         self._pin_after_step = True   # a solver may load one at its first step (scipy's solve_ivp)
         self._initialized = True
@@ -417,6 +423,12 @@ class CraneSlave(Fmi2Slave):
                 real.set("unit", unit)
                 used[unit] = units.parse(unit)
         annotations = Element("VendorAnnotations")
+        root.set("description", f"{root.get('description', '')} [{PYTHON_HOST_NOTE}]".lstrip())
+        host = SubElement(annotations, "Tool", name=PYTHON_HOST_TOOL)
+        SubElement(host, "PythonHost", python="CPython 3.10-3.13, shared library (libpython3.X.so)",
+                   packages="numpy scipy", preload="a C host: LD_PRELOAD=<libdir>/libpython3.X.so, the "
+                   "environment's bin first on PATH", exit="terminate and free every instance before the process "
+                   "exits (pythonfmu 0.7.0 can abort a C host at exit: docs/fmus.md)")
         if self._switches:
             listing = SubElement(SubElement(annotations, "Tool", name=ENUMERATIONS_TOOL), "Enumerations")
             for name, names in self._switches.items():

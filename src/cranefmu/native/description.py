@@ -68,9 +68,14 @@ def pythonfmu_description(cls: type[CraneSlave]) -> Element:
 def native_description(cls: type[CraneSlave], source_files: list[str], digest: str) -> tuple[bytes, str]:
     """The native FMU's modelDescription.xml (bytes) and GUID, for C sources ``source_files`` (the .c
     files in ``sources/``) whose content hashes to ``digest``."""
+    from ..fmi_adapter import PYTHON_HOST_NOTE, PYTHON_HOST_TOOL
+
     root = pythonfmu_description(cls)
     root.set("generationTool", GENERATION_TOOL)
-    description = root.get("description", "")
+    description = root.get("description", "").replace(f" [{PYTHON_HOST_NOTE}]", "").replace(f"[{PYTHON_HOST_NOTE}]", "")
+    for holder in root.iter("VendorAnnotations"):   # what a pythonfmu FMU's host needs: not this one's
+        for tool in [t for t in holder if t.get("name") == PYTHON_HOST_TOOL]:
+            holder.remove(tool)
     root.set("description", f"{description} [{NATIVE_NOTE}]" if description else NATIVE_NOTE)
     root.attrib.pop("generationDateAndTime", None)   # the build is reproducible: same sources, same FMU
     cs = root.find("CoSimulation")
