@@ -1,5 +1,5 @@
 """The native Pendulum FMU against the pythonfmu one through the same FMI call sequences (tests/native/
-conformance.py with tests/native/pendulum_cases.py: the scenes' sets, the optional physics, ground events,
+conformance.py with tests/native/native_pendulum_cases.py: the scenes' sets, the optional physics, ground events,
 tunable changes, rollbacks, refusals): equal to the last bit (measured; the cases that pass through numpy's
 BLAS are held to PENDULUM_RTOL, see test_pendulum_model.py)."""
 from __future__ import annotations
@@ -10,7 +10,7 @@ import pytest
 
 from conformance import Case, conform
 from cranefmu.native.build import compiler_available
-from pendulum_cases import HOOK_SWAY, PENDULUM_CASES
+from native_pendulum_cases import HOOK_SWAY, PENDULUM_CASES
 
 pytestmark = pytest.mark.skipif(not compiler_available(), reason="no C compiler and CMake")
 
