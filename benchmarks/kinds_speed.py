@@ -10,7 +10,7 @@ Usage: .venv/bin/python benchmarks/kinds_speed.py [--scenes a,b] [--stop T] [--r
 ``--stop``: simulated time of every run (default: each scene's natural length, its DefaultExperiment);
 ``--smoke`` (the numbers mean little): elastic_pendulum, 0.5 s, one round, into kinds_speed_smoke.md.
 Writes benchmarks/results/kinds_speed.md (commit, date, load, the table) and, read from it,
-src/cranefmu/speed.json, which ``cranefmu info`` quotes (``--from-table``: no runs, only that step).
+src/cranefmu/speed.json, which ``cranefmu info`` quotes, and the tables of docs/benchmarks.md and docs/scenes.md (``--from-table``: no runs, only that step).
 """
 from __future__ import annotations
 
@@ -113,10 +113,13 @@ def main(argv: list[str] | None = None) -> int:
 def _store() -> int:
     """src/cranefmu/speed.json from benchmarks/results/kinds_speed.md (only a run over each scene's natural
     length writes it: ``cranefmu info`` says so)."""
-    from cranefmu.speed_table import STORE, write_from_table
+    from cranefmu.speed_table import STORE, write_docs, write_from_table
 
     data = write_from_table(REPO / "benchmarks" / "results" / "kinds_speed.md")
     print(f"written {STORE} ({len(data['scenes'])} scene(s))")
+    for page in (REPO / "docs" / "benchmarks.md", REPO / "docs" / "scenes.md"):
+        if write_docs(data, page):
+            print(f"written the speed table into {page}")
     return 0
 
 

@@ -51,3 +51,13 @@ def test_the_shipped_record_covers_every_scene_over_its_natural_length():
     data = json.loads(speed_table.STORE.read_text())
     for scene in scene_names():
         assert data["scenes"][scene]["stop"] == resolve(scene, fmus="python").settings.stop_time, scene
+
+
+def test_the_docs_tables_are_the_record():
+    """docs/benchmarks.md and docs/scenes.md carry the table kinds_speed.py generates from the same record."""
+    from pathlib import Path
+
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    block = "\n".join(speed_table.docs_block(json.loads(speed_table.STORE.read_text())))
+    for page in ("benchmarks.md", "scenes.md"):
+        assert block in (docs / page).read_text(), page
