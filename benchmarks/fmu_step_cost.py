@@ -375,7 +375,8 @@ def main(argv: list[str] | None = None) -> int:
         if note_path.exists() else {}
     notes[args.label] = (f"{clock.strftime('%Y-%m-%d %H:%M UTC', clock.gmtime())}, commit {commit} (plus uncommitted "
                          f"work), python {platform.python_version()}, numpy {np.__version__}, "
-                         f"{os.cpu_count()} cores shared, pinned to {sorted(os.sched_getaffinity(0))}")
+                         f"{os.cpu_count()} cores shared, pinned to {sorted(os.sched_getaffinity(0))}, load {os.getloadavg()[0]:.1f}"
+                         + (f", {args.stop:g} s per scene" if args.stop else ""))
     note_path.write_text("".join(f"{k}\t{v}\n" for k, v in notes.items()))
     main_labels = ("before", "after", "native", "after_stored", "native_stored")
     labels = list(main_labels) + [k for k in notes if k not in main_labels]

@@ -9,7 +9,8 @@ factor = simulated time / time.  Rounds alternate the kinds; the table gives the
 Usage: .venv/bin/python benchmarks/kinds_speed.py [--scenes a,b] [--stop T] [--rounds N] [--smoke]
 ``--stop``: simulated time of every run (default: each scene's natural length, its DefaultExperiment);
 ``--smoke`` (the numbers mean little): elastic_pendulum, 0.5 s, one round, into kinds_speed_smoke.md.
-Writes benchmarks/results/kinds_speed.md (commit, date, load, the table).
+Writes benchmarks/results/kinds_speed.md (commit, date, load, the table) and, read from it,
+src/cranefmu/speed.json, which ``cranefmu info`` quotes, and the tables of docs/benchmarks.md and docs/scenes.md (``--from-table``: no runs, only that step).
 """
 from __future__ import annotations
 
@@ -75,7 +76,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--stop", type=float, default=None, help="simulated time [s] (default: each scene's own)")
     ap.add_argument("--rounds", type=int, default=2)
     ap.add_argument("--smoke", action="store_true")
+    ap.add_argument("--from-table", action="store_true", help="no runs: write src/cranefmu/speed.json from "
+                    "benchmarks/results/kinds_speed.md")
     args = ap.parse_args(argv)
+    if args.from_table:
+        return _store()
     if args.smoke:
         args.scenes, args.stop, args.rounds = "elastic_pendulum", 0.5, 1
     t0 = time.time()
@@ -102,6 +107,19 @@ def main(argv: list[str] | None = None) -> int:
              "cold CPU / wall [s] | warm CPU / wall [s] |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
              *rows]
     save("kinds_speed_smoke" if args.smoke else "kinds_speed", lines, t0)
+    return 0 if args.smoke or args.stop else _store()
+
+
+def _store() -> int:
+    """src/cranefmu/speed.json from benchmarks/results/kinds_speed.md (only a run over each scene's natural
+    length writes it: ``cranefmu info`` says so)."""
+    from cranefmu.speed_table import STORE, write_docs, write_from_table
+
+    data = write_from_table(REPO / "benchmarks" / "results" / "kinds_speed.md")
+    print(f"written {STORE} ({len(data['scenes'])} scene(s))")
+    for page in (REPO / "docs" / "benchmarks.md", REPO / "docs" / "scenes.md"):
+        if write_docs(data, page):
+            print(f"written the speed table into {page}")
     return 0
 
 

@@ -35,6 +35,8 @@ import tempfile
 import zipfile
 from pathlib import Path
 
+from result_table import stamp
+
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
 H = 1e-3
@@ -161,6 +163,8 @@ def main() -> None:
              + (f" --before {a.before}" if a.before else "") + "` (best of the rounds; "
              "CPU of the run of N steps minus the run of N/4, per step; H = 1 ms; one BLAS thread). "
              "See the script's docstring for each host's settings.", "",
+             stamp("master_per_step.py") + f"; {os.cpu_count()} cores shared, load at the end "
+             f"{os.getloadavg()[0]:.1f}.", "",
              "| host | " + " | ".join(f"K = {k} [us]" for k in ks) + " |", "| --- |" + " --- |" * len(ks)]
     for host in hosts:
         cells = [f"{table[host][k]['us']:.1f}" if "us" in table[host].get(k, {}) else

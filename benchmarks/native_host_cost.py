@@ -104,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
 
     work = Path(tempfile.mkdtemp(prefix="cranefmu_native_cost_"))
     exe = native.compile_host(work)
-    scene = load_scene(resolve_scene("elastic_pendulum"), work / "scene")
+    scene = load_scene(resolve_scene("elastic_pendulum", "python"), work / "scene")
     fmus = [(c.name, Path(extract(str(c.fmu), unzipdir=str(work / c.name)))) for c in scene.components]
     outputs = []
     for c in scene.components:

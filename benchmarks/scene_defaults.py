@@ -352,7 +352,7 @@ def ladder_section() -> list[str]:
         d = data[scene]
         best = d["chosen"]["label"] if d["chosen"] else "none meets every limit"
         out += [f"`{scene}` ({d['span']:g} s; chosen: {best}; measured {d['measured']})", "",
-                "| setting | real-time factor | range error | frequency error | damping-ratio error | passes |",
+                "| setting | real-time factor (pythonfmu FMUs, over that window) | range error | frequency error | damping-ratio error | passes |",
                 "| --- | --- | --- | --- | --- | --- |"]
         out += [f"| {r['label']} | {r['rtf']:.1f} | {pct(r['worst'])} | {pct(r['freq_err'])} | {pct(r['damp_err'])} | "
                 f"{'yes' if r['ok'] else 'no'} |" for r in d["ladder"]]

@@ -123,7 +123,8 @@ def native_ssp_is_stale(scene_dir: Path) -> bool:
     fmus = native_scene_fmus(scene_dir)
     if any(not f.is_file() for f in fmus):
         return True
-    return ssp.stat().st_mtime < max(p.stat().st_mtime for p in scene_files(scene_dir) + fmus + b.ssp_generators())
+    writers = [*b.ssp_generators(), Path(__file__)]   # this module zips the native scene (its host steps)
+    return ssp.stat().st_mtime < max(p.stat().st_mtime for p in scene_files(scene_dir) + fmus + writers)
 
 
 def native_reason(scene: str) -> str | None:
@@ -151,6 +152,7 @@ def build_native(force: bool = False, verbose: bool = True, only: list[str] | No
     :func:`cranefmu.build.build` takes them) whose FMUs all have a C model.  The pythonfmu build of the same
     selection must be current (the scene sources are staged by it).  Returns the files built."""
     from . import build as b
+    from . import host_steps
     from .native.build import build_native_fmu
 
     if compiler_reason() is not None:
@@ -175,7 +177,9 @@ def build_native(force: bool = False, verbose: bool = True, only: list[str] | No
             target = ssp_dir / f"{scene.name}.ssp"
             if verbose:
                 print(f"building {b._shown(target)} (native)", flush=True)
-            done.append(b.build_ssp(scene, dest=target, fmu_dir=fmu_dir))
+            # the plain-Jacobi steps other hosts need, as the pythonfmu scene carries them (the same arithmetic)
+            done.append(b.build_ssp(scene, dest=target, fmu_dir=fmu_dir,
+                                    host_steps=host_steps.measured(scene.name)))
     return done
 
 

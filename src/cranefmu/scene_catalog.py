@@ -51,12 +51,14 @@ def _errors(r: dict) -> str:
     def pct(x):
         return "-" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{100 * x:.2g} %"
 
-    return (f"RTF {r['rtf']:.1f}, range {pct(r['worst'])}, frequency {pct(r['freq_err'])}, "
+    return (f"range {pct(r['worst'])}, frequency {pct(r['freq_err'])}, "
             f"damping ratio {pct(r['damp_err'])}" + ("" if r["ok"] else " (does not pass)"))
 
 
 def fidelity_lines(name: str) -> list[str]:
-    """``cranefmu info`` lines: the chosen setting with its measured errors, then the ladder."""
+    """``cranefmu info`` lines: the chosen setting with its measured errors, then the ladder (ordered by the
+    walls scene_defaults.py measured on its window with the pythonfmu FMUs; those walls are not shown: a
+    speed ``info`` quotes is of the whole natural length, :mod:`cranefmu.speed_table`)."""
     data = fidelity(name)
     if not data:
         return []
@@ -65,7 +67,8 @@ def fidelity_lines(name: str) -> list[str]:
              f"    chosen: {best['label']}: {_errors(best)}" if best else
              "    chosen: none measured meets every limit (the scene keeps its stored setting; the modes it "
              "does not keep: cranefmu.modal.NOT_KEPT, docs/scenes_catalog.md)",
-             "    fidelity ladder, fastest -> most faithful (passes: range <= 0.5 %, half the 1 % target; every listed "
+             "    fidelity ladder, fastest -> most faithful (ordered by the walls of that measurement, pythonfmu FMUs; "
+             "passes: range <= 0.5 %, half the 1 % target; every listed "
              "mode within 0.5 % frequency and 5 % damping ratio; no bond residual above 10 % of its energy):"]
     return lines + [f"      {r['label']}: {_errors(r)}" for r in data["ladder"]]
 

@@ -71,7 +71,9 @@ def describe(scene: Scene) -> list[str]:
     lines += _settings_lines(scene)
     from .scene_catalog import fidelity_lines, mode_lines
 
-    lines += mode_lines(scene.name) + fidelity_lines(scene.name)
+    from .speed_table import info_lines as speed_lines
+
+    lines += mode_lines(scene.name) + fidelity_lines(scene.name) + speed_lines(scene.name)
     from .host_steps import info_lines
 
     lines += info_lines(scene.host_steps)

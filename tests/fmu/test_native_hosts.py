@@ -66,7 +66,7 @@ def scene(built, tmp_path_factory):
 
     from dataclasses import replace
 
-    loaded = load_scene(resolve_scene(SCENE), tmp_path_factory.mktemp("scene"))
+    loaded = load_scene(resolve_scene(SCENE, "python"), tmp_path_factory.mktemp("scene"))
     derived = ("pendulum.start", "pendulum.theta0")
     # the .ssp's settled start values of connected inputs (cranefmu.settled_start) are no parameters
     # of a container: it wires those inputs itself; this test places the start by coordinates instead
