@@ -255,12 +255,19 @@ def test_long_run_streams_every_row_without_keeping_them(built, tmp_path):
 
 
 # --- Bouc-Wen with a large exponent ------------------------------------------------------------------------
-# initialization alone takes ~18 s at n = 5, ~55 s at n = 8 (the virgin curve's z-integration is stiff)
-@pytest.mark.parametrize("n", [5.0, pytest.param(8.0, marks=pytest.mark.slow), pytest.param(20.0, marks=pytest.mark.slow)])
+# Initialization is what costs: RopeModel.strain solves the virgin curve for the static strain by bisection
+# (boucwen.virgin_elongation, ~33 path integrations by RK4 with steps <= 0.05 z_u/(n alpha), tens of thousands
+# of steps each at n = 5), and the FMU recomputes it at each of its ~11 initial_state calls: measured 1.3 s of
+# CPU per static strain at n = 3 (a 15 s run), 11 s at n = 5 (171 s), 0.16 s at n = 2 (a 2 s run).  The
+# behaviour is checked by default at n = 2; n = 5, 8 and 20 run in the slow step.
+@pytest.mark.parametrize("n", [2.0, pytest.param(5.0, marks=pytest.mark.slow), pytest.param(8.0, marks=pytest.mark.slow),
+                               pytest.param(20.0, marks=pytest.mark.slow)])
 def test_bouc_wen_with_a_large_exponent_saturates_at_its_bound(built, n):
-    """rope.model = bouc_wen, exponent n = 5 (8 and 20 in the slow set): the hysteretic force z of eq. 1 is
+    """rope.model = bouc_wen, exponent n = 2 (5, 8 and 20 in the slow set): the hysteretic force z of eq. 1 is
     stiff near saturation (dz'/dz ~ n alpha / z_u |x'|).  It must reach its ultimate value
-    z_u = (alpha / (beta + gamma))^(1/n) of the 10 m line and never pass it; tension finite and >= 0."""
+    z_u = (alpha / (beta + gamma))^(1/n) of the 10 m line and never pass it; tension finite and >= 0.
+    n = 2 is the cheap case of the same law (same assertions, same tolerances); the larger exponents are
+    the stiffer ones and cost minutes (the comment above)."""
     from cranefmu.physics.boucwen import BoucWenParams, for_length, z_bound
 
     z_u = z_bound(for_length(BoucWenParams(n=n), LENGTH, 1))

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from cranefmu import modal
-from cranefmu.reference import solve
+from reference_cache import References, solve   # one solve per argument set in the session
 
 
 def monolith_mode(scene, name, probe=None, grid=2e-3):
@@ -48,7 +48,7 @@ def test_hook_sway_modes_are_the_linear_double_pendulum_at_small_amplitude(name)
 def test_the_old_elastic_pendulum_setting_distorts_the_axial_mode_and_5_ms_keeps_it(built):
     """Jacobi x2 at 20 ms (the stored setting before issue 24) meets 1 % of range but raises the axial
     frequency by 0.77 % and its damping ratio by 38 % (0.0688 against 0.0497); 5 ms keeps both."""
-    refs = modal.References("elastic_pendulum", None, None)
+    refs = References("elastic_pendulum", None, None)
     jacobi_x2 = dict(algorithm="jacobi", extrapolation=2, implicit=[])
     old = modal.check_setting("elastic_pendulum", dict(jacobi_x2, step_size=0.02), references=refs)
     axial = next(e for e in old.errors if e.name == "rope axial")
@@ -186,7 +186,7 @@ def test_the_luffing_cylinder_mode_is_the_boom_models_own_linearisation():
 @pytest.fixture(scope="module")
 def slewing_refs():
     """truck_slewing's probe solves, shared by its listed modes (rtol 1e-8: the fit's 5e-4 needs no more)."""
-    return modal.References("truck_slewing", None, None, rtol=1e-8)
+    return References("truck_slewing", None, None, rtol=1e-8)
 
 
 @pytest.mark.parametrize("name", ["swing (boom plane)", "load on the rope (axial)", "chassis on the front pads",

@@ -6,7 +6,9 @@ import pytest
 
 from cranefmu.master.run import run
 from cranefmu.physics.boucwen import BoucWenParams
-from cranefmu.reference import Monolith, solve
+from cranefmu.reference import Monolith
+
+from reference_cache import solve   # one solve per argument set in the session
 
 STOP = 1.0
 KEYS = ("pendulum.theta_payload", "pendulum.phi_payload", "pendulum.theta")
