@@ -69,3 +69,17 @@ def test_discrete_values_are_held_from_exchange_to_exchange_and_reals_do_not_cha
     assert np.array_equal(reals.view(np.int64), plain.view(np.int64))   # the Real part, bit for bit
     assert reals[3, 1] == math.sin(3)                                  # and it moved
     assert plain_rows[3]["b.Integer_output"] == 0.0                     # unconnected: b's start
+
+
+def test_a_discrete_connection_with_a_linear_transformation_is_refused_in_one_line():
+    from cranefmu.errors import SceneError
+    from cranefmu.master.discrete_links import check_discrete
+    from cranefmu.master.scene import ConnectionSpec
+
+    c = ConnectionSpec("a", "Integer_output", "b", "Integer_input", factor=2.0, transformed=True)
+    with pytest.raises(SceneError) as err:
+        check_discrete(c, "Integer", "Integer")
+    assert str(err.value) == ("connection a.Integer_output -> b.Integer_input: Integer values with factor 2 and "
+                              "offset 0; allowed: none (a LinearTransformation converts Real values only)")
+    check_discrete(ConnectionSpec("a", "Enumeration_output", "b", "Integer_input", transformed=True),
+                   "Enumeration", "Integer")   # an identity transformation is no conversion

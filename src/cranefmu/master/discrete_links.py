@@ -33,7 +33,7 @@ def check_discrete(c: ConnectionSpec, src_type: str, dst_type: str) -> None:
         raise SceneError(f"connection {c}: types {src_type} -> {dst_type} do not fit; allowed: Real -> Real, "
                          "Integer -> Integer, Boolean -> Boolean, Enumeration -> Enumeration or Integer")
     if c.factor != 1.0 or c.offset != 0.0:
-        raise SceneError(f"connection {c}: a {src_type} connection with factor {c.factor:g} and offset "
+        raise SceneError(f"connection {c}: {src_type} values with factor {c.factor:g} and offset "
                          f"{c.offset:g}; allowed: none (a LinearTransformation converts Real values only)")
 
 
