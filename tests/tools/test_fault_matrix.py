@@ -612,15 +612,44 @@ def test_an_fmi3_output_the_master_cannot_read_is_refused_at_load_by_name(built,
     assert not (tmp_path / "o.csv").exists()
 
 
-def test_a_discrete_connection_between_fmus_is_refused_at_load_in_one_line(flags_fmu, tmp_path):
+def test_discrete_connections_between_fmus_run_and_leave_the_real_values_alone(flags_fmu, tmp_path):
+    """Integer, Boolean and Enumeration connections are held at every exchange (tests/master/
+    test_discrete_connections.py checks them row by row); was refused at load."""
     from foreign_ssp import write_ssp
 
-    ssp = write_ssp(tmp_path / "two.ssp", {"a": flags_fmu, "b": flags_fmu},
-                    [("a", "Real_output", "b", "Real_input"), ("a", "Boolean_output", "b", "Boolean_input")])
+    real = [("a", "Real_output", "b", "Real_input")]
+    discrete = [("a", "Boolean_output", "b", "Boolean_input"), ("a", "Enumeration_output", "b", "Enumeration_input"),
+                ("a", "Integer_output", "b", "Integer_input")]
+    sets = ["--set=a.Real_input=1.5", "--set=a.Boolean_input=true", "--set=a.Enumeration_input=3",
+            "--set=a.Integer_input=-7"]
+    out = {}
+    for name, connections in (("both", real + discrete), ("real", real)):
+        ssp = write_ssp(tmp_path / f"{name}.ssp", {"a": flags_fmu, "b": flags_fmu}, connections)
+        p = cranefmu("run", str(ssp), "--stop-time", "0.3", "--step", "0.1", "--algorithm", "jacobi", *sets,
+                     "--output", f"{name}.csv", cwd=tmp_path)
+        assert p.returncode == 0, p.stderr
+        out[name] = read_csv(tmp_path / f"{name}.csv")
+    both, plain = out["both"], out["real"]
+    assert both.dtype.names == plain.dtype.names
+    assert np.array_equal(both["b.Real_output"], plain["b.Real_output"]) and both["b.Real_output"][-1] == 1.5
+    for var, value in (("Boolean_output", 1.0), ("Enumeration_output", 3.0), ("Integer_output", -7.0)):
+        assert list(both[f"b.{var}"]) == [value] * 4, var           # held from the start
+        assert plain[f"b.{var}"][0] != value, var                    # not the unconnected input's start
+
+
+@pytest.mark.parametrize("start, end, types", [("Boolean_output", "Integer_input", "Boolean -> Integer"),
+                                               ("Integer_output", "Enumeration_input", "Integer -> Enumeration"),
+                                               ("Real_output", "Integer_input", "Real -> Integer")])
+def test_a_discrete_connection_of_mismatched_types_is_refused_at_load_in_one_line(flags_fmu, tmp_path, start, end,
+                                                                                   types):
+    from foreign_ssp import write_ssp
+
+    ssp = write_ssp(tmp_path / "two.ssp", {"a": flags_fmu, "b": flags_fmu}, [("a", start, "b", end)])
     p = cranefmu("run", str(ssp), "--stop-time", "0.1", "--step", "0.1", "--output", "o.csv", cwd=tmp_path)
     assert p.returncode == 2 and not (tmp_path / "o.csv").exists()
-    assert one_line(p.stderr) == ("cranefmu: error: connection a.Boolean_output -> b.Boolean_input: types Boolean -> "
-                                  "Boolean; only Real -> Real connections are supported")
+    assert one_line(p.stderr) == (f"cranefmu: error: connection a.{start} -> b.{end}: types {types} do not fit; "
+                                  "allowed: Real -> Real, Integer -> Integer, Boolean -> Boolean, Enumeration -> "
+                                  "Enumeration or Integer")
 
 
 # --- issue 35: no hangs, one line ------------------------------------------------------------------

@@ -42,6 +42,7 @@ from .bond_inference import scene_bonds
 from .coupling import (InputGroup, check_connection, feedthrough, lagrange_weights, ordered_links, rates,
                        visit_order)
 from ..errors import CraneFmuError, ParameterSetError, SceneError, SimulationError
+from .discrete_links import DiscreteLinks, is_discrete
 from .exchange_plan import Phase, cut_phases, plan_writes
 from .fmu import FmuComponent
 from .scene import Scene
@@ -80,7 +81,11 @@ class Coupling:
         self.comps = [FmuComponent(c.name, c.fmu, workdir / f"fmu_{c.name}") for c in scene.components]
         self.components: list[str] = [c.name for c in self.comps]
         self.by_name = {c.name: c for c in self.comps}
-        self.connections = [check_connection(c, self.by_name) for c in scene.connections]
+        checked = [check_connection(c, self.by_name) for c in scene.connections]
+        # Integer, Boolean and Enumeration connections: a hold of the value read at each exchange, apart
+        # from the Real values and their arrays (:mod:`.discrete_links`)
+        self.discrete = DiscreteLinks(self.comps, [c for c in checked if is_discrete(c, self.by_name)])
+        self.connections = [c for c in checked if not is_discrete(c, self.by_name)]
         # per destination its groups, and every group in exchange order
         per_dst, self.links = ordered_links(self.comps, self.connections)
         index = {id(g): i for i, g in enumerate(self.links)}
@@ -190,7 +195,8 @@ class Coupling:
         names = []
         for g in self.links:
             dst = self.comps[g.dst]
-            vr_name = {v.valueReference: v.name for v in dst.md.modelVariables if v.causality == "input"}
+            vr_name = {v.valueReference: v.name for v in dst.md.modelVariables   # value references are per type
+                       if v.causality == "input" and v.type == "Real"}
             names += [str(by_dst[(dst.name, vr_name[vr])]) for vr in g.dst_vrs]
         return names
 
@@ -225,7 +231,7 @@ class Coupling:
     def _sources(self):
         """Per value, in exchange order: (the source output's model variable, the connection's factor)."""
         for g in self.links:
-            by_vr = {v.valueReference: v for v in self.comps[g.src].md.modelVariables}
+            by_vr = {v.valueReference: v for v in self.comps[g.src].md.modelVariables if v.type == "Real"}
             yield from ((by_vr[vr], factor) for vr, factor in zip(g.src_vrs, g.factor))
 
     def units(self) -> list[str]:
@@ -459,6 +465,8 @@ class Coupling:
         p = self.extrapolation if order is None else order
         if self.commands is not None:
             self.commands.feed(t)
+        if self.discrete:
+            self.discrete.move(self.refused)
         if self._phases is None:
             self._phases = self._plan_phases()
         new = self._new_point(t)
@@ -537,6 +545,8 @@ class Coupling:
         (no re-read after inputs that it depends on directly were set); the values recorded at t."""
         if self.commands is not None:
             self.commands.feed(t)
+        if self.discrete:
+            self.discrete.move(self.refused)
         for i in self._all:
             self.read_component(i)
         values = [self.pull(gi) for gi in range(len(self.links))]
@@ -584,7 +594,8 @@ class Coupling:
 
     def kernel(self):
         """The compiled exchange bound to this coupling (:class:`.kernel.plan.KernelPlan`), or None where
-        the Python exchange runs (not wanted, no compiler, commands, FMI input derivatives, ...)."""
+        the Python exchange runs (not wanted, no compiler, commands, FMI input derivatives, discrete
+        connections, ...)."""
         if self._kernel is None and self._phases is not None:
             self._kernel = False
             if self.compiled:

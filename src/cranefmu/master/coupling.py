@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import SceneError
+from .discrete_links import check_discrete
 from .fmu import FmuComponent
 from .graph import DependencyLoop, topological_order
 from .scene import ConnectionSpec
@@ -75,8 +76,9 @@ def check_connection(c: ConnectionSpec, comps: dict[str, FmuComponent]) -> Conne
         raise SceneError(f"connection {c}: start {c.src}.{c.src_var} is a {a.causality}, must be an output")
     if b.causality != "input":
         raise SceneError(f"connection {c}: end {c.dst}.{c.dst_var} is a {b.causality}, must be an input")
-    if a.type != "Real" or b.type != "Real":
-        raise SceneError(f"connection {c}: types {a.type} -> {b.type}; only Real -> Real connections are supported")
+    if a.type != "Real" or b.type != "Real":   # Integer, Boolean, Enumeration: held as read (.discrete_links)
+        check_discrete(c, a.type, b.type)
+        return c
     ua, ub = a.unit or "", b.unit or ""
     if ua == ub or c.transformed or c.factor != 1.0 or c.offset != 0.0:
         return c

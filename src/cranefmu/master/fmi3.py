@@ -82,6 +82,7 @@ def slave_class(messages: dict[str, list[str]]):
             f = self._functions
             get64, set64, do_step = f["fmi3GetFloat64"], f["fmi3SetFloat64"], f["fmi3DoStep"]
             get_int, get_bool = f["fmi3GetInt32"], f["fmi3GetBoolean"]
+            set_int, set_bool = f["fmi3SetInt32"], f["fmi3SetBoolean"]
             flags = [fmi3Boolean() for _ in range(3)]
             last = fmi3Float64()
             refs = [ctypes.byref(x) for x in flags] + [ctypes.byref(last)]
@@ -98,6 +99,8 @@ def slave_class(messages: dict[str, list[str]]):
             f["fmi2DoStep"] = lambda c, t, h, no_prior: do_step(c, t, h, no_prior, *refs)
             f["fmi2GetInteger"] = lambda c, vrs, n, values: get_int(c, vrs, n, values, n)
             f["fmi2GetBoolean"] = get_boolean
+            f["fmi2SetInteger"] = lambda c, vrs, n, values: set_int(c, vrs, n, values, n)
+            f["fmi2SetBoolean"] = lambda c, vrs, n, values: set_bool(c, vrs, n, (fmi3Boolean * n)(*values), n)
 
         # --- the FMI 2.0 calls the master makes -------------------------------------------------
         def setupExperiment(self, tolerance=None, startTime=0.0, stopTime=None):

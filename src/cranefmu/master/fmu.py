@@ -226,6 +226,8 @@ class FmuComponent:
         self._do_step = functions["fmi2DoStep"]
         self._get_integer = functions["fmi2GetInteger"]
         self._get_boolean = functions["fmi2GetBoolean"]
+        self._set_integer = functions["fmi2SetInteger"]
+        self._set_boolean = functions["fmi2SetBoolean"]
         self._read = None
         self.fresh = False
 
@@ -362,6 +364,12 @@ class FmuComponent:
         status = (self._get_boolean if boolean else self._get_integer)(self._c, vrs, n, values)
         if status > 1:
             self._failed("fmi2GetBoolean" if boolean else "fmi2GetInteger", status)
+
+    def write_discrete(self, vrs, n: int, values, boolean: bool) -> None:
+        """fmi2SetBoolean (``boolean``) or fmi2SetInteger of the ctypes int arrays ``vrs``, ``values``."""
+        status = (self._set_boolean if boolean else self._set_integer)(self._c, vrs, n, values)
+        if status > 1:
+            self._failed("fmi2SetBoolean" if boolean else "fmi2SetInteger", status)
 
     def _failed(self, function: str, status: int):
         """Raise what fmpy raises for a status above warning, and remember a fatal one."""

@@ -102,7 +102,9 @@ def settle(system: Coupling, t: float, tolerance: float, max_iterations: int,
     values) carry the given values instead of what their source gives now."""
     pinned = pinned or {}
     everything = list(range(len(system.links)))
-    if not everything:   # no connections (one FMU alone): nothing to settle
+    if not everything:   # no Real connections: the discrete ones held once, nothing to settle
+        if system.discrete:
+            system.discrete.move(system.refused)
         return 0
     graph = component_graph(system.comps, system.scene.connections)
     used = 0
@@ -137,6 +139,8 @@ def _evaluate(system: Coupling, members: list[int], u: np.ndarray | None,
     """Feed ``u`` (or, if None, the sources' current values) into the members; return G(u): what
     the sources give after that."""
     pinned = pinned or {}
+    if system.discrete:   # Integer/Boolean/Enumeration connections: each iteration holds the current values
+        system.discrete.move(system.refused)
     pos = 0
     for i in members:
         n = len(system.links[i].dst_vrs)

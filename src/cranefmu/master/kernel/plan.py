@@ -51,11 +51,14 @@ class KernelPlan:
 
     @classmethod
     def make(cls, lib, coupling) -> KernelPlan | None:
-        """None where the Python exchange must run: commanded inputs, FMI input derivatives, wrapped FMI
-        calls, or a product size whose bits the kernel does not reproduce here."""
+        """None where the Python exchange must run: commanded inputs, Integer/Boolean/Enumeration
+        connections (the kernel moves Real values only), FMI input derivatives, wrapped FMI calls, or a
+        product size whose bits the kernel does not reproduce here."""
         from . import agrees_with_numpy
 
         if lib is None or coupling.commands is not None or coupling._phases is None:
+            return None
+        if coupling.discrete:   # held by coupled.Coupling.exchange (.discrete_links), in Python
             return None
         if any(w.derivatives for ph in coupling._phases for w in ph.writes):
             return None
