@@ -38,7 +38,7 @@ SCENES = {
                         SceneError, ["pendulum.mass -> rope.x_hook", "is a parameter", "must be an output"]),
     "type_mismatch": (dict(ssd=_swap('startConnector="x" endElement="rope"',
                                      'startConnector="lifted" endElement="rope"')), SceneError,
-                      ["pendulum.lifted -> rope.x_hook", "Integer -> Real", "only Real -> Real"]),
+                      ["pendulum.lifted -> rope.x_hook", "Integer -> Real", "do not fit; allowed: Real -> Real, Integer -> Integer"]),
     "unit_mismatch": (dict(ssd=_swap('startConnector="x" endElement="rope"', 'startConnector="vx" endElement="rope"')),
                       SceneError, ["pendulum.vx -> rope.x_hook", "'m/s' -> 'm'", "LinearTransformation"]),
     "algebraic_loop": (dict(ssd=_swap("</ssd:Connections>", _LOOP + "</ssd:Connections>")), SceneError,

@@ -243,7 +243,9 @@ static fmi2Status refresh_outputs(CfInstance *c) {
         if (cf_initial_state(&v->model, v->u, v->x)) return fail(c, "cannot compute the outputs", "ValueError");
     }
     double y[N_OUTPUTS + 1];
+    v->msg[0] = '\0';   /* a model that cannot compute its outputs says why there (cf_model.h) */
     cf_outputs(&v->model, v->t, v->x, v->u, y);
+    if (v->msg[0] != '\0') return fail(c, "cannot compute the outputs", "FloatingPointError");
     for (int i = 0; i < N_OUTPUTS; i++)
         if (cf_output_discrete[i]) {
             if (!isfinite(y[i]) || fabs(y[i]) > 2147483647.0) {

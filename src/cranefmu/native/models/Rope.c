@@ -34,6 +34,7 @@
    load the Bouc-Wen curve does not reach) cannot be returned through the void functions of the
    contract: they give NaN there, which the layer reports as a non-finite state or output. */
 #include <math.h>
+#include <stdio.h>
 
 #include "cf_model.h"
 #include "cf_boucwen.h"
@@ -282,7 +283,14 @@ void cf_outputs(const CfModel *m, double t, const double *x, const double *u, do
     (void)t;
     if (geometry(p, u, length0_of(m, x), e, &length, &l_u, &delta_dot)) {
         for (i = 0; i < N_OUTPUTS; i++)
-            y[i] = NAN;   /* Python raises FloatingPointError: no rope left */
+            y[i] = NAN;   /* Python raises FloatingPointError: no rope left; the layer reports m->msg */
+        if (m->msg != NULL) {
+            char a[32], b[32];
+            snprintf(a, sizeof a, "%.6g", u[IN_payout]);
+            snprintf(b, sizeof b, "%.6g", l_u);
+            snprintf(m->msg, CF_MSG_SIZE, "rope.payout = %s m leaves no rope: unstretched length %s m must stay > 0",
+                     a, b);
+        }
         return;
     }
     z = d->bw ? x[0] : 0.0;
