@@ -83,7 +83,9 @@ def test_run_one_experiment_writes_its_csv_and_verdicts(built, tmp_path):
     assert csv.read_text().count("\n") == 1 + 41  # header, t = 0 .. 0.2 s at the stored 5 ms
     assert "tension_at_release" in r.stdout and "FAIL" in r.stdout
     page = html.read_text()   # the report shows the verdicts (the page itself: tests/tools/test_report.py)
-    assert "<h2>Assertions</h2>" in page and "<td>on_purpose</td>" in page and "<td>pass</td>" in page
+    # the verdict first (issue 37): a coloured box and the assertions' table before the crane
+    assert page.index("id='verdict'") < page.index("<h2>The crane</h2>")
+    assert "<td>on_purpose</td>" in page and "<td>pass</td>" in page
     r = cranefmu("run", str(exp))
     assert r.returncode == 2 and "has cases a, b: give --case NAME" in r.stderr
 

@@ -107,7 +107,7 @@ def test_the_cli_names_an_unreachable_scheduler_in_one_line_and_runs_nothing(bui
     out = cranefmu("check", str(path), "--scheduler", "tcp://127.0.0.1:9", "--report", str(tmp_path / "r.json"))
     assert out.returncode == 2 and out.stdout == "", out.stderr
     lines = out.stderr.strip().splitlines()
-    assert len(lines) == 1 and "scheduler 'tcp://127.0.0.1:9': cannot reach the Dask scheduler there" in lines[0]
+    assert len(lines) == 1 and "scheduler 'tcp://127.0.0.1:9': cannot reach a Dask scheduler there" in lines[0]
     assert not (tmp_path / "r.json").exists()
 
 

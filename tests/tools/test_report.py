@@ -338,7 +338,7 @@ def test_the_report_of_a_failed_experiment_shows_its_verdict_first(built, tmp_pa
     p = cranefmu("run", str(f), "--report", str(html))
     assert p.returncode == 1, p.stderr
     text = html.read_text()
-    assert "<title>FAIL: experiment tips_on_a_long_boom, case base (truck_telescope)</title>" in text
+    assert "<title>FAIL: experiment tips_on_a_long_boom, case base (truck_telescope, native FMUs)</title>" in text
     verdict, crane = text.index("id='verdict'"), text.index("<h2>The crane</h2>")
     assert verdict < crane   # before the drawing and the plots
     assert "class='verdict fail'" in text and "<tr class='fail'>" in text
