@@ -18,11 +18,19 @@ from .master.scene import Parameter, Scene, typed_value
 
 def export_scene(scene: str, output: str | Path, parameter_set: str | None = None,
                  parameters: dict[str, object] | None = None, fmus: str | None = None) -> Path:
+    """Write ``output`` (.ssp), see :func:`export_scene_kind`; returns the path written."""
+    return export_scene_kind(scene, output, parameter_set, parameters, fmus)[0]
+
+
+def export_scene_kind(scene: str, output: str | Path, parameter_set: str | None = None,
+                      parameters: dict[str, object] | None = None,
+                      fmus: str | None = None) -> tuple[Path, str | None]:
     """Write ``output`` (.ssp): ``scene`` with ``parameter_set`` and ``parameters`` ({"comp.var": value or
     text}) over its default set as its one bound set, with the settled start of those values, holding
     FMUs of kind ``fmus`` (native or python; None: native where built or buildable, see
     :mod:`cranefmu.fmu_kinds`; :func:`exported_kind` reads it back).
-    Returns the path written.  Raises a :class:`CraneFmuError` naming a bad scene, set, value or target."""
+    Returns the path written and the kind its FMUs are (:func:`exported_kind`, read from the archive
+    before it is copied: the target may be standard output, unreadable after).  Raises a :class:`CraneFmuError` naming a bad scene, set, value or target."""
     from . import build as b
     from .fmu_kinds import check_kind, native_fmu_dir, native_ssp_dir, scene_path
     from .master.scene import read_scene_folder
@@ -50,7 +58,8 @@ def export_scene(scene: str, output: str | Path, parameter_set: str | None = Non
         (variant / bound.pop()).write_bytes(b.ssv_of(values, label))
         written = b.build_ssp(variant, dest=Path(tmp) / f"{scene}.ssp", fmu_dir=native_fmu_dir() if native else None,
                               host_steps=variant_host_steps(scene, parameter_set, parameters or {}))
-        return whole_file.copy(written, output, "--output")   # beside the target, renamed: whole or nothing
+        kind = exported_kind(written)
+        return whole_file.copy(written, output, "--output"), kind   # beside the target, renamed: whole or nothing
 
 
 def variant_host_steps(scene: str, parameter_set: str | None, parameters: dict) -> dict[str, dict]:
@@ -169,9 +178,8 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
     from .master.output_file import same_file_as
 
-    path = export_scene(args.scene, args.output, args.parameter_set, _parse_set(args.set), args.fmus)
+    path, kind = export_scene_kind(args.scene, args.output, args.parameter_set, _parse_set(args.set), args.fmus)
     # the archive on standard output (`-`, a link to /proc/self/fd/1): the line goes to stderr
-    kind = exported_kind(path) if Path(path).is_file() else None
     print(f"wrote {path} (FMUs: {kind or 'neither cranefmu kind'})",
           file=sys.stderr if same_file_as(args.output, 1) else sys.stdout)
     return 0
