@@ -31,7 +31,8 @@ FACTORS = (0.9, 1.3, 2.0, 3.0)   # H / the analytic limit
 
 def one_run(scene: str, parameter_set: str | None, kw: dict, alarm: bool) -> dict:
     """One run in this (spawned) process; what the watch saw."""
-    from cranefmu.master import run as run_mod
+    from cranefmu.master import execution as run_mod   # build_execution makes the Watch
+    from cranefmu.master.run import run
     from cranefmu.errors import SimulationError
 
     watches = []
@@ -45,7 +46,7 @@ def one_run(scene: str, parameter_set: str | None, kw: dict, alarm: bool) -> dic
     t0 = clock.perf_counter()
     out = {"alarm": ""}
     try:
-        r = run_mod.run(scene, parameter_set=parameter_set, isolate=False, progress=False,
+        r = run(scene, parameter_set=parameter_set, isolate=False, progress=False,
                         instability_alarm=alarm, **kw)
         res, out["steps"] = r.result, r.stats.steps
     except SimulationError as err:

@@ -32,7 +32,7 @@ SCENES = ("elastic_pendulum", "hook_sway", "overhead_lift", "truck_telescope")
 STARTUP = """
 import json, sys, time
 t0 = time.perf_counter()
-import cranefmu.master.run as m
+import cranefmu.master.execution as m
 from cranefmu.master.run import run
 t1 = time.perf_counter()
 inner, spent = m.initialize, []

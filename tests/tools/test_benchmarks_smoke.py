@@ -25,6 +25,15 @@ H = "0.02"
 
 # script -> (its smallest arguments, the files it writes, relative to the copy's root)
 SMOKE: dict[str, tuple[list[str], list[str]]] = {
+    "blas_threads.py": (["--stop", "0.1", "--rounds", "1", "--before", "HEAD", "--out", "{tmp}"],
+                        ["{tmp}/blas_threads.md"]),
+    "kernel_call_cost.py": (["--calls", "2000", "--out", "{tmp}"], ["{tmp}/kernel_call_cost.md"]),
+    "kinds_speed.py": (["--smoke"], ["benchmarks/results/kinds_speed_smoke.md"]),
+    "master_per_step.py": (["--steps", "200", "--rounds", "1", "--ks", "1", "--out", "{tmp}"],
+                           ["{tmp}/master_per_step.md", "{tmp}/master_per_step.json"]),
+    "memory_flat.py": (["--short", "0.2", "--long", "0.5", "--out", "{tmp}"], ["{tmp}/memory_flat.md"]),
+    "native_conformance.py": (["--smoke"], ["benchmarks/results/native_conformance_smoke.md"]),
+    "native_exact_step.py": (["--cases", "2"], ["benchmarks/results/native_exact_step.md"]),
     "alarm_margins.py": (["--smoke"], ["benchmarks/results/alarm_margins_smoke.md"]),
     "bouc_wen_step.py": (["--smoke"], ["benchmarks/results/bouc_wen_step_smoke.md"]),
     "boucwen_hoist_fit.py": (["--smoke"], ["benchmarks/results/boucwen_hoist_fit_smoke.md",
