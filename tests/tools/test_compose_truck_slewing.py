@@ -14,6 +14,8 @@ from cranefmu import build as b
 from cranefmu.compose import compose
 from cranefmu.errors import CompositionError
 from cranefmu.master.run import run
+# the hand-written SSD is zipped with the pythonfmu FMUs (build_ssp's default): the composed scene is run with them too
+from cranefmu.master.scene_names import resolve_scene
 from cranefmu.master.scene import read_ssd
 
 CHECKOUT = Path(__file__).resolve().parents[2]
@@ -28,6 +30,12 @@ def hand_written(built, tmp_path_factory) -> Path:
                               capture_output=True, text=True, check=True).stdout
     except (OSError, subprocess.CalledProcessError):
         pytest.skip(f"no git history with commit {HAND_WRITTEN} (the hand-written SSD)")
+    # the stop condition's text changed on purpose since (Chassis4 rocks on three pads, issue 33): the
+    # hand-written reference carries today's text, everything else as 85f4244 wrote it
+    text = text.replace("a pad lifted off: the crane&apos;s stability reserve is used up",
+                        "a second pad lifted off: the resultant is outside the support polygon, the crane overturns"
+                        ).replace("a pad lifted off: the crane's stability reserve is used up",
+                                  "a second pad lifted off: the resultant is outside the support polygon, the crane overturns")
     folder = tmp_path_factory.mktemp("hand_written") / "truck_slewing"
     folder.mkdir()
     (folder / "SystemStructure.ssd").write_text(text)
@@ -60,7 +68,7 @@ def test_the_generated_ssd_holds_what_the_hand_written_one_held(built, hand_writ
 ])
 def test_the_composed_scene_runs_bitwise_as_the_hand_written_one(built, hand_written, tmp_path, settings):
     old_ssp = b.build_ssp(hand_written, tmp_path / "truck_slewing_hand_written.ssp")
-    a, c = run(old_ssp, progress=False, **settings).result, run("truck_slewing", progress=False, **settings).result
+    a, c = run(old_ssp, progress=False, **settings).result, run(resolve_scene("truck_slewing", "python"), progress=False, **settings).result
     assert a.dtype.names == c.dtype.names and len(a) == len(c) > 30
     assert [n for n in a.dtype.names if not np.array_equal(a[n], c[n], equal_nan=True)] == []
 
