@@ -37,7 +37,7 @@ _CHILD = textwrap.dedent("""
     atexit.register(report)
     import cranefmu
     for scene in sys.argv[1:]:
-        cranefmu.simulate(scene, stop_time=0.05)
+        cranefmu.simulate(scene, stop_time=0.05, fmus="python")   # the pythonfmu binaries, not the native default
 """)
 
 
