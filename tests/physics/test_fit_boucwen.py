@@ -120,9 +120,11 @@ def test_stored_overhead_set_reproduces_the_fitted_hoist_loop() -> None:
     assert rms == pytest.approx(0.00854, abs=5e-5)
     res = fit_boucwen(x, f)
     assert res.rms_relative == pytest.approx(rms, rel=1e-4)
-    assert res.params.alpha + res.params.k1 == pytest.approx(stored.alpha + stored.k1, rel=1e-4)
-    assert z_bound(res.params) == pytest.approx(z_bound(stored), rel=1e-3)
-    assert res.params.n == pytest.approx(stored.n, rel=1e-3)
+    # the nine parameters are not unique: a refit with today's scipy/numpy lands elsewhere on a flat valley of the
+    # fit (alpha + k1 0.09 %, n 1.7 % from the stored values) at the same RMS (to 1e-4); the law is the loop both
+    # sets trace, within a fraction of the fit's own error
+    refit = simulate_loop(x, f, res.params)
+    assert np.sqrt(np.mean((refit - fm) ** 2)) / np.ptp(f) < 0.25 * rms
 
 
 # --- bad files ----------------------------------------------------------------------------------
