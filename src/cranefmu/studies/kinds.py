@@ -42,15 +42,24 @@ DERIVED = "bond."   # the power bonds' energy residuals: the master's sums of F 
 
 
 def relative_difference(a: np.ndarray, b: np.ndarray, columns: list[str] | None = None,
-                        floor: float = RANGE_FLOOR_ABS, floor_rel: float = RANGE_FLOOR_REL) -> tuple[float, str]:
+                        floor: float = RANGE_FLOOR_ABS, floor_rel: float = RANGE_FLOOR_REL,
+                        units: dict[str, str] | None = None) -> tuple[float, str]:
     """(largest |a - b| / range of a over ``columns`` (default every column of ``a``), that column).  A column's range is its
-    peak-to-peak value, at least ``floor_rel`` of its magnitude and ``floor``."""
+    peak-to-peak value, at least ``floor_rel`` of its magnitude and ``floor``; with ``units`` (column -> unit), also at
+    least ``floor_rel`` of the largest magnitude of the columns in its unit (a force that stays at round-off zero,
+    a sling at rest, is compared on the scene's force scale, not on its own noise)."""
+    names = list(columns if columns is not None else a.dtype.names)
+    scale: dict[str, float] = {}
+    for name in names if units else ():
+        if name in units and len(a):
+            scale[units[name]] = max(scale.get(units[name], 0.0), float(np.max(np.abs(np.asarray(a[name], float)))))
     worst, where = 0.0, ""
-    for name in columns if columns is not None else a.dtype.names:
+    for name in names:
         if name not in b.dtype.names:
             return float("inf"), name
         x, y = np.asarray(a[name], float), np.asarray(b[name], float)
-        span = max(float(np.ptp(x)), floor_rel * float(np.max(np.abs(x))), floor) if len(x) else 1.0
+        by_unit = floor_rel * scale.get((units or {}).get(name), 0.0)
+        span = max(float(np.ptp(x)), floor_rel * float(np.max(np.abs(x))), floor, by_unit) if len(x) else 1.0
         both_nan = np.isnan(x) & np.isnan(y)
         diff = np.where(both_nan, 0.0, np.abs(x - y))
         err = float(np.max(diff)) / span if len(diff) else 0.0
@@ -77,7 +86,9 @@ def agreement(scene: str, parameter_set: str | None = None, stop_time: float | N
         end = res.settings.stop_time
     a, b = results["python"], results["native"]
     outputs = [n for n in a.dtype.names if not n.startswith(DERIVED)]
-    worst, column = relative_difference(a, b, outputs, floor, floor_rel)
+    from ..master.run import preview
+
+    worst, column = relative_difference(a, b, outputs, floor, floor_rel, preview(scene, "python").units)
     bonds = relative_difference(a, b, [n for n in a.dtype.names if n.startswith(DERIVED)], floor, floor_rel)[0]
     return Agreement(scene, parameter_set, float(end), (len(a), len(b)), worst, column, wall, bonds)
 
