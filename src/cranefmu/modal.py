@@ -96,7 +96,8 @@ def fit_modes(t: np.ndarray, y: np.ndarray, n_modes: int, extra: int = 2) -> lis
     c = np.linalg.lstsq(vander, (y / scale).astype(complex), rcond=None)[0]
     s = np.log(z.astype(complex)) / dt
     modes = [Mode(float(abs(si) / (2 * math.pi)), float(-si.real / abs(si)), float(2 * abs(ci) * scale))
-             for si, ci in zip(s, c) if si.imag > 1e-9 * abs(si) and abs(si) > 0]
+             for si, ci in zip(s, c) if si.imag * n * dt > 0.2 * math.pi and abs(si) > 0]
+    # (under a tenth of a cycle in the record is a drift's split real pole pair, not an oscillation)
     # a pole of a model order above the signal's fits round-off: not a mode
     floor = NOISE_AMPLITUDE * float(np.max(np.abs(y - np.mean(y))))
     modes = [m for m in modes if m.amplitude > floor]
