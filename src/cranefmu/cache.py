@@ -36,11 +36,15 @@ def versioned_dir(digest: str) -> Path:
     return cache_root() / f"{__version__}-{digest[:16]}"
 
 
+KERNEL_FOLDER = "kernel"   # the compiled exchange kernels (cranefmu.master.kernel), one folder per digest
+
+
 def clear() -> list[Path]:
-    """Remove every build folder (all versions) from the cache; returns them.  Only folders named
+    """Remove every build folder (all versions) and the compiled kernels from the cache; returns them.  Only folders named
     as :func:`versioned_dir` names them: a cache root pointed at a folder of other files loses none."""
     root = cache_root()
-    removed = sorted(p for p in root.iterdir() if p.is_dir() and _BUILD_FOLDER.match(p.name)) if root.is_dir() else []
+    removed = sorted(p for p in root.iterdir() if p.is_dir() and (_BUILD_FOLDER.match(p.name) or p.name == KERNEL_FOLDER)
+                     ) if root.is_dir() else []
     for folder in removed:
         shutil.rmtree(folder)
     return removed

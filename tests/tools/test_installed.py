@@ -149,7 +149,8 @@ def test_cli_run_gives_the_checkout_rows(installed, checkout_rows):
     assert header == ref_header and rows.shape == (501, len(header))
     assert np.array_equal(rows, ref)
     # built on first use into this version's cache folder, beside the copied scene sources
-    (folder,) = installed.cache.iterdir()
+    # (beside it the compiled exchange kernel, cache_root()/kernel/<digest>: cranefmu.master.kernel)
+    (folder,) = (p for p in installed.cache.iterdir() if p.name != "kernel")
     assert folder.name.startswith(checkout_version()) and (folder / "ssp" / f"{SCENE}.ssp").is_file()
     assert (folder / "ssp" / SCENE / "SystemStructure.ssd").is_file()
 
