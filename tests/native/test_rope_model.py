@@ -152,29 +152,8 @@ def rope_inputs(y_hook: float, vy_hook: float, payout: float = 0.0, rate: float 
 
 
 def native_rk4_step(nat, t0, x0, h, u0, r1, r2, max_step):
-    """One communication step of the C model as fmi_adapter.advance takes it with solver rk4: sub-steps
-    of integrators._rk4 on the C derivatives with the inputs u0 + s (r1 + s/2 r2) (frozen models keep
-    their state), then the C after_step at the inputs of the step's end."""
-    moving = r1 is not None and bool(np.any(r1) or np.any(r2))
-    if nat.frozen() or x0.size == 0:
-        x = x0
-    else:
-        def f(ti, xi):
-            if not moving:
-                return nat.derivatives(ti, xi, u0)
-            s = ti - t0
-            return nat.derivatives(ti, xi, u0 + s * (r1 + 0.5 * s * r2))
-        n = max(1, math.ceil(h / max_step - 1e-9))
-        dt = h / n
-        x = x0
-        for i in range(n):
-            t = t0 + i * dt
-            k1 = f(t, x)
-            k2 = f(t + 0.5 * dt, x + 0.5 * dt * k1)
-            k3 = f(t + 0.5 * dt, x + 0.5 * dt * k2)
-            k4 = f(t + dt, x + dt * k3)
-            x = x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-    return nat.after_step(t0 + h, x, u0 + h * (r1 + 0.5 * h * r2) if moving else u0)
+    """One communication step of the C model as fmi_adapter.advance takes it with solver rk4 (the harness's)."""
+    return nat.rk4_step(t0, x0, h, u0, r1, r2, max_step)
 
 
 def run_both(nat, py, x, path, h=2e-3, max_step=5e-4):

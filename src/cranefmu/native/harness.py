@@ -145,6 +145,37 @@ class NativeModel:
         self.lib.cf_after_step(self.m, t, xs, self._d(u))
         return np.array([xs[i] for i in range(self.m.n_states)])
 
+    def rk4_step(self, t0: float, x0: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray | None,
+                 r2: np.ndarray | None, max_step: float) -> np.ndarray:
+        """One communication step of the C model as :func:`cranefmu.fmi_adapter.advance` takes it with solver rk4:
+        the project's own rk4 (:func:`~cranefmu.integrators.rk4_list` where the Python model steps plain floats,
+        else :func:`~cranefmu.integrators.integrate`) on the C derivatives with the inputs u0 + s (r1 + s/2 r2)
+        (a frozen model keeps its state), then the C after_step at the inputs of the step's end."""
+        from ..integrators import integrate, rk4_list
+        from ..physics.component import Model
+
+        moving = r1 is not None and bool(np.any(r1) or np.any(r2))
+        if self.frozen() or len(x0) == 0:
+            x = np.asarray(x0, dtype=float)
+        elif self.model_cls.derivatives_list is not Model.derivatives_list:   # Python steps plain floats
+            u, d1, d2 = (np.asarray(v, dtype=float).tolist() for v in (u0, r1 if moving else u0, r2 if moving else u0))
+
+            def f(ti, xi):
+                if not moving:
+                    return self.derivatives(ti, xi, u).tolist()
+                s = ti - t0
+                half = 0.5 * s
+                return self.derivatives(ti, xi, [a + s * (b + half * c) for a, b, c in zip(u, d1, d2)]).tolist()
+            x = np.array(rk4_list(f, t0, np.asarray(x0, dtype=float).tolist(), h, max_step))
+        else:
+            def f(ti, xi):
+                if not moving:
+                    return self.derivatives(ti, xi, u0)
+                s = ti - t0
+                return self.derivatives(ti, xi, u0 + s * (r1 + 0.5 * s * r2))
+            x = integrate(f, t0, np.asarray(x0, dtype=float), h, "rk4", max_step=max_step)
+        return self.after_step(t0 + h, x, u0 + h * (r1 + 0.5 * h * r2) if moving else u0)
+
     def state_name(self, i: int) -> str:
         return self.ffi.string(self.lib.cf_state_name(self.m, i)).decode()
 
