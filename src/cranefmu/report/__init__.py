@@ -6,6 +6,7 @@ as plots linked to the time slider, the bond energy residuals, settings, statist
 """
 from __future__ import annotations
 
+import re
 from dataclasses import fields
 from pathlib import Path
 
@@ -24,15 +25,18 @@ def _groups(scene: str, names: list[str]) -> list[tuple[str, list[str]]]:
     return groups + ([("Bond energy residuals (ECCO, accumulated)", bonds)] if bonds else [])
 
 
-def report_columns(scene: str, names: list[str]) -> list[str]:
-    """The columns of a result that a report reads (a long run's CSV need not be read whole)."""
+def report_columns(scene: str, names: list[str], commands=()) -> list[str]:
+    """The columns of a result that a report reads (a long run's CSV need not be read whole); ``commands``:
+    the run's operator commands (the outputs they drive, the columns their events read)."""
     from ..scenes import SCENES, _metric_columns
+    from .commands import command_columns
     from .drawing import columns_needed
 
     info = SCENES.get(scene)
     wanted = {c for _, cols in _groups(scene, names) for c in cols} | set(columns_needed(names))
     wanted |= set(_metric_columns(scene)) | set(info.key_outputs if info else ())
     wanted |= {"pendulum.rest_tension", "pendulum.N_ground", "drive.payout_rate", "rope.drum_force"}   # reference lines
+    wanted |= set(command_columns(commands, names))
     return [c for c in names if c in wanted]
 
 
@@ -74,6 +78,17 @@ def _reeving_fraction(result) -> float:
     return float(np.median(drum[loaded] / tension[loaded])) if loaded.any() else 1.0
 
 
+def _commanded(commands, result, units: dict[str, str], spec):
+    """The plots of the run's operator commands (:func:`.commands.command_plots`): start values and the
+    inputs' units from the run's scene (``spec``), the scene's ``units`` over them."""
+    from .commands import CommandPlots, command_plots, scene_values
+
+    if not commands:
+        return CommandPlots()
+    starts, declared = scene_values(spec) if spec is not None else ({}, {})
+    return command_plots(commands, result, {**declared, **units}, starts)
+
+
 _SOURCE_TEXT = {"given": "given", "scene": "the scene's stored setting",
                 "parameter set": "the parameter set's stored setting",
                 "algorithm default": "the algorithm's default", "default": "default"}
@@ -102,20 +117,25 @@ def _stats_rows(stats, settings) -> list[tuple[str, str]]:
 
 def write_report(path, result, *, scene: str = "", units: dict[str, str] | None = None,
                  settings=None, stats=None, warnings: list[str] | tuple = (), source: str = "",
-                 sources: dict[str, str] | None = None, assertions: list | tuple = (), what: str = "report") -> Path:
+                 sources: dict[str, str] | None = None, assertions: list | tuple = (), what: str = "report",
+                 spec=None, commands=None) -> Path:
     """Write the HTML report of ``result`` to ``path`` and return the path.
 
     ``result`` is a :class:`~cranefmu.master.run.RunResult` (``cranefmu.run(...)``; its scene, settings,
     statistics, warnings and units are taken from it) or a structured array of rows with a ``time`` field
     (``cranefmu.simulate`` or :func:`cranefmu.master.results.read_csv`).  ``scene`` picks the plots and the
     summary, ``units`` (column -> unit, as :func:`cranefmu.master.run.preview` gives) labels the axes;
-    ``assertions``: an experiment's verdicts (:class:`cranefmu.experiments.assertions.Verdict`), shown first.
+    ``assertions``: an experiment's verdicts (:class:`cranefmu.experiments.assertions.Verdict`), shown first;
+    ``spec``: the run's :class:`~cranefmu.master.runspec.RunSpec` (a RunResult's own by default), whose
+    ``commands`` (or ``commands``, :class:`cranefmu.master.commands.Command`) are plotted beside the outputs
+    they drive (:mod:`.commands`), with the start values of its parameters.
     """
     from ..scenes import summary
     from .page import page, plot_specs, table, verdict_block
 
     if hasattr(result, "stats") and hasattr(result, "result"):
         scene, settings, stats = scene or result.scene, settings or result.settings, stats or result.stats
+        spec = spec or getattr(result, "spec", None)
         sources = sources or (result.spec.sources if getattr(result, "spec", None) is not None else None)
         warnings = warnings or result.warnings
         result = result.result
@@ -135,7 +155,15 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
     columns = [c for c in names if c != "time"]
     units = dict(units or {})
     missing = sorted({c for c in columns if c not in units})
-    plots = plot_specs(result, _groups(scene, columns), units, _reference_lines(result))
+    commands = tuple(getattr(spec, "commands", ()) or ()) if commands is None else tuple(commands)
+    commanded = _commanded(commands, result, units, spec)
+    stopped = getattr(stats, "stopped", "") or ""
+    if stopped:   # where the run ended early, on every plot
+        commanded.marks[""] = [(float(result["time"][-1]),
+                                "run stopped: " + re.sub(r"^stopped at t = [^:]*: ", "", stopped)[:80])]
+    plots = plot_specs(result, commanded.groups + _groups(scene, columns), {**commanded.units, **units},
+                       _reference_lines(result), extra=commanded.values, dashed=commanded.dashed,
+                       marks=commanded.marks)
     sections = []
     verdict = verdict_block(assertions, getattr(stats, "stopped", "") or "") if assertions else ""
     try:
@@ -152,6 +180,7 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
                      else "<p class='note'>not known (the report was made from a result file)</p>"))
     notes = [f"units not known for {len(missing)} column(s) ({', '.join(missing[:5])}...): no scene matched"
              ] if missing and not units else []
+    notes += commanded.notes
     kind = getattr(settings, "fmus", None)   # the kind of FMU that ran (cranefmu.fmu_kinds)
     title = f"cranefmu run of {scene or 'an unknown scene'}" + (f" with the {kind} FMUs" if kind else "") \
         + (f" ({source})" if source else "")

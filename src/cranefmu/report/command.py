@@ -100,9 +100,10 @@ def report_after_run(path, res, scene, assertions=()) -> Path:
     from . import report_columns, write_report
 
     data = res.result
+    spec = getattr(res, "spec", None)
     if not len(data) and res.output:
-        data = read_csv(res.output, report_columns(res.scene, scene.columns))
+        data = read_csv(res.output, report_columns(res.scene, scene.columns, getattr(spec, "commands", ())))
     return write_report(path, res if data is res.result else data, scene=res.scene, units=scene.units,
                         settings=res.settings, stats=res.stats, warnings=res.warnings,
-                        sources=res.spec.sources if getattr(res, "spec", None) is not None else None,
-                        assertions=assertions, what="--report")
+                        sources=spec.sources if spec is not None else None,
+                        assertions=assertions, what="--report", spec=spec)

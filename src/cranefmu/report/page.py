@@ -44,10 +44,16 @@ def _quantity(unit: str | None, column: str = "") -> str:
 
 
 def plot_specs(result: np.ndarray, groups: list[tuple[str, list[str]]], units: dict[str, str],
-               lines: dict[str, list[tuple[str, float]]] | None = None) -> list[dict]:
+               lines: dict[str, list[tuple[str, float]]] | None = None, *, extra: dict[str, np.ndarray] | None = None,
+               dashed: set[str] | frozenset = frozenset(),
+               marks: dict[str, list[tuple[float, str]]] | None = None) -> list[dict]:
     """One plot per (group, display unit): the series decimated keeping each bucket's extremes, in display units
-    (kN, deg, rpm), the axis named by its quantity."""
+    (kN, deg, rpm), the axis named by its quantity.  ``extra``: series by name that are not result columns (an
+    operator command's values, one per row), ``dashed`` the names drawn dashed; ``marks``: vertical lines
+    (t [s], label) by group title, those under '' on every plot (the events, where the run stopped)."""
     t = np.asarray(result["time"], dtype=float)
+    extra = extra or {}
+    marks = marks or {}
     out = []
     for title, cols in groups:
         by_unit: dict[tuple[str, str], list[str]] = {}
@@ -57,13 +63,16 @@ def plot_specs(result: np.ndarray, groups: list[tuple[str, list[str]]], units: d
             series = []
             for c in names:
                 factor = _axis(units.get(c), c)[1]
-                v = np.asarray(result[c], dtype=float) * factor
+                v = np.asarray(extra[c] if c in extra else result[c], dtype=float) * factor
                 keep = extremes(v)
-                series.append({"name": c, "t": _numbers(t[keep]), "v": _numbers(v[keep])})
+                series.append({"name": c, "t": _numbers(t[keep]), "v": _numbers(v[keep]), **(
+                    {"dash": True} if c in dashed else {})})
             refs = [{"label": label, "v": value * _axis(units.get(c), c)[1]}
                     for c in names for label, value in (lines or {}).get(c, [])]
+            at = [{"t": float(f"{when:.9g}"), "label": label} for when, label in [*marks.get(title, []),
+                                                                                  *marks.get("", [])]]
             out.append({"title": title if len(by_unit) == 1 else f"{title} ({shown})", "unit": shown,
-                        "ylabel": f"{quantity} [{shown}]", "series": series, "lines": refs})
+                        "ylabel": f"{quantity} [{shown}]", "series": series, "lines": refs, "marks": at})
     return out
 
 
@@ -73,6 +82,11 @@ def table(rows: list[tuple[str, ...]], head: tuple[str, ...] = ()) -> str:
     th = "<tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>" if head else ""
     return "<table>" + th + "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>"
                                     for r in rows) + "</table>"
+
+
+def _in_degrees(value: float, unit: str) -> str:
+    """' (x deg)' beside an angle in radians (as an operator reads it), else ''."""
+    return f" ({math.degrees(value):.6g} deg)" if unit.strip() == "rad" and math.isfinite(value) else ""
 
 
 def verdict_block(assertions, stopped: str = "") -> str:
@@ -85,7 +99,8 @@ def verdict_block(assertions, stopped: str = "") -> str:
     rows = []
     for v in assertions:
         unit = f" {v.unit}" if getattr(v, "unit", "") and v.unit != "1" else ""
-        value = ("-" if v.value != v.value else f"{v.value:.6g}{unit}") + (f" @ {v.time:.6g} s" if v.time is not None else "")
+        value = ("-" if v.value != v.value else f"{v.value:.6g}{unit}" + _in_degrees(v.value, unit)) + (
+            f" @ {v.time:.6g} s" if v.time is not None else "")
         margin = "-" if v.margin != v.margin or abs(v.margin) == math.inf else f"{v.margin:.6g}{unit}"
         result = "pass" if v.passed else "FAIL" + (f": {v.note}" if v.note else "")
         cells = (v.name, v.column, value, (v.limit + unit) if v.limit else "-", margin, result)

@@ -18,7 +18,7 @@ svg line,svg polyline,svg path{vector-effect:non-scaling-stroke}
 .verdict.pass{background:#e6f4ea;border-color:#1e8e3e;color:#0d5c25}.verdict.fail{background:#fce8e6;border-color:#d93025;color:#a50e0e}
 tr.fail td{color:#a50e0e}tr.fail td:last-child{font-weight:bold}tr.pass td:last-child{color:#1e8e3e}.stop{color:#a50e0e}
 .plot{margin:.3em 0}.plot .axis{stroke:#999}.plot .grid{stroke:#eee}.plot .cursor{stroke:#c00}
-.plot .zoom{fill:rgba(0,0,200,.1)}.plot text{font-size:11px}.tip{font-size:12px;color:#333;min-height:1.4em}
+.plot .zoom{fill:rgba(0,0,200,.1)}.plot .mark{stroke:#a40;stroke-dasharray:2 2}.plot .mark-label{fill:#a40}.plot text{font-size:11px}.tip{font-size:12px;color:#333;min-height:1.4em}
 """
 
 SCRIPT = r"""
@@ -133,7 +133,7 @@ function makePlot(spec, idx){
 function xToT(p,x){return p.t0+(x-L0)/(W-L0-R0)*(p.t1-p.t0);}
 function render(p){
   var svg=p.svg;while(svg.firstChild)svg.removeChild(svg.firstChild);
-  var legend=layoutLegend(p), top=T0+legend.height;
+  var legend=layoutLegend(p), marks=p.spec.marks||[], top=T0+legend.height+12*marks.length;
   var lo=Infinity,hi=-Infinity;
   p.spec.series.forEach(function(s){for(var k=0;k<s.t.length;k++){if(s.t[k]<p.t0||s.t[k]>p.t1||s.v[k]===null)continue;lo=Math.min(lo,s.v[k]);hi=Math.max(hi,s.v[k]);}});
   (p.spec.lines||[]).forEach(function(r){lo=Math.min(lo,r.v);hi=Math.max(hi,r.v);});
@@ -150,8 +150,18 @@ function render(p){
   el("text",{x:12,y:(H-B0+top)/2,"text-anchor":"middle",transform:"rotate(-90 12 "+(H-B0+top)/2+")"},svg).textContent=p.spec.ylabel;
   (p.spec.lines||[]).forEach(function(r){el("line",{x1:L0,x2:W-R0,y1:Y(r.v),y2:Y(r.v),stroke:"#888","stroke-dasharray":"4 3"},svg);
     el("text",{x:W-R0-2,y:Y(r.v)-3,"text-anchor":"end",fill:"#666"},svg).textContent=r.label;});
-  p.spec.series.forEach(function(s,k){var pts=[];for(var j=0;j<s.t.length;j++){if(s.v[j]===null||s.t[j]<p.t0||s.t[j]>p.t1)continue;pts.push(X(s.t[j]).toFixed(1)+","+Y(s.v[j]).toFixed(1));}
-    el("polyline",{points:pts.join(" "),fill:"none",stroke:COLORS[k%COLORS.length],"stroke-width":1.3},svg);});
+  marks.forEach(function(m,k){if(m.t<p.t0||m.t>p.t1)return;var x=X(m.t), right=x>(L0+W)/2;
+    // an event (a command started or stopped, an emergency stop) or where the run stopped: a vertical line,
+    // its label in a row of its own between the legend and the plot area
+    el("line",{"class":"mark",x1:x,x2:x,y1:top-12*(marks.length-k)+2,y2:H-B0},svg);
+    var tx=el("text",{"class":"mark-label",x:right?x-3:x+3,y:T0+legend.height+10+12*k,"text-anchor":right?"end":"start"},svg);
+    tx.textContent=m.label+" (t = "+fmt(m.t)+" s)";var w=tx.getComputedTextLength();   // kept inside the plot
+    if(!right&&x+3+w>W-R0)tx.setAttribute("x",Math.max(L0,W-R0-w));if(right&&x-3-w<L0)tx.setAttribute("x",Math.min(W-R0,L0+w));});
+  // commands (dashed) drawn last: over the output they drive, which they often cover exactly
+  var order=p.spec.series.map(function(s,k){return k;}).sort(function(a,b){return (p.spec.series[a].dash?1:0)-(p.spec.series[b].dash?1:0)||a-b;});
+  order.forEach(function(k){var s=p.spec.series[k], pts=[];for(var j=0;j<s.t.length;j++){if(s.v[j]===null||s.t[j]<p.t0||s.t[j]>p.t1)continue;pts.push(X(s.t[j]).toFixed(1)+","+Y(s.v[j]).toFixed(1));}
+    el("polyline",{points:pts.join(" "),fill:"none",stroke:COLORS[k%COLORS.length],"stroke-width":s.dash?2:1.3,
+      "stroke-dasharray":s.dash?"7 4":null,"class":s.dash?"command":null},svg);});
   legend.place(svg);
   p.cursor=el("line",{"class":"cursor",y1:top,y2:H-B0},svg);placeCursor(p);
 }
@@ -170,10 +180,15 @@ function layoutLegend(p){
     svg.setAttribute("data-legend-right",right.toFixed(1));svg.setAttribute("width",W);}};
 }
 function placeCursor(p){var x=p.X(T[frame]);p.cursor.setAttribute("x1",x);p.cursor.setAttribute("x2",x);
-  p.cursor.setAttribute("visibility",(T[frame]>=p.t0&&T[frame]<=p.t1)?"visible":"hidden");}
+  p.cursor.setAttribute("visibility",(T[frame]>=p.t0&&T[frame]<=p.t1)?"visible":"hidden");
+  // the values at the slider's time (each series' sample nearest to it), shown under the plot and kept in
+  // data-cursor (JSON: series name -> value in the axis' unit) with data-cursor-t
+  var t=T[frame], parts=["t = "+fmt(t)+" s"], at={};
+  p.spec.series.forEach(function(s){var k=nearest(s.t,t);if(k<0)return;at[s.name]=s.v[k];parts.push(s.name+" = "+fmt(s.v[k])+" "+p.spec.unit);});
+  p.svg.setAttribute("data-cursor-t",t);p.svg.setAttribute("data-cursor",JSON.stringify(at));p.tip.textContent=parts.join("; ");}
 function hover(p, ev){var t=xToT(p,ev.offsetX), parts=["t = "+fmt(t)+" s"];
   p.spec.series.forEach(function(s){var k=nearest(s.t,t);if(k>=0)parts.push(s.name+" = "+fmt(s.v[k])+" "+p.spec.unit);});
-  p.tip.textContent=parts.join("   ");}
+  p.tip.textContent=parts.join("; ");}
 
 // ---- the slider, play/pause and #t= in the address
 var slider=document.getElementById("slider"), readout=document.getElementById("time");
