@@ -103,6 +103,30 @@ def test_a_payout_started_by_an_event_and_its_rate_are_plotted_from_the_event():
         "pendulum.theta", "rope.rope_length"]
 
 
+def test_one_profile_fed_to_two_inputs_is_one_plot_and_a_slewing_boom_luff_is_shown_from_its_radius():
+    """anti_sway_trolley feeds rope.x_top and pendulum.x_top one profile: one plot, beside the suspension point;
+    a SlewingBoom has no luff_angle_out: the luff command beside acos(radius / length)."""
+    t = np.arange(201) * 0.01
+    names = ("time", "pendulum.x_suspension", "boom.radius", "boom.boom_length")
+    rows = np.zeros(len(t), dtype=[(c, float) for c in names])
+    phi = math.radians(60.0) + 0.1 * t
+    rows["time"], rows["boom.boom_length"], rows["boom.radius"] = t, 10.5, 10.5 * np.cos(phi)
+    travel = moves(0.0, [{"start": 0.5, "to": 1.0, "speed": 1.0, "accel_time": 0.5}])
+    rows["pendulum.x_suspension"] = [travel.at(x)[0] for x in t]
+    luff = shifted(moves(math.radians(60.0), [{"start": 0.0, "to": math.radians(62.0), "speed": 0.1,
+                                               "accel_time": 0.0}]), -math.radians(60.0))
+    commands = [Command("rope.x_top", travel), Command("pendulum.x_top", travel), Command("boom.luff_command", luff)]
+    assert command_columns(commands, list(names)) == list(names[1:])
+    cp = command_plots(commands, rows, {"rope.x_top": "m", "boom.luff_command": "rad"},
+                       {"boom.luff_angle": math.radians(60.0)})
+    (_, trolley), (_, boom) = cp.groups
+    assert trolley == ["command: rope.x_top, pendulum.x_top", "pendulum.x_suspension"]
+    assert boom == ["command: boom.luff_angle + boom.luff_command", "acos(boom.radius / boom.boom_length)"]
+    assert np.max(np.abs(cp.values[boom[1]] - phi)) < 1e-12
+    assert np.max(np.abs(cp.values[boom[0]] - np.minimum(phi, math.radians(62.0)))) < 1e-12   # 0.1 rad/s to 62 deg
+    assert cp.units[boom[0]] == cp.units[boom[1]] == "rad"
+
+
 def test_a_command_whose_event_reads_a_column_the_result_lacks_is_said_not_plotted():
     rows = np.zeros(3, dtype=[("time", float), ("boom.slew_angle_out", float)])
     source = Triggered(moves(0.0, [{"start": 0.0, "to": 1.0, "speed": 1.0, "accel_time": 0.0}]),
@@ -173,6 +197,8 @@ def test_headless_chromium_shows_the_command_at_the_slider_time(slew_run, tmp_pa
         assert re.search(r'<polyline[^>]*stroke-dasharray="7 4"[^>]*class="command"', svg)   # dashed, drawn
         assert "emergency stop: boom.slew_angle_out &gt; 5 deg (t = 1.255 s)</text>" in svg
         assert "angle [deg]</text>" in svg
+        assert float(re.search(r'data-legend-right="([^"]+)"', head).group(1)) <= float(
+            re.search(r'width="([^"]+)"', head).group(1))   # the two long names inside the plot
 
 
 TIPS = ('name = "tips"\nscene = "truck_telescope"\nstop_time = 0.04\n'
