@@ -218,3 +218,15 @@ def test_every_plot_marks_where_a_run_stopped_early_and_why(built, tmp_path):
     assert plots and all(len(p["marks"]) == 1 for p in plots)
     assert all(p["marks"][0]["t"] == pytest.approx(float(rows["time"][-1]), abs=1e-9) for p in plots)
     assert all(p["marks"][0]["label"].startswith("run stopped: chassis.tipping = 1") for p in plots)
+
+
+def test_a_plain_run_that_stops_early_says_why_under_the_title(built, tmp_path):
+    """Not only an experiment's verdict: a run of a scene that tips says so before the crane is drawn."""
+    sets = ["boom.luff_angle=1.0471975511965976", "boom.boom_length_start=26.96", "boom.boom_length_end=26.96",
+            "boom.seg4_offset=8.23", "boom.seg3_offset=16.46", "pendulum.mass=3500.0"]
+    p = cranefmu("run", "truck_telescope", "--stop-time", "0.04", "--report", str(tmp_path / "r.html"),
+                 *(a for v in sets for a in ("--set", v)))
+    assert p.returncode == 0, p.stderr
+    text = (tmp_path / "r.html").read_text()
+    assert text.index("<p class='stop' id='stopped'>The run stopped early: stopped at t = 0 s: chassis.tipping = 1") \
+        < text.index("<h2>The crane</h2>")

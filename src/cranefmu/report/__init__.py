@@ -131,7 +131,7 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
     they drive (:mod:`.commands`), with the start values of its parameters.
     """
     from ..scenes import summary
-    from .page import page, plot_specs, table, verdict_block
+    from .page import page, plot_specs, stop_line, table, verdict_block
 
     if hasattr(result, "stats") and hasattr(result, "result"):
         scene, settings, stats = scene or result.scene, settings or result.settings, stats or result.stats
@@ -165,7 +165,7 @@ def write_report(path, result, *, scene: str = "", units: dict[str, str] | None 
                        _reference_lines(result), extra=commanded.values, dashed=commanded.dashed,
                        marks=commanded.marks)
     sections = []
-    verdict = verdict_block(assertions, getattr(stats, "stopped", "") or "") if assertions else ""
+    verdict = verdict_block(assertions, stopped) if assertions else stop_line(stopped)
     try:
         lines = summary(scene, result)
     except (KeyError, ValueError, IndexError):   # a result lacking a metric's column: ranges only

@@ -89,13 +89,18 @@ def _in_degrees(value: float, unit: str) -> str:
     return f" ({math.degrees(value):.6g} deg)" if unit.strip() == "rad" and math.isfinite(value) else ""
 
 
+def stop_line(stopped: str) -> str:
+    """Why the run stopped before its stop time, in red under the title ('' if it ran to the end)."""
+    return f"<p class='stop' id='stopped'>The run stopped early: {html.escape(stopped)}</p>" if stopped else ""
+
+
 def verdict_block(assertions, stopped: str = "") -> str:
     """An experiment's verdict as the first thing a reader sees: PASS or FAIL in colour, how many passed,
     why the run stopped early (if it did), and each assertion with value, limit, margin and unit."""
     passed = all(v.passed for v in assertions)
     word = "PASS" if passed else "FAIL"
     good = sum(v.passed for v in assertions)
-    stop = f"<p class='stop'>The run stopped early: {html.escape(stopped)}</p>" if stopped else ""
+    stop = stop_line(stopped)
     rows = []
     for v in assertions:
         unit = f" {v.unit}" if getattr(v, "unit", "") and v.unit != "1" else ""
