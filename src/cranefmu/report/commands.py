@@ -99,13 +99,17 @@ def command_columns(commands, names) -> list[str]:
 def _event_times(watchers, rows) -> dict[int, float | None]:
     """Each trigger's event time on the recorded rows: the first row where its condition holds (None: never;
     KeyError: a column it reads is not in the rows)."""
-    from ..experiments.expressions import evaluate
+    from ..experiments.expressions import CONSTANTS, evaluate, names as expression_names
 
     t = np.asarray(rows["time"], dtype=float)
     scope_rows = {n: np.asarray(rows[n], dtype=float) for n in rows.dtype.names}
     out = {}
     for w in watchers:
         scope = {**w.values, **scope_rows}
+        missing = sorted(n for side in (w.left, w.right) if isinstance(side, str)
+                         for n in expression_names(side) if n not in scope and n not in CONSTANTS)
+        if missing:
+            raise KeyError(", ".join(missing))
         a = np.broadcast_to(np.asarray(evaluate(w.left, scope, vector=True), dtype=float), t.shape)
         b = w.right if not isinstance(w.right, str) else evaluate(w.right, scope, vector=True)
         b = np.broadcast_to(np.asarray(b, dtype=float), t.shape)
@@ -129,9 +133,12 @@ def command_plots(commands, rows, units: dict[str, str], starts: dict[str, float
         watchers = _watchers(source)
         try:
             events = _event_times(watchers, rows)
-        except (KeyError, ExpressionError) as err:
+        except KeyError as err:
             out.notes.append(f"command on {', '.join(targets)} not plotted: its event condition reads "
-                             f"{err} which the result does not hold")
+                             f"{err.args[0]}, which the result does not hold")
+            continue
+        except ExpressionError as err:
+            out.notes.append(f"command on {', '.join(targets)} not plotted: its event condition: {err}")
             continue
         saved = [(w, w.t_event) for w in watchers]
         try:   # the event as the run found it, on these rows (restored after: the source is the caller's)
@@ -178,7 +185,8 @@ def command_plots(commands, rows, units: dict[str, str], starts: dict[str, float
         if len(series) == 1:
             out.notes.append(f"command on {label}: no output of the result shows what it drives; the command alone "
                              "is plotted")
-        title = f"Operator command on {', '.join(targets)}" + (" beside the output it drives" if len(series) > 1 else "")
+        title = f"Operator command on {', '.join(targets)}" + (
+            " beside the output it drives" if len(series) > 1 else "")
         out.groups.append((title, series))
         out.marks[title] = [(te, f"{'emergency stop' if w.label == 'emergency stop' else 'event'}: {w.condition}")
                             for w in watchers if (te := events[id(w)]) is not None]
@@ -195,5 +203,5 @@ def scene_values(spec) -> tuple[dict[str, float], dict[str, str]]:
     try:
         scene = interface(str(spec.ssp), getattr(spec.settings, "fmus", None))
         return scene.parameter_values(spec.parameter_set, dict(spec.parameters)), dict(scene.units or {})
-    except CraneFmuError:
+    except (CraneFmuError, OSError):   # a scene file no longer where it was: the inputs as fed, said so
         return {}, {}
