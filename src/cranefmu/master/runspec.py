@@ -145,9 +145,13 @@ def choose(given: dict, stored: dict, scene_stop_time: float | None) -> tuple[di
 
 
 def _overrides(scene, parameter_set: str | None, parameters: dict) -> dict[tuple[str, str], object]:
-    """The parameter set's values with ``parameters`` over them, keyed (component, variable)."""
+    """The parameter set's values with ``parameters`` over them, and the parameters that follow a changed one
+    (:func:`cranefmu.derived.derive`: refused in one line where both are given and disagree), keyed
+    (component, variable)."""
+    from ..derived import derive
+
     values: dict[str, object] = scene.model_values(parameter_set)
-    values.update(parameters)
+    values.update(derive(scene.name, values, parameters))
     names = {c.name for c in scene.components}
     out = {}
     for key, value in values.items():
