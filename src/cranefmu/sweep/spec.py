@@ -27,7 +27,7 @@ import hashlib
 import itertools
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from dataclasses import fields as _fields
 
@@ -109,9 +109,15 @@ class Factor:
     n: int = 0
     log: bool = False
     unit: str = ""      # the unit the values are written in ("": SI, the FMU's own)
+    also: tuple = ()    # more inputs that take the same value in every run (``a,b=values``: varied together)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return (self.name, *self.also)
 
     def __post_init__(self):
-        check_name(self.name)
+        for name in self.names:
+            check_name(name)
         if self.low is None:
             if not self.values:
                 raise SettingsError(f"--vary {self.name}: no values given")
@@ -149,13 +155,22 @@ class Factor:
 
 
 def parse_factor(text: str) -> Factor:
-    """'comp.var=v1,v2' | 'comp.var=start:stop:n' | 'comp.var=log:start:stop:n' (stop/n optional in samples)."""
-    name, sep, spec = str(text).partition("=")
-    name, spec = name.strip(), spec.strip()
-    if not sep or not name or not spec:
+    """'comp.var=v1,v2' | 'comp.var=start:stop:n' | 'comp.var=log:start:stop:n' (stop/n optional in samples);
+    'a.x,b.y=...': both inputs take each value together (a boom held at each length: its start and end)."""
+    names, sep, spec = str(text).partition("=")
+    spec = spec.strip()
+    name, *also = [n.strip() for n in names.split(",")]
+    if not sep or not name or not spec or not all(also):
         raise SettingsError(f"--vary {text!r} is not allowed: write NAME=v1,v2,... or NAME=start:stop:n or "
-                            "NAME=log:start:stop:n")
-    check_name(name)
+                            "NAME=log:start:stop:n (NAME,NAME2=... varies two inputs together)")
+    for n in (name, *also):
+        check_name(n)
+    if len({name, *also}) != 1 + len(also):
+        raise SettingsError(f"--vary {text!r} is not allowed: each input at most once")
+    return replace(_parse_values(text, name, spec), also=tuple(also))
+
+
+def _parse_values(text: str, name: str, spec: str) -> Factor:
     parts = spec.split(":")
     log = parts[0].strip().lower() == "log"
     if log:
@@ -244,7 +259,7 @@ class Design:
         for p in self.listed:
             for name in p:
                 check_name(name)
-        names = [f.name for f in self.factors]
+        names = [n for f in self.factors for n in f.names]
         if len(set(names)) != len(names):
             raise SettingsError(f"an input is varied twice: {', '.join(sorted({n for n in names if names.count(n) > 1}))}")
         for name in self.fixed:
@@ -261,7 +276,7 @@ class Design:
     def names(self) -> list[str]:
         """The varied inputs in order (of listed points: every name any point has)."""
         return list(dict.fromkeys(k for p in self.listed for k in p)) if self.listed else \
-            [f.name for f in self.factors]
+            [n for f in self.factors for n in f.names]
 
     def points(self) -> list[dict]:
         """Each run's varied inputs, in a fixed order."""
@@ -271,19 +286,19 @@ class Design:
             return [{}]
         if self.kind == "factorial":
             grid = itertools.product(*(f.levels for f in self.factors))
-            return [dict(zip((f.name for f in self.factors), combo)) for combo in grid]
+            return [{n: v for f, v in zip(self.factors, combo) for n in f.names} for combo in grid]
         from scipy.stats import qmc
 
         d = len(self.factors)
         sampler = qmc.LatinHypercube(d, seed=self.seed) if self.kind == "lhs" else \
             qmc.Sobol(d, scramble=True, seed=self.seed)
         u = sampler.random(self.samples)
-        return [{f.name: f.at(float(x)) for f, x in zip(self.factors, row)} for row in u]
+        return [{n: f.at(float(x)) for f, x in zip(self.factors, row) for n in f.names} for row in u]
 
     @property
     def units(self) -> dict[str, str]:
         """name -> the unit its values are given in (only inputs given with one)."""
-        out = {f.name: f.unit for f in self.factors if f.unit}
+        out = {n: f.unit for f in self.factors if f.unit for n in f.names}
         out.update(self.fixed_units)
         return out
 
