@@ -21,7 +21,8 @@ parameter sets with the same arithmetic, so they satisfy them):
   pays out n_lines (L_end - L_start) sin(phi1) on the boom's trapezoid (T2 = |L_end - L_start| / (V10 +
   V20), duration T2 + T1, same T1 and start); no telescoping by the law (equal lengths, or
   ``telescope_source = input``: an operator's command moves the boom) pays out nothing.  phi1 is
-  ``luff_angle``, the angle at the start (a luff during the telescoping is not followed).
+  ``luff_angle``, the angle at the start (a luff during the telescoping is not followed).  With
+  ``telescope_source = input`` a payout given with it stands (the law cannot know the command's profile).
 """
 from __future__ import annotations
 
@@ -101,6 +102,7 @@ class Rule:
     targets: tuple[str, ...]
     derive: Callable[[Mapping[str, object]], dict[str, float]]
     law: str        # what the targets do, for the refusal
+    free: Callable[[Mapping[str, object]], bool] = lambda values: False   # a given target then stands as given
 
 
 RULES = (
@@ -115,7 +117,8 @@ RULES = (
           "rope.n_lines"),
          ("drive.payout_speed", "drive.duration", "drive.t_acc", "drive.start_time"), payout,
          "the hoist holds the load height while the boom telescopes: it pays out n_lines (L_end - L_start) "
-         "sin(luff_angle) on the boom's trapezoid (0 without telescoping by the law)"),
+         "sin(luff_angle) on the boom's trapezoid (0 without telescoping by the law)",
+         free=lambda values: _commanded(values["boom.telescope_source"])),
 )
 
 
@@ -140,6 +143,7 @@ def derive(scene: str, base: Mapping[str, object], given: Mapping[str, object],
     values = {**_defaults(), **base, **given}
     for rule in rules:
         derived = rule.derive(values)
+        free = rule.free(values)
         for target, value in derived.items():
             if target not in given:
                 out[target] = value
@@ -149,7 +153,7 @@ def derive(scene: str, base: Mapping[str, object], given: Mapping[str, object],
                 ok = _same(float(given[target]), value)
             except (TypeError, ValueError):
                 ok = False
-            if not ok and strict:
+            if not ok and strict and not free:
                 changed = ", ".join(f"{s} = {given[s]!r}" for s in rule.sources if s in given)
                 raise ParameterSetError(f"{target} = {given[target]!r} is not allowed with {changed}: {target} "
                                         f"follows it ({rule.law}); allowed {value!r}, or leave {target} out")

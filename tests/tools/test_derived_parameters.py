@@ -68,8 +68,10 @@ def test_a_boom_held_at_a_length_has_its_segments_out_and_no_payout(built):
 
 
 def test_a_telescope_command_holds_the_hoist(built):
-    """telescope_source = input: the law does not telescope (an operator's command does), so no payout."""
+    """telescope_source = input: the law does not telescope (an operator's command does), so no payout; a
+    payout given with it stands (the law cannot know the command's profile)."""
     assert _overrides(boom__telescope_source="input")["drive.payout_speed"] == 0.0
+    assert _overrides(boom__telescope_source="input", drive__payout_speed=0.3)["drive.payout_speed"] == 0.3
 
 
 @pytest.mark.parametrize("change, named", [
