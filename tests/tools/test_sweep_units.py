@@ -46,6 +46,8 @@ def test_inputs_varied_together():
     runs = design(["boom.boom_length_start,boom.boom_length_end=14,18", "pendulum.mass=1,2"]).runs("truck_telescope")
     assert [(r.inputs["boom.boom_length_start"], r.inputs["boom.boom_length_end"]) for r in runs] == \
         [(14.0, 14.0), (14.0, 14.0), (18.0, 18.0), (18.0, 18.0)]
+    as_dict = design({"boom.boom_length_start,boom.boom_length_end": [14.0, 18.0]}).runs("truck_telescope")
+    assert [r.inputs for r in as_dict] == [{"boom.boom_length_start": L, "boom.boom_length_end": L} for L in (14.0, 18.0)]
     with pytest.raises(SettingsError, match="each input at most once"):
         parse_factor("boom.t_acc,boom.t_acc=1,2")
 

@@ -332,7 +332,8 @@ def design(vary: list[str] | list[dict] | dict | None = None, fixed: dict | None
             if isinstance(v, str):
                 factors.append(parse_factor(f"{k}={v}"))
             else:
-                factors.append(Factor(str(k), values=tuple(convert(k, x) for x in v)))
+                name, *also = [n.strip() for n in str(k).split(",")]   # "a,b": varied together
+                factors.append(Factor(name, values=tuple(convert(name, x) for x in v), also=tuple(also)))
     else:
         factors = [parse_factor(t) for t in (vary or [])]
     return Design(tuple(factors), fixed, kind=kind, samples=samples, seed=seed, fixed_units=fixed_units)
