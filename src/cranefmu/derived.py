@@ -158,3 +158,14 @@ def derive(scene: str, base: Mapping[str, object], given: Mapping[str, object],
                 raise ParameterSetError(f"{target} = {given[target]!r} is not allowed with {changed}: {target} "
                                         f"follows it ({rule.law}); allowed {value!r}, or leave {target} out")
     return out
+
+
+def followed(scene: str, given: Mapping[str, object], values: Mapping[str, object]) -> dict[str, object]:
+    """The targets that followed the user's changes ``given`` (not given themselves), with their values in
+    ``values`` ('comp.var' -> value in force): what a run's header reports."""
+    out = {}
+    for rule in rules_of(scene):
+        if any(s in given for s in rule.sources):
+            derived = rule.derive({**_defaults(), **values})
+            out.update({t: values[t] for t in derived if t not in given and t in values})
+    return out

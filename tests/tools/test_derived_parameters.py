@@ -46,6 +46,9 @@ def test_the_hook_keeps_its_height_when_the_boom_changes(built, change):
     tip's rise) is zero, as in the shipped sets.  Old code: boom_length_end = 14 paid out 20.6 m over 20 s
     against the tip's 3.03 m rise, the hook ending 7.3 m lower."""
     values = _overrides(**change)
+    spec = resolve("truck_telescope", parameters={k.replace("__", "."): v for k, v in change.items()})
+    assert spec.describe()[-1].startswith("following the parameters changed (cranefmu.derived): ")
+    assert f"drive.payout_speed = {values['drive.payout_speed']:.6g}" in spec.describe()[-1]
     t = np.linspace(0.0, 40.0, 801)
     assert np.max(np.abs(_hook_drop(values, t))) < 1e-12
     shipped = _overrides()

@@ -61,6 +61,12 @@ class RunSpec:
         if self.set_aside:
             lines.append(f"not taken from the scene (measured for {self.stored_for}, this run is "
                          f"{self.settings.algorithm}): " + ", ".join(f"{k} = {v!r}" for k, v in self.set_aside.items()))
+        from ..derived import followed
+
+        moved = followed(self.scene, self.parameters, {f"{c}.{v}": x for (c, v), x in self.overrides.items()})
+        if moved:
+            lines.append("following the parameters changed (cranefmu.derived): "
+                         + ", ".join(f"{k} = {v:.6g}" for k, v in moved.items()))
         return lines
 
 
