@@ -33,7 +33,7 @@ from typing import Callable, Mapping
 from .errors import ParameterSetError
 
 RETRACTED = 10.5   # [m] the retracted boom of seed 000 (L_min, Boom's boom_length_start default)
-RELATIVE = 1e-9    # a given target equal to the derived value within this (relative, absolute below 1 m/s...)
+RELATIVE = 1e-9    # a given target agrees within this times max(1, its magnitude): relative, absolute below 1
 
 
 def _defaults() -> dict[str, object]:
