@@ -120,6 +120,10 @@ def variant_values(scene: Scene, parameter_set: str | None, parameters: dict[str
     out.update(scene.sets.get(parameter_set, {}) if parameter_set not in (None, "default") else {})
     driven = scene.input_sources
     components = {c.name: c for c in scene.components}
+    from .derived import derive
+
+    # with the parameters that follow a changed one, as a run resolves them (cranefmu.derived)
+    parameters = derive(scene.name, scene.model_values(parameter_set), parameters)
     for key, value in parameters.items():
         comp, _, var = str(key).partition(".")
         if comp not in components or not var:

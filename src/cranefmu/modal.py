@@ -403,10 +403,14 @@ def specs(scene: str) -> tuple[ModeSpec, ...]:
 
 
 def scene_values(scene: str, parameter_set: str | None = None, parameters: dict | None = None) -> dict:
-    """The scene's 'comp.var' parameter values in force (sources, the set, then ``parameters``)."""
+    """The scene's 'comp.var' parameter values in force (sources, the set, then ``parameters`` with the
+    parameters that follow them, :func:`cranefmu.derived.derive`)."""
+    from .derived import derive
     from .reference import source_scene
 
-    return {**source_scene(scene).values(parameter_set or "default"), **(parameters or {})}
+    source = source_scene(scene)
+    base = source.values(parameter_set or "default")
+    return {**base, **derive(source.name, base, parameters or {})}
 
 
 # --- a run against the reference -----------------------------------------------------------------

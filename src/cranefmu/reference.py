@@ -100,7 +100,10 @@ class Monolith:
     def __init__(self, scene: str | Scene, parameter_set: str = "default", parameters: dict | None = None):
         source = source_scene(scene)
         self.scene = scene = source.name
-        values = {**source.model_values(parameter_set), **(parameters or {})}
+        from .derived import derive
+
+        base = source.model_values(parameter_set)
+        values = {**base, **derive(scene, base, parameters or {})}   # with the parameters that follow (as a run)
         self.names: list[str] = []
         self.models: list[Model] = []
         for comp in source.components:

@@ -299,13 +299,16 @@ def truck_telescope_parameters(speed: float = 0.35, angle_deg: float = 60.0, loa
       from the Pendulum's ``rest_tension``), so wherever chassis and boom settle the rope carries the
       weight and every start (30, 45, 60 deg, any load) is in equilibrium.
     """
-    rise = (boom_end - boom_start) * math.sin(math.radians(angle_deg))
-    t2 = (boom_end - boom_start) / (2.0 * speed)
+    from .derived import derive
+
     values = {"boom.luff_angle": math.radians(angle_deg), "boom.telescope_speed": speed,
-              "boom.boom_length_start": boom_start, "boom.boom_length_end": boom_end, "boom.t_acc": t_acc,
-              "drive.payout_speed": n_lines * rise / t2, "drive.duration": t2 + t_acc, "drive.t_acc": t_acc,
-              "rope.length": rope_length, "rope.n_lines": n_lines, "pendulum.mass": load,
-              "pendulum.start": "below_top"}
+              "boom.boom_length_start": boom_start, "boom.boom_length_end": boom_end, "boom.t_acc": t_acc}
+    # the payout follows the boom: the one derivation every run uses (cranefmu.derived; no duration without
+    # telescoping)
+    drive = derive("truck_telescope", {}, {**values, "rope.n_lines": n_lines})
+    values.update({k: drive[k] for k in ("drive.payout_speed", "drive.duration") if k in drive})
+    values.update({"drive.t_acc": t_acc, "rope.length": rope_length, "rope.n_lines": n_lines, "pendulum.mass": load,
+                   "pendulum.start": "below_top"})
     return values
 
 

@@ -80,13 +80,17 @@ def test_commanded_law_equals_the_parameter_law_bit_for_bit(built, scene, stop, 
 
     import cranefmu
     from cranefmu.master.commands import Command
+    from cranefmu.master.runspec import resolve
 
     # the isolated run's worker unpickles LawSource: it imports this module
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(Path(__file__).parent), os.environ.get("PYTHONPATH", "")]))
 
     law = cranefmu.simulate(scene, stop_time=stop, isolate=True, parameters=parameters)
+    # a telescope command holds the hoist unless its payout is given (cranefmu.derived): the law's payout
+    hoist = {"drive.payout_speed": resolve(scene, parameters=parameters).overrides[("drive", "payout_speed")]} \
+        if switch == "boom.telescope_source" else {}
     commanded = cranefmu.simulate(scene, stop_time=stop, isolate=True, commands=[Command(target, source)],
-                                  parameters={**parameters, switch: "input"})
+                                  parameters={**parameters, switch: "input", **hoist})
     assert law.dtype.names == commanded.dtype.names and len(law) == len(commanded)
     for name in law.dtype.names:
         assert np.array_equal(law[name], commanded[name]), name

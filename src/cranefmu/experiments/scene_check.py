@@ -31,7 +31,10 @@ class SceneInterface:
 
     def parameter_values(self, parameter_set: str | None, parameters: dict) -> dict[str, float]:
         """Every numeric parameter and input start 'comp.var' -> value in force: the FMU's start, the
-        default set, the named set, then ``parameters``."""
+        default set, the named set, then ``parameters`` with the parameters that follow them
+        (:func:`cranefmu.derived.derive`, as the run resolves them; a disagreement is refused by :func:`check`)."""
+        from ..derived import derive
+
         out: dict[str, float] = {}
         for comp, vs in self.variables.items():
             for var, (causality, _, start) in vs.items():
@@ -40,7 +43,10 @@ class SceneInterface:
         out.update(self.values)
         if parameter_set not in (None, "default"):
             out.update(self.sets.get(parameter_set, {}))
-        out.update(parameters)
+        try:
+            out.update(derive(self.name, dict(out), parameters, strict=False))
+        except CraneFmuError:
+            out.update(parameters)   # a source refused (a boom shorter than retracted): check() says where
         numbers = {}
         for key, value in out.items():
             try:
@@ -136,6 +142,7 @@ def check(case: Case, results: set[str]) -> SceneInterface:
                 fmi_integer(value, key)
             except CraneFmuError as err:
                 raise ExperimentError(f"{at_set}: set: {err}") from None
+    _check_derived(scene, case, at_set)
     values = scene.parameter_values(case.parameter_set, case.parameters)
     commanded: dict[str, str] = {}
     for cmd in case.commands:
@@ -173,6 +180,20 @@ def check(case: Case, results: set[str]) -> SceneInterface:
             what = f"{'metric ' + a.metric + ' of ' if a.metric in UNIT_OF_METRIC else ''}column {a.column}"
             _check_units(a.quantities, unit, what, lambda key: a.keys.get(key, a.where))
     return scene
+
+
+def _check_derived(scene: SceneInterface, case: Case, at_set: str) -> None:
+    """A parameter that follows a changed one (:mod:`cranefmu.derived`) given with another value: one line at
+    the case's ``set``."""
+    from ..derived import derive
+
+    base = dict(scene.values)
+    if case.parameter_set not in (None, "default"):
+        base.update(scene.sets.get(case.parameter_set, {}))
+    try:
+        derive(scene.name, base, case.parameters)
+    except CraneFmuError as err:
+        raise ExperimentError(f"{at_set}: set: {err}") from None
 
 
 #: the unit of a metric's value, where it is not the column's (None: the column's)

@@ -96,6 +96,24 @@ def check_inputs(facts: SceneFacts, runs: list[Run]) -> None:
                                     f"{', '.join(facts.parameter_sets)}")
 
 
+def check_units(facts: SceneFacts, given: dict[str, str]) -> None:
+    """Refuse a unit an input's values are given in (``given``: name -> unit) that does not measure what the
+    parameter measures (its declared unit), before anything runs."""
+    if not given:
+        return
+    from .. import units
+    from ..experiments.scene_check import interface
+
+    declared = interface(str(facts.ssp)).units or {}
+    for name, unit in given.items():
+        own = declared.get(name)
+        if own is None:
+            raise SettingsError(f"{name} [{unit}] is not allowed: {name} declares no unit, so a value with a unit "
+                                "cannot be checked: give plain numbers (SI)")
+        if not units.same_dimension(unit, own):
+            raise SettingsError(f"{name} [{unit}] is not allowed: {name} is in {own}, {unit!r} does not measure that")
+
+
 def default_metrics(scene: str) -> list[str]:
     """The scene's key metrics and the range of its key outputs."""
     from ..scenes import METRICS, SCENES
@@ -134,11 +152,12 @@ def sweep(scene: str | Path, vary: list[str] | dict | None = None, metrics: list
     metric_names = check(wanted, facts.name, facts.columns)
     points = plan.runs(facts.name)
     check_inputs(facts, points)
+    check_units(facts, plan.units)
     ssp_sha = hashlib.sha256(Path(facts.ssp).read_bytes()).hexdigest()
     # the key covers the whole request (scene file, code, effective settings), not the inputs alone
     points = [replace(r, request=request_digest(facts.ssp, ssp_sha, r)) for r in points]
     runs = list({r.key: r for r in points}.values())
-    inputs = plan.names + sorted(plan.fixed)
+    inputs = [plan.label(n) for n in plan.names + sorted(plan.fixed)]   # with the unit a value was given in
     table = tables.Table(output, tables.header(inputs, metric_names))
     keys = {r.key for r in runs}
     outside = table.keys - keys
@@ -201,7 +220,7 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
             try:
                 row = fut.result()
             except Exception as err:  # noqa: BLE001 - the worker died, the task or the scheduler was lost
-                row = {"key": run.key, **run.inputs, "status": "lost", "retry": True,
+                row = {"key": run.key, **run.row, "status": "lost", "retry": True,
                        "error": " ".join(f"worker lost the run: {type(err).__name__}: {err}".split())}
             alive = client.status == "running"
             if row.pop("retry", False) and attempt < MAX_ATTEMPTS and alive:

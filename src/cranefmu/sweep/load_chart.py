@@ -76,14 +76,16 @@ def slewing_max_loads(angle_deg: float, length: float) -> tuple[float, float]:
 
 def static_parameters(angle_deg: float, length: float, load: float) -> dict:
     """truck_telescope at rest: boom at ``length`` with its segments extended (offsets), no telescoping."""
+    from ..derived import derive
     from ..scenes import truck_telescope_parameters
 
-    s1, s2 = segment_extensions(length)
-    # the scene's values for a manoeuvre to this length, then held there: no telescoping, no payout
+    # the scene's values for a manoeuvre to this length, then held there: the segments' offsets (s1, s1 + s2 of
+    # segment_extensions) and no payout follow the boom (cranefmu.derived, as every run derives them)
     values = truck_telescope_parameters(angle_deg=angle_deg, load=load, boom_start=L_MIN, boom_end=L_MAX)
-    values.update({"boom.boom_length_start": length, "boom.boom_length_end": length, "drive.payout_speed": 0.0,
-                   "boom.seg4_offset": s1, "boom.seg3_offset": s1 + s2})
-    return values
+    for key in ("drive.payout_speed", "drive.duration", "drive.t_acc"):
+        del values[key]
+    values.update({"boom.boom_length_start": length, "boom.boom_length_end": length})
+    return derive("truck_telescope", {}, values)
 
 
 def dynamic_parameters(angle_deg: float, length: float, speed: float, load: float, settle: float | None = None) -> dict:

@@ -12,6 +12,11 @@ An input is a scene parameter ``comp.var`` or a run setting (a field of
 
 A setting's text is converted through its field's own type (:func:`cranefmu.master.settings.convert`).
 
+A parameter's values may carry a unit (:func:`cranefmu.units.quantity`): after each value (``30 deg,45 deg``)
+or once after the list or range (``30,45,60 deg``, ``30:60:4 deg``), one unit for all values of an input.
+The run gets the value in SI (the FMU's unit, checked by the engine); the table shows it as given, its
+column named with the unit (``boom.luff_angle [deg]``).
+
 A design is the full factorial of the values, or a sample of N points (Latin hypercube or Sobol,
 :mod:`scipy.stats.qmc`) in the unit cube mapped onto each input: a range linearly (log ranges in
 log10) between its ends, a list by index (floor(u k) of its k values); ``n`` of a range is then unused.
@@ -22,7 +27,7 @@ import hashlib
 import itertools
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from dataclasses import fields as _fields
 
@@ -55,6 +60,35 @@ def convert(name: str, text: object) -> object:
     return text.strip() if v is None else v
 
 
+def split_unit(name: str, parts: list[str]) -> tuple[list[str], str]:
+    """(the parts' number texts, the one unit written on any of them, or ""): ``30 deg`` or ``30`` beside a
+    part that names the unit; two units for one input, or a unit on a run setting, are refused."""
+    from .. import units
+
+    texts, written = [], set()
+    for part in parts:
+        p = part.strip()
+        if units.is_quantity(p):
+            m = units._QUANTITY.match(p)
+            texts.append(m.group(1))
+            written.add(m.group(2).strip())
+        else:
+            texts.append(p)
+    if len(written) > 1:
+        raise SettingsError(f"--vary {name}: units {', '.join(sorted(written))} are not allowed together: one unit "
+                            "for all values of an input")
+    unit = written.pop() if written else ""
+    if unit and "." not in name:
+        raise SettingsError(f"{name}: a unit ({unit!r}) is not allowed on a run setting: give it in SI "
+                            "(a unit is allowed on a parameter's values)")
+    return texts, unit
+
+
+def label(name: str, unit: str) -> str:
+    """The table's column of input ``name`` given in ``unit``: ``boom.luff_angle [deg]`` (the name alone without one)."""
+    return f"{name} [{unit}]" if unit else name
+
+
 def check_name(name: str) -> None:
     comp, dot, var = name.partition(".")
     if dot and comp and var:
@@ -74,9 +108,16 @@ class Factor:
     high: float | None = None
     n: int = 0
     log: bool = False
+    unit: str = ""      # the unit the values are written in ("": SI, the FMU's own)
+    also: tuple = ()    # more inputs that take the same value in every run (``a,b=values``: varied together)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return (self.name, *self.also)
 
     def __post_init__(self):
-        check_name(self.name)
+        for name in self.names:
+            check_name(name)
         if self.low is None:
             if not self.values:
                 raise SettingsError(f"--vary {self.name}: no values given")
@@ -114,28 +155,42 @@ class Factor:
 
 
 def parse_factor(text: str) -> Factor:
-    """'comp.var=v1,v2' | 'comp.var=start:stop:n' | 'comp.var=log:start:stop:n' (stop/n optional in samples)."""
-    name, sep, spec = str(text).partition("=")
-    name, spec = name.strip(), spec.strip()
-    if not sep or not name or not spec:
+    """'comp.var=v1,v2' | 'comp.var=start:stop:n' | 'comp.var=log:start:stop:n' (stop/n optional in samples);
+    'a.x,b.y=...': both inputs take each value together (a boom held at each length: its start and end)."""
+    names, sep, spec = str(text).partition("=")
+    spec = spec.strip()
+    name, *also = [n.strip() for n in names.split(",")]
+    if not sep or not name or not spec or not all(also):
         raise SettingsError(f"--vary {text!r} is not allowed: write NAME=v1,v2,... or NAME=start:stop:n or "
-                            "NAME=log:start:stop:n")
-    check_name(name)
+                            "NAME=log:start:stop:n (NAME,NAME2=... varies two inputs together)")
+    for n in (name, *also):
+        check_name(n)
+    if len({name, *also}) != 1 + len(also):
+        raise SettingsError(f"--vary {text!r} is not allowed: each input at most once")
+    return replace(_parse_values(text, name, spec), also=tuple(also))
+
+
+def _parse_values(text: str, name: str, spec: str) -> Factor:
     parts = spec.split(":")
     log = parts[0].strip().lower() == "log"
     if log:
         parts = parts[1:]
     if log or (len(parts) in (2, 3) and "," not in spec):
+        parts, unit = split_unit(name, parts)
         nums = [number(p) for p in parts]
         if len(parts) not in (2, 3) or any(v is None for v in nums) or (len(nums) == 3 and
                                                                         (nums[2] < 1 or nums[2] != int(nums[2]))):
             raise SettingsError(f"--vary {text!r} is not allowed: a range is start:stop:n (n an integer >= 1), "
                                 "log:start:stop:n for log spacing")
-        return Factor(name, low=nums[0], high=nums[1], n=int(nums[2]) if len(nums) == 3 else 0, log=log)
-    values = tuple(convert(name, v) for v in spec.split(";" if name in SETTINGS and is_list(name) else ","))
+        return Factor(name, low=nums[0], high=nums[1], n=int(nums[2]) if len(nums) == 3 else 0, log=log, unit=unit)
+    texts = spec.split(";" if name in SETTINGS and is_list(name) else ",")
+    texts, unit = split_unit(name, texts) if "." in name else (texts, "")
+    values = tuple(convert(name, v) for v in texts)
+    if unit and not all(isinstance(v, float) for v in values):
+        raise SettingsError(f"--vary {text!r} is not allowed: a unit ({unit!r}) needs numbers")
     if len(set(map(repr, values))) != len(values):
         raise SettingsError(f"--vary {text!r} is not allowed: each value at most once")
-    return Factor(name, values=values)
+    return Factor(name, values=values, unit=unit)
 
 
 @dataclass(frozen=True)
@@ -143,12 +198,28 @@ class Run:
     """One run of a sweep: the scene, its inputs (varied and fixed), and the key that names it."""
 
     scene: str
-    inputs: dict = field(hash=False)   # name -> value: 'comp.var' parameters and run settings
+    inputs: dict = field(hash=False)   # name -> value: 'comp.var' parameters and run settings, as given
     request: str = ""   # digest of everything else the run's result depends on (:func:`.request.digest`)
+    units: tuple = ()   # (name, unit) of the inputs given in a unit (their values in ``inputs`` are in it)
 
     @property
     def parameters(self) -> dict:
-        return {k: v for k, v in self.inputs.items() if "." in k}
+        """The parameters the run takes: a value given in a unit converted to SI."""
+        return {k: v for k, v in self.si_inputs.items() if "." in k}
+
+    @property
+    def si_inputs(self) -> dict:
+        """``inputs`` with each value given in a unit in SI (what the run and a Custom metric see)."""
+        from .. import units
+
+        given = dict(self.units)
+        return {k: v * units.parse(given[k])[0] if k in given else v for k, v in self.inputs.items()}
+
+    @property
+    def row(self) -> dict:
+        """The inputs as the table shows them: as given, under :func:`label` (``boom.luff_angle [deg]``)."""
+        given = dict(self.units)
+        return {label(k, given.get(k, "")): v for k, v in self.inputs.items()}
 
     @property
     def settings(self) -> dict:
@@ -164,7 +235,7 @@ class Run:
         run has the same key in any order and any session, so a resumed sweep can skip it, and a run
         whose scene file, code or effective settings changed has another key, so it runs again."""
         text = json.dumps([self.scene, sorted((k, repr(v)) for k, v in self.inputs.items())]
-                          + ([self.request] if self.request else []))
+                          + ([self.request] if self.request else []) + ([sorted(self.units)] if self.units else []))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -178,6 +249,7 @@ class Design:
     kind: str = "factorial"
     samples: int | None = None
     seed: int = 0
+    fixed_units: dict = field(default_factory=dict, hash=False)   # fixed input -> the unit its value is given in
 
     def __post_init__(self):
         if self.kind not in DESIGNS:
@@ -187,7 +259,7 @@ class Design:
         for p in self.listed:
             for name in p:
                 check_name(name)
-        names = [f.name for f in self.factors]
+        names = [n for f in self.factors for n in f.names]
         if len(set(names)) != len(names):
             raise SettingsError(f"an input is varied twice: {', '.join(sorted({n for n in names if names.count(n) > 1}))}")
         for name in self.fixed:
@@ -204,7 +276,7 @@ class Design:
     def names(self) -> list[str]:
         """The varied inputs in order (of listed points: every name any point has)."""
         return list(dict.fromkeys(k for p in self.listed for k in p)) if self.listed else \
-            [f.name for f in self.factors]
+            [n for f in self.factors for n in f.names]
 
     def points(self) -> list[dict]:
         """Each run's varied inputs, in a fixed order."""
@@ -214,34 +286,54 @@ class Design:
             return [{}]
         if self.kind == "factorial":
             grid = itertools.product(*(f.levels for f in self.factors))
-            return [dict(zip((f.name for f in self.factors), combo)) for combo in grid]
+            return [{n: v for f, v in zip(self.factors, combo) for n in f.names} for combo in grid]
         from scipy.stats import qmc
 
         d = len(self.factors)
         sampler = qmc.LatinHypercube(d, seed=self.seed) if self.kind == "lhs" else \
             qmc.Sobol(d, scramble=True, seed=self.seed)
         u = sampler.random(self.samples)
-        return [{f.name: f.at(float(x)) for f, x in zip(self.factors, row)} for row in u]
+        return [{n: f.at(float(x)) for f, x in zip(self.factors, row) for n in f.names} for row in u]
+
+    @property
+    def units(self) -> dict[str, str]:
+        """name -> the unit its values are given in (only inputs given with one)."""
+        out = {n: f.unit for f in self.factors if f.unit for n in f.names}
+        out.update(self.fixed_units)
+        return out
+
+    def label(self, name: str) -> str:
+        return label(name, self.units.get(name, ""))
 
     def runs(self, scene: str) -> list[Run]:
-        return [Run(scene, {**self.fixed, **p}) for p in self.points()]
+        given = tuple(sorted(self.units.items()))
+        return [Run(scene, {**self.fixed, **p}, units=tuple((k, u) for k, u in given if k in {**self.fixed, **p}))
+                for p in self.points()]
 
 
 def design(vary: list[str] | list[dict] | dict | None = None, fixed: dict | None = None, kind: str = "factorial",
            samples: int | None = None, seed: int = 0) -> Design:
     """A design from ``--vary`` texts, a dict name -> list of values, or a list of points (dicts name ->
     value, run as given), and the fixed inputs name -> value."""
-    fixed = {k: convert(k, v) for k, v in (fixed or {}).items()}
+    fixed, fixed_units = dict(fixed or {}), {}
+    for k, v in fixed.items():
+        if isinstance(v, str) and "." in k:
+            (text,), unit = split_unit(k, [v])
+            if unit:
+                fixed_units[k] = unit
+                v = number(text) if number(text) is not None else v
+        fixed[k] = convert(k, v)
     if isinstance(vary, (list, tuple)) and vary and all(isinstance(p, dict) for p in vary):
         listed = tuple({k: convert(k, v) for k, v in p.items()} for p in vary)
-        return Design((), fixed, kind=kind, samples=samples, seed=seed, listed=listed)
+        return Design((), fixed, kind=kind, samples=samples, seed=seed, listed=listed, fixed_units=fixed_units)
     if isinstance(vary, dict):
         factors = []
         for k, v in vary.items():
             if isinstance(v, str):
                 factors.append(parse_factor(f"{k}={v}"))
             else:
-                factors.append(Factor(str(k), values=tuple(convert(k, x) for x in v)))
+                name, *also = [n.strip() for n in str(k).split(",")]   # "a,b": varied together
+                factors.append(Factor(name, values=tuple(convert(name, x) for x in v), also=tuple(also)))
     else:
         factors = [parse_factor(t) for t in (vary or [])]
-    return Design(tuple(factors), fixed, kind=kind, samples=samples, seed=seed)
+    return Design(tuple(factors), fixed, kind=kind, samples=samples, seed=seed, fixed_units=fixed_units)

@@ -64,13 +64,13 @@ def execute(ssp: SspFile, run: Run, metrics: list[Metric | Custom], results_dir:
     from ..master.runspec import resolve
 
     t0 = clock.perf_counter()
-    row: dict = {"key": run.key, **run.inputs, "status": "ok", "error": "", "stopped": "", "steps": 0,
+    row: dict = {"key": run.key, **run.row, "status": "ok", "error": "", "stopped": "", "steps": 0,
                  "worker": _worker_name()}
     try:
         spec = resolve(ssp.local(), parameters=run.parameters, parameter_set=run.parameter_set,
                        **{"progress": False, **run.settings})   # in this worker process, rows kept
         res = execute(spec)
-        row.update(measure(metrics, run.scene, res.result, run.inputs))
+        row.update(measure(metrics, run.scene, res.result, run.si_inputs))
         stopped = _one_line(res.stats.stopped or "")
         row.update(fmus=spec.settings.fmus or "", steps=res.stats.steps, rejections=res.stats.rejections,
                    wall_time=res.stats.wall_time, stopped=stopped, status=status_of(stopped))
