@@ -11,7 +11,6 @@ from cranefmu.master.implicit_group import ImplicitGroup
 from cranefmu.master.loop import march
 from cranefmu.master.step_control import FixedSteps
 from cranefmu.master.system import RunStats
-from cranefmu.master.waveform import WaveformIterative
 
 
 class _System:
@@ -131,7 +130,7 @@ def test_an_alarm_raised_by_an_observer_fails_the_run_after_the_row_was_recorded
 
 
 def test_every_algorithm_implements_the_one_interface():
-    for cls in (Jacobi, GaussSeidel, Iterative, WaveformIterative, StartUp, ImplicitGroup, *ALGORITHMS.values()):
+    for cls in (Jacobi, GaussSeidel, Iterative, StartUp, ImplicitGroup, *ALGORITHMS.values()):
         assert issubclass(cls, Algorithm)
     with pytest.raises(TypeError):
         type("Missing", (Algorithm,), {"name": "x", "needs_snapshot": False})()   # no step(): refused

@@ -2,8 +2,8 @@
 
 ``ALGORITHMS`` maps each ``algorithm`` setting to its class; a class builds itself from the settings
 and refuses options it cannot take (:meth:`~.algorithms.Algorithm.from_settings`).  ``VARIANTS``
-refine a name by another setting: ``jacobi`` with an ``implicit`` group is :class:`~.implicit_group.ImplicitGroup`,
-``iterative`` with ``substeps`` > 1 is :class:`~.waveform.WaveformIterative`.  Adding an algorithm:
+refine a name by another setting: ``jacobi`` with an ``implicit`` group is :class:`~.implicit_group.ImplicitGroup`.
+Adding an algorithm:
 a class of :class:`~.algorithms.Algorithm` that drives a :class:`~.coupled.Coupling`, one line here
 (and its name among the settings' allowed names, :data:`.settings.ALGORITHMS`).
 """
@@ -14,14 +14,12 @@ from collections.abc import Callable
 from .algorithms import Algorithm, GaussSeidel, Iterative, Jacobi, PlainJacobi, with_start_up
 from .coupled import Coupling
 from .implicit_group import ImplicitGroup
-from .waveform import WaveformIterative
 
 ALGORITHMS: dict[str, type[Algorithm]] = {"jacobi": Jacobi, "gauss-seidel": GaussSeidel, "iterative": Iterative,
                                           "jacobi-plain": PlainJacobi}
 # (name, wanted by the settings, class)
 VARIANTS: list[tuple[str, Callable, type[Algorithm]]] = [
     ("jacobi", lambda s: bool(s.implicit), ImplicitGroup),
-    ("iterative", lambda s: s.substeps > 1, WaveformIterative),
 ]
 START_UP = {"jacobi", "gauss-seidel"}   # explicit schemes: their first p steps iterate (StartUp)
 

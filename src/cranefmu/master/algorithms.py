@@ -154,18 +154,18 @@ class FixedPoint:
         self.units: list[str] | None = None   # set: a stall is judged against each unit's scale (StartUp)
 
     def converged(self, u: np.ndarray, gu: np.ndarray, scale: np.ndarray, errors: list[float],
-                  span: tuple[float, float], reps: int = 1) -> tuple[bool, int]:
+                  span: tuple[float, float]) -> tuple[bool, int]:
         """(has the iteration converged, index of the worst value): the criterion's error <= 1, or a
         stall at the map's noise (see :class:`~.residual.CouplingCriterion`); each value's size is its
         magnitude so far or now (``scale`` carries a floor so that a value starting from exactly 0 has
         a size, see :func:`floored`).  A non-finite error raises at once."""
         size = np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu))
-        err, worst = self.criterion.error(u, gu, size, reps)
+        err, worst = self.criterion.error(u, gu, size)
         if not np.isfinite(err):
             raise self.failure(len(errors) + 1, u, gu, scale, worst, span)
         errors.append(err)
         if err > 1.0 and self.units is not None:
-            size = np.maximum(size, np.tile(unit_scale(self.units, scale), reps))
+            size = np.maximum(size, unit_scale(self.units, scale))
         return err <= 1.0 or self.criterion.stalled(errors, u, gu, size), worst
 
     def failure(self, k: int, u: np.ndarray, gu: np.ndarray, scale: np.ndarray, worst: int,

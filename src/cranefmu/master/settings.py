@@ -68,8 +68,6 @@ class Settings:
     progress: bool | None = setting(None, "progress bar (default: on a terminal, for runs longer than 3 s)",
                                     form="off", flag_help="no progress bar (it shows on a terminal only, for "
                                     "runs longer than 3 s)")
-    substeps: int = setting(1, "iterative: waveform iteration on this many sub-intervals of each macro step "
-                            "(1: one input polynomial per step)", type=int, metavar="M")
     instability_alarm: bool = setting(True, "stop a run whose explicit coupling is unstable (a power bond's "
                                       "residual grows geometrically, or a coupling value's change per step)",
                                       form="negate", flag_help="do not stop a run whose explicit coupling is "
@@ -130,17 +128,12 @@ class Settings:
                                 f"{', '.join(STEP_CONTROLS)}")
         if self.accelerator not in ACCELERATORS:
             raise SettingsError(f"accelerator = {self.accelerator!r} is not allowed: one of {', '.join(ACCELERATORS)}")
-        for name in ("max_iterations", "substeps"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise SettingsError(f"{name} = {value!r} is not allowed: an integer >= 1")
+        if isinstance(self.max_iterations, bool) or not isinstance(self.max_iterations, int) or self.max_iterations < 1:
+            raise SettingsError(f"max_iterations = {self.max_iterations!r} is not allowed: an integer >= 1")
         if self.order and self.algorithm != "gauss-seidel":   # silently unused otherwise
             raise SettingsError(f"order = {','.join(map(str, self.order))!r} is not allowed with algorithm = "
                                 f"{self.algorithm!r}: only with 'gauss-seidel' (the others step every component "
                                 "at once)")
-        if self.substeps > 1 and self.algorithm != "iterative":
-            raise SettingsError(f"substeps = {self.substeps!r} is not allowed with algorithm = {self.algorithm!r}: "
-                                "only with 'iterative' (waveform iteration); use 1")
         for name in ("min_step", "max_step", "energy_alarm"):
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
@@ -211,7 +204,7 @@ NOT_STORED = SCENE_ONLY + ("progress", "fmus")   # display and the kind of FMU, 
 # the settings that choose the numerical method: a scene's stored ones were measured for its stored
 # algorithm and are not taken by a run of another algorithm (runspec's stored-settings rule)
 NUMERICAL = ("step_size", "extrapolation", "adaptive", "tolerance", "min_step", "max_step", "step_control",
-             "coupling_tolerance", "max_iterations", "accelerator", "order", "implicit", "substeps",
+             "coupling_tolerance", "max_iterations", "accelerator", "order", "implicit",
              "init_tolerance")
 # an algorithm's own defaults where they differ from the fields' (jacobi-plain: libcosim's zero-order hold)
 ALGORITHM_DEFAULTS: dict[str, dict[str, object]] = {"jacobi-plain": {"extrapolation": 0}}
