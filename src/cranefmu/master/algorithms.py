@@ -20,14 +20,17 @@ algorithms by name and their construction from a run's settings: :mod:`.algorith
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .acceleration import ACCELERATORS
-from .coupled import Coupling, Part
 from ..errors import CraneFmuError, SettingsError, SimulationError
 from .newton import Newton
 from .residual import CouplingCriterion
+
+if TYPE_CHECKING:   # the interface an algorithm is handed; the registry (.algorithm_table) stays below it
+    from .coupled import Coupling, Part
 
 
 class Algorithm(ABC):
@@ -36,6 +39,11 @@ class Algorithm(ABC):
     name: str
     needs_snapshot: bool   # step() rolls the FMUs back to ``snapshot`` (taken by the loop before the step)
     estimable = True       # this step's coupling error may be estimated (by the step controller)
+    # what the registry (.algorithm_table) reads from a registered class:
+    summary = ""           # one line: the --algorithm help and docs/cli.md
+    options: dict[str, str] = {}      # settings only this algorithm takes -> why the others refuse them
+    defaults: dict[str, object] = {}  # its own defaults where they differ from the settings' fields
+    start_up = False       # an explicit scheme: its first p steps iterate (:class:`StartUp`)
 
     @abstractmethod
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
@@ -59,6 +67,9 @@ class Algorithm(ABC):
 
 class Jacobi(Algorithm):
     name = "jacobi"
+    summary = "all FMUs step on extrapolated inputs; direct-feedthrough outputs re-read"
+    options = {"implicit": "iterative couples everything implicitly"}
+    start_up = True
     needs_snapshot = False
 
     def __init__(self, coupling: Coupling):
@@ -85,6 +96,10 @@ class PlainJacobi(Jacobi):
     """
 
     name = "jacobi-plain"
+    summary = "libcosim's fixed-step Jacobi: zero-order hold, no feedthrough re-read, no extrapolation"
+    options: dict[str, str] = {}
+    defaults = {"extrapolation": 0}   # libcosim's zero-order hold
+    start_up = False
 
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
         c = self.coupling
@@ -102,6 +117,9 @@ class PlainJacobi(Jacobi):
 
 class GaussSeidel(Algorithm):
     name = "gauss-seidel"
+    summary = "one after another"
+    options = {"order": "the others step every component at once"}
+    start_up = True
     needs_snapshot = False
 
     def __init__(self, coupling: Coupling, order: list[str] | None = None):
@@ -191,6 +209,7 @@ class Iterative(Algorithm):
     """Strong coupling by fixed-point iteration on the coupling values at the end of the step."""
 
     name = "iterative"
+    summary = "strong coupling: each step repeated until the coupling values agree"
     needs_snapshot = True
 
     def __init__(self, coupling: Coupling, degree: int, tolerance: float, max_iterations: int,
