@@ -35,8 +35,7 @@ MODES = {
                                    implicit=[]),
     "adaptive_ecco": dict(algorithm="jacobi", extrapolation=1, adaptive=True, step_control="ecco", implicit=[]),
 }
-EXTRA = {"elastic_pendulum/waveform_m2": dict(algorithm="iterative", extrapolation=1, substeps=2),
-         "elastic_pendulum/gauss-seidel_x0": dict(algorithm="gauss-seidel", extrapolation=0),
+EXTRA = {"elastic_pendulum/gauss-seidel_x0": dict(algorithm="gauss-seidel", extrapolation=0),
          "overhead_lift/stop_when_lifted": dict(algorithm="jacobi", extrapolation=0, stop_when=["pendulum.lifted"]),
          "overhead_lift/adaptive_stop_when_lifted": dict(algorithm="jacobi", extrapolation=1, adaptive=True,
                                                          stop_when=["pendulum.lifted"]),

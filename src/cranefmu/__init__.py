@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .master.scene_names import register_scene_resolver as _register_scene_resolver
 
-__version__ = "0.1.0"
+from .version import __version__
 
 __all__ = ["simulate", "run", "resolve", "RunSpec", "Execution", "RunResult", "RunInterrupted", "Observer", "Command",
            "Source", "build", "sweep", "fmu_path", "__version__"]

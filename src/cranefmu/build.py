@@ -28,6 +28,7 @@ from pathlib import Path
 from . import cache, compose
 from . import host_steps as host_steps_module
 from .errors import CraneFmuError, SceneError
+from .compose.ssd import add_parameters  # the ssv:Parameter writer, shared with the scene sources
 from .sources import (CHECKOUT, FMU_SOURCES, IN_CHECKOUT, PACKAGE_DIR, SSP_SOURCES, bundle_sources, fmu_scripts,
                       scene_dirs, scene_files, source_digest)
 
@@ -300,22 +301,6 @@ def _bound_files(scene_dir: Path) -> set[str]:
 
     root = parse_xml(scene_dir / "SystemStructure.ssd")
     return {Path(b.get("source")).name for b in root.iter("{*}ParameterBinding") if b.get("source")}
-
-
-def add_parameters(holder, parameters, bare: bool = False) -> None:
-    """Append an ``ssv:Parameter`` per :class:`~cranefmu.master.scene.Parameter` to the ``ssv:Parameters``
-    element ``holder`` (``bare``: the variable name without "component.", for a component binding)."""
-    from lxml import etree
-
-    from .master.scene import SSV_NS
-    from .units import parse as parse_unit
-
-    for p in parameters:
-        entry = etree.SubElement(holder, f"{{{SSV_NS}}}Parameter", name=p.name.partition(".")[2] if bare else p.name)
-        text = {bool: lambda v: str(v).lower(), float: repr}.get(type(p.value), str)(p.value)
-        typed = etree.SubElement(entry, f"{{{SSV_NS}}}{p.type}", value=text)
-        if p.unit and parse_unit(p.unit)[0] == 1.0:   # the value is in SI: keep only an SI unit
-            typed.set("unit", p.unit)
 
 
 def ssv_with_start(ssv: Path, start: dict[str, float], default: dict | None = None) -> bytes:

@@ -31,7 +31,7 @@ def cache_root() -> Path:
 
 def versioned_dir(digest: str) -> Path:
     """The folder holding the builds of this package version and source digest."""
-    from . import __version__
+    from .version import __version__
 
     return cache_root() / f"{__version__}-{digest[:16]}"
 

@@ -7,6 +7,7 @@ import contextlib
 import sys
 from pathlib import Path
 
+from .cli_common import KEEP_ROWS, MAX_ROWS, parse_set as _parse_set
 from .errors import CraneFmuError
 
 
@@ -32,20 +33,6 @@ def _cmd_build(args: argparse.Namespace) -> int:
     print(build_line(args.only or None) if not args.python_only else
           "FMU kinds: python (pythonfmu) only, as asked (--python-only); cranefmu build without it adds the native FMUs")
     return 0
-
-
-def _parse_set(items: list[str]) -> dict[str, str]:
-    out = {}
-    for item in items:
-        key, sep, value = item.partition("=")
-        if not sep or not key.strip():
-            raise CraneFmuError(f"--set {item!r} is not allowed: write --set component.variable=value")
-        out[key.strip()] = value.strip()
-    return out
-
-
-KEEP_ROWS = 1_000_000     # above this many rows the CLI streams them to the CSV without keeping them in memory
-MAX_ROWS = 10_000_000     # default --max-rows: a larger run is refused before it starts (about 2 GB of CSV)
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
@@ -277,7 +264,7 @@ def _cmd_build_fmi3(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import __version__
+    from .version import __version__
     from .report.command import add_parser as add_report_parser, add_run_option as add_report_option
 
     p = argparse.ArgumentParser(prog="cranefmu", description="Crane dynamics as FMI co-simulation components.")
@@ -426,7 +413,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         _check_working_directory()
         if (sys.argv[1:] if argv is None else argv) == ["--version"]:   # without building the whole parser
-            from . import __version__
+            from .version import __version__
 
             print(f"cranefmu {__version__}")
             return 0

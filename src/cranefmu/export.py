@@ -176,7 +176,7 @@ def add_parser(sub) -> None:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
-    from .cli import _parse_set
+    from .cli_common import parse_set as _parse_set
 
     import sys
 

@@ -5,7 +5,7 @@ every step from a snapshot reproduces Jacobi bit for bit."""
 import numpy as np
 import pytest
 
-from cranefmu.master import algorithm_table, settings
+from cranefmu.master import algorithm_table
 from cranefmu.master.algorithms import Algorithm
 from cranefmu.master.run import run
 from oscillator.exact import Oscillator
@@ -44,8 +44,7 @@ class DampedFixedPoint(Algorithm):
 
 @pytest.fixture
 def registered(monkeypatch):
-    monkeypatch.setitem(algorithm_table.ALGORITHMS, DampedFixedPoint.name, DampedFixedPoint)
-    monkeypatch.setattr(settings, "ALGORITHMS", (*settings.ALGORITHMS, DampedFixedPoint.name))
+    monkeypatch.setitem(algorithm_table.ALGORITHMS, DampedFixedPoint.name, algorithm_table.Entry(DampedFixedPoint))
 
 
 def test_a_new_algorithm_runs_a_scene_and_has_its_order(oscillator_ssp, registered):
@@ -91,8 +90,7 @@ class RetriedJacobi(Algorithm):
 def test_a_step_retried_from_a_snapshot_gives_jacobi_bit_for_bit(oscillator_ssp, monkeypatch):
     made = []
     monkeypatch.setattr(RetriedJacobi, "from_settings", classmethod(lambda cls, c, s: made.append(cls(c)) or made[-1]))
-    monkeypatch.setitem(algorithm_table.ALGORITHMS, RetriedJacobi.name, RetriedJacobi)
-    monkeypatch.setattr(settings, "ALGORITHMS", (*settings.ALGORITHMS, RetriedJacobi.name))
+    monkeypatch.setitem(algorithm_table.ALGORITHMS, RetriedJacobi.name, algorithm_table.Entry(RetriedJacobi))
     kw = dict(stop_time=0.5, step_size=0.01, extrapolation=0, parameters={**OSC.parameters(), "mass.x0": X0})
     retried = run(oscillator_ssp, algorithm=RetriedJacobi.name, **kw)
     plain = run(oscillator_ssp, algorithm="jacobi", **kw)

@@ -47,10 +47,23 @@ def _number(value: float) -> str:
     return str(int(value)) if float(value).is_integer() else repr(float(value))
 
 
-def _bindings(system, src: SceneSource, interfaces: dict[str, Interface]) -> None:
+def add_parameters(holder, parameters, bare: bool = False) -> None:
+    """Append an ``ssv:Parameter`` per :class:`~cranefmu.master.scene.Parameter` to the ``ssv:Parameters``
+    element ``holder`` (``bare``: the variable name without "component.", for a component binding)."""
     from lxml import etree
 
-    from ..build import add_parameters
+    from ..units import parse as parse_unit
+
+    for p in parameters:
+        entry = etree.SubElement(holder, f"{{{SSV_NS}}}Parameter", name=p.name.partition(".")[2] if bare else p.name)
+        text = {bool: lambda v: str(v).lower(), float: repr}.get(type(p.value), str)(p.value)
+        typed = etree.SubElement(entry, f"{{{SSV_NS}}}{p.type}", value=text)
+        if p.unit and parse_unit(p.unit)[0] == 1.0:   # the value is in SI: keep only an SI unit
+            typed.set("unit", p.unit)
+
+
+def _bindings(system, src: SceneSource, interfaces: dict[str, Interface]) -> None:
+    from lxml import etree
 
     inline = [p for c in src.components for p in _inline_parameters(src, c, interfaces[c.name])]
     if src.parameters is None and not inline:

@@ -101,7 +101,7 @@ def add_parser(sub) -> None:
                        "report; exit 1 on a failure, 2 on bad input (docs/experiments.md)")
     p.add_argument("paths", nargs="+", metavar="FILE|DIR", help="experiment files, or directories of *.toml")
     p.add_argument("--report", default=None, metavar="FILE.json", help="also write the verdicts as JSON")
-    from ..cli import MAX_ROWS
+    from ..cli_common import MAX_ROWS
 
     p.add_argument("--max-rows", type=float, default=MAX_ROWS, metavar="N", help="refuse a case whose run would "
                    f"record more than N rows, before anything runs (default {MAX_ROWS:g}, as cranefmu run)")

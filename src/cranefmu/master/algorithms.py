@@ -20,14 +20,17 @@ algorithms by name and their construction from a run's settings: :mod:`.algorith
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .acceleration import ACCELERATORS
-from .coupled import Coupling, Part
 from ..errors import CraneFmuError, SettingsError, SimulationError
 from .newton import Newton
 from .residual import CouplingCriterion
+
+if TYPE_CHECKING:   # the interface an algorithm is handed; the registry (.algorithm_table) stays below it
+    from .coupled import Coupling, Part
 
 
 class Algorithm(ABC):
@@ -36,6 +39,11 @@ class Algorithm(ABC):
     name: str
     needs_snapshot: bool   # step() rolls the FMUs back to ``snapshot`` (taken by the loop before the step)
     estimable = True       # this step's coupling error may be estimated (by the step controller)
+    # what the registry (.algorithm_table) reads from a registered class:
+    summary = ""           # one line: the --algorithm help and docs/cli.md
+    options: dict[str, str] = {}      # settings only this algorithm takes -> why the others refuse them
+    defaults: dict[str, object] = {}  # its own defaults where they differ from the settings' fields
+    start_up = False       # an explicit scheme: its first p steps iterate (:class:`StartUp`)
 
     @abstractmethod
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
@@ -59,6 +67,9 @@ class Algorithm(ABC):
 
 class Jacobi(Algorithm):
     name = "jacobi"
+    summary = "all FMUs step on extrapolated inputs; direct-feedthrough outputs re-read"
+    options = {"implicit": "iterative couples everything implicitly"}
+    start_up = True
     needs_snapshot = False
 
     def __init__(self, coupling: Coupling):
@@ -85,6 +96,10 @@ class PlainJacobi(Jacobi):
     """
 
     name = "jacobi-plain"
+    summary = "libcosim's fixed-step Jacobi: zero-order hold, no feedthrough re-read, no extrapolation"
+    options: dict[str, str] = {}
+    defaults = {"extrapolation": 0}   # libcosim's zero-order hold
+    start_up = False
 
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
         c = self.coupling
@@ -102,6 +117,9 @@ class PlainJacobi(Jacobi):
 
 class GaussSeidel(Algorithm):
     name = "gauss-seidel"
+    summary = "one after another"
+    options = {"order": "the others step every component at once"}
+    start_up = True
     needs_snapshot = False
 
     def __init__(self, coupling: Coupling, order: list[str] | None = None):
@@ -154,18 +172,18 @@ class FixedPoint:
         self.units: list[str] | None = None   # set: a stall is judged against each unit's scale (StartUp)
 
     def converged(self, u: np.ndarray, gu: np.ndarray, scale: np.ndarray, errors: list[float],
-                  span: tuple[float, float], reps: int = 1) -> tuple[bool, int]:
+                  span: tuple[float, float]) -> tuple[bool, int]:
         """(has the iteration converged, index of the worst value): the criterion's error <= 1, or a
         stall at the map's noise (see :class:`~.residual.CouplingCriterion`); each value's size is its
         magnitude so far or now (``scale`` carries a floor so that a value starting from exactly 0 has
         a size, see :func:`floored`).  A non-finite error raises at once."""
         size = np.maximum(np.maximum(scale, np.abs(u)), np.abs(gu))
-        err, worst = self.criterion.error(u, gu, size, reps)
+        err, worst = self.criterion.error(u, gu, size)
         if not np.isfinite(err):
             raise self.failure(len(errors) + 1, u, gu, scale, worst, span)
         errors.append(err)
         if err > 1.0 and self.units is not None:
-            size = np.maximum(size, np.tile(unit_scale(self.units, scale), reps))
+            size = np.maximum(size, unit_scale(self.units, scale))
         return err <= 1.0 or self.criterion.stalled(errors, u, gu, size), worst
 
     def failure(self, k: int, u: np.ndarray, gu: np.ndarray, scale: np.ndarray, worst: int,
@@ -191,6 +209,7 @@ class Iterative(Algorithm):
     """Strong coupling by fixed-point iteration on the coupling values at the end of the step."""
 
     name = "iterative"
+    summary = "strong coupling: each step repeated until the coupling values agree"
     needs_snapshot = True
 
     def __init__(self, coupling: Coupling, degree: int, tolerance: float, max_iterations: int,

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import ctypes
 
-from .process import FMI3_LOGGERS as _LOGGERS
+from .process import FMI3_LOGGERS as _LOGGERS, Messages
 
 INTEGERS = ("Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32", "Int64", "UInt64")
 
@@ -50,9 +50,10 @@ def normalize(md) -> None:
 _SLAVE = None
 
 
-def slave_class(messages: dict[str, list[str]]):
+def slave_class():
     """fmpy's FMU3Slave with the FMI 2.0 calls of the master (the class made once, on first use);
-    ``messages``: instance name -> its log, filled by the instance's log callback."""
+    ``instantiate(callbacks=messages)`` takes the instance's log (a :class:`.process.Messages`), filled by
+    its log callback."""
     global _SLAVE
     if _SLAVE is not None:
         return _SLAVE
@@ -64,14 +65,12 @@ def slave_class(messages: dict[str, list[str]]):
         start_time = 0.0
 
         def instantiate(self, loggingOn=False, callbacks=None):
-            name = self.instanceName
+            box = callbacks if callbacks is not None else Messages()
 
             def log(env, status, category, message):
                 if status < 1:   # keep warning, discard, error, fatal
                     return
-                box = messages.setdefault(name, [])
-                box.append(message.decode(errors="replace") if isinstance(message, bytes) else str(message))
-                del box[:-50]
+                box.add(message.decode(errors="replace") if isinstance(message, bytes) else str(message))
 
             super().instantiate(loggingOn=loggingOn, logMessage=log)
             _LOGGERS.append(self.logMessage)   # fmpy's ctypes wrapper of ``log``

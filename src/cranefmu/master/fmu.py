@@ -14,8 +14,8 @@ from .fatal_status import FatalAware
 from .settings import parse_bool
 from .fmi_integer import fmi_integer
 # the process-global state of the pythonfmu workarounds (the contract: .process)
-from .process import EXTRACTED_MARK as _EXTRACTED, MESSAGES as _MESSAGES, MODEL_DESCRIPTIONS as _MODEL_DESCRIPTIONS
-from .process import callbacks as _callbacks
+from .process import EXTRACTED_MARK as _EXTRACTED, MODEL_DESCRIPTIONS as _MODEL_DESCRIPTIONS, Messages
+from .process import instance_callbacks as _instance_callbacks
 
 _EXCEPTION_LINE = re.compile(r"^[A-Za-z_][\w.]*(Error|Exception|Exit|Interrupt)\b.*")
 
@@ -142,6 +142,7 @@ class FmuComponent:
         self.variables = {v.name: v for v in self.md.modelVariables}
         self.fmu = None
         self.alive = False
+        self.messages = Messages()   # the FMU's warnings and errors, the last 50 (a new log each instantiation)
         self.can_get_state = bool(self.md.coSimulation.canGetAndSetFMUstate)
         # the values the master reads every step, in one fmi2GetReal (see :meth:`read`)
         self.read_vrs: list[int] = []
@@ -200,7 +201,7 @@ class FmuComponent:
         if self.md.fmiVersion == "3.0":
             from .fmi3 import slave_class
 
-            cls = slave_class(_MESSAGES)
+            cls = slave_class()
         else:
             cls = _slave_class()
         self.fmu = cls(guid=self.md.guid, unzipDirectory=str(self.unzipdir),
@@ -209,9 +210,11 @@ class FmuComponent:
             functions = self.fmu._functions
             for fname, f in list(functions.items()):
                 functions[fname] = _CALL_WRAPPERS[-1](self.name, fname, f)
-        _MESSAGES[self.name] = []
+        self.messages = Messages()   # this instance's own (process.instance_callbacks files into it)
+        # FMI 3.0 (.fmi3): the instance's log callback files into the log it is handed
+        self._callbacks = self.messages if self.md.fmiVersion == "3.0" else _instance_callbacks(self.messages)
         try:
-            self.fmu.instantiate(loggingOn=True, callbacks=_callbacks())
+            self.fmu.instantiate(loggingOn=True, callbacks=self._callbacks)
         except Exception as err:
             raise SceneError(f"component {self.name!r} ({self.md.modelName}) could not be instantiated: "
                              f"{self.python_error() or err}") from None
@@ -230,10 +233,6 @@ class FmuComponent:
         self._set_boolean = functions["fmi2SetBoolean"]
         self._read = None
         self.fresh = False
-
-    @property
-    def messages(self) -> list[str]:
-        return _MESSAGES.get(self.name, [])
 
     def python_error(self) -> str:
         """The Python exception the FMU's code raised, as pythonfmu logged it (one line), or ''."""

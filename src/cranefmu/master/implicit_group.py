@@ -19,12 +19,16 @@ follows the polynomial through the past values and the iterate at t + H (second,
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .algorithms import Algorithm, FixedPoint, floored
-from .coupled import Coupling
 from .newton import Newton
 from ..errors import SettingsError
+
+if TYPE_CHECKING:
+    from .coupled import Coupling
 
 
 def group_members(components: list[str], bonds: dict[str, list[str]], names: list[str], scene: str) -> list[int]:

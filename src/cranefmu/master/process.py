@@ -18,11 +18,13 @@ lives here, and the modules that use it import it from here:
 - **The model description of an extracted FMU directory is read once** (:data:`MODEL_DESCRIPTIONS`,
   filled by :class:`.fmu.FmuComponent`; a run's copies adopt it, :func:`adopt_extracted`, and drop it
   when removed, :func:`forget_extracted`).
-- **The FMI callbacks are one object for the life of the process** (:func:`callbacks`): pythonfmu's
+- **The FMI logger is one function for the life of the process** (:func:`callbacks`): pythonfmu's
   wrapper keeps the logger of an instance in a process-wide place and may call it after that instance
-  is gone, so they are never freed.  pythonfmu FMUs may all report through the logger of the last
-  instance created: a message is filed under the instance name it carries (:data:`MESSAGES`).  An FMI
-  3.0 instance's log callback is kept likewise (:data:`FMI3_LOGGERS`).
+  is gone, so it is never freed.  Each instance gets callbacks of its own (:func:`instance_callbacks`,
+  a copy whose ``componentEnvironment`` is the instance's key): the logger files a message into the
+  :class:`Messages` of the instance that sent it, which the instance (:class:`.fmu.FmuComponent`)
+  owns, so two runs with components of the same name keep separate logs; the key map holds the logs
+  weakly (:data:`_LOGS`).  An FMI 3.0 instance's log callback is kept likewise (:data:`FMI3_LOGGERS`).
 - **A worker process ends with ``os._exit``** once every FMU is freed (:mod:`.worker`): the
   interpreter's teardown is skipped; an isolated run's worker keeps its extraction cache in the run's
   own temporary directory, which the parent removes whatever happens to the worker.
@@ -34,10 +36,12 @@ main thread (:mod:`.interrupt`).
 from __future__ import annotations
 
 import atexit
+import itertools
 import queue
 import shutil
 import tempfile
 import threading
+import weakref
 from pathlib import Path
 
 LOCK = threading.Lock()                 # guards SCENES and ROOT
@@ -48,7 +52,18 @@ _root: list[Path] = []                  # the one directory of every extracted s
 MODEL_DESCRIPTIONS: dict[Path, tuple[object, dict[str, dict[str, int]]]] = {}   # unzip dir -> (md, switches)
 EXTRACTED_MARK = ".cranefmu_extracted"   # written last: the directory holds a whole, checked FMU
 
-MESSAGES: dict[str, list[str]] = {}    # FMU messages (warning and worse) by instance name, the last 50
+class Messages(list):
+    """One FMU instance's messages (warning and worse), the last :attr:`KEPT`."""
+
+    KEPT = 50
+
+    def add(self, text: str) -> None:
+        self.append(text)
+        del self[:-self.KEPT]
+
+
+_LOGS: "weakref.WeakValueDictionary[int, Messages]" = weakref.WeakValueDictionary()   # key -> its log
+_KEYS = itertools.count(1)   # 0 is no key (a NULL componentEnvironment)
 _callbacks: list = []
 FMI3_LOGGERS: list = []   # every FMI 3.0 instance's log callback (:mod:`.fmi3`), kept for the same reason
 
@@ -119,11 +134,9 @@ def callbacks():
     def logger(env, instance, status, category, message):
         if status < 2:  # keep warning, discard, error, fatal
             return
-        text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
-        name = instance.decode(errors="replace") if isinstance(instance, bytes) else str(instance)
-        box = MESSAGES.setdefault(name, [])
-        box.append(text)
-        del box[:-50]
+        box = _LOGS.get(env or 0)
+        if box is not None:   # else: its instance is gone
+            box.add(message.decode(errors="replace") if isinstance(message, bytes) else str(message))
 
     cb = fmi2CallbackFunctions()
     cb.logger = fmi2CallbackLoggerTYPE(logger)
@@ -137,3 +150,17 @@ def callbacks():
         pass
     _callbacks.append(cb)
     return cb
+
+
+def instance_callbacks(messages: Messages):
+    """FMI 2.0 callbacks for one instance: the process's (:func:`callbacks`) with a
+    ``componentEnvironment`` of its own, through which the logger files its messages into
+    ``messages``.  The caller keeps the returned struct as long as the instance lives."""
+    from ctypes import c_void_p
+
+    base = callbacks()
+    key = next(_KEYS)
+    _LOGS[key] = messages
+    own = type(base).from_buffer_copy(base)   # the same (proxied) logger and memory functions
+    own.componentEnvironment = c_void_p(key)
+    return own

@@ -65,13 +65,11 @@ class CouplingCriterion:
             np.maximum(self.hi, values, out=self.hi)
         self.floor = self.NOISE * np.maximum(self.nominal, self.hi - self.lo)
 
-    def error(self, u: np.ndarray, gu: np.ndarray, size: np.ndarray, reps: int = 1) -> tuple[float, int]:
-        """(max_i |gu_i - u_i| / (tolerance size_i + floor_i), its index): converged if <= 1.  ``u`` may be
-        ``reps`` stacked copies of the coupling vector (waveform iteration)."""
+    def error(self, u: np.ndarray, gu: np.ndarray, size: np.ndarray) -> tuple[float, int]:
+        """(max_i |gu_i - u_i| / (tolerance size_i + floor_i), its index): converged if <= 1."""
         if len(u) == 0:
             return 0.0, 0
-        floor = np.tile(self.floor, reps) if reps > 1 else self.floor
-        bound = self.tolerance * size + floor
+        bound = self.tolerance * size + self.floor
         r = np.abs(gu - u)
         with np.errstate(divide="ignore", invalid="ignore"):
             r = np.where(r == 0.0, 0.0, r / bound)

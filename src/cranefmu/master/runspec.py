@@ -13,7 +13,7 @@ Where each setting comes from (:attr:`RunSpec.sources`), first match wins:
    source, a ``cf:ParameterSet`` in the annotation), unless the stored-settings rule sets it aside.
    ``scene``: the scene stores it (``org.cranefmu.settings``; ``stop_time`` from its DefaultExperiment),
    unless the stored-settings rule sets it aside.
-3. ``algorithm default``: the run's algorithm has its own default (:data:`.settings.ALGORITHM_DEFAULTS`).
+3. ``algorithm default``: the run's algorithm has its own default (its registry entry, :func:`.algorithm_table.defaults_of`).
 4. ``default``: the field's default in :class:`.settings.Settings` (``stop_time``:
    :data:`.settings.DEFAULT_STOP_TIME`).
 
@@ -28,7 +28,8 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from ..errors import ParameterSetError, SettingsError
-from .settings import ALGORITHM_DEFAULTS, DEFAULT_STOP_TIME, FMU_KINDS, NUMERICAL, Settings, convert, is_list
+from .algorithm_table import defaults_of
+from .settings import DEFAULT_STOP_TIME, FMU_KINDS, NUMERICAL, Settings, convert, is_list
 
 SOURCES = ("given", "parameter set", "scene", "algorithm default", "default")
 
@@ -131,7 +132,7 @@ def choose(given: dict, stored: dict, scene_stop_time: float | None) -> tuple[di
     defaults = {f.name: f.default for f in fields(Settings)}
     stored_for = stored.get("algorithm", defaults["algorithm"])
     algorithm = given.get("algorithm", stored_for)
-    own = ALGORITHM_DEFAULTS.get(algorithm, {})
+    own = defaults_of(algorithm)
     values, sources, set_aside = {}, {}, {}
     for name, default in defaults.items():
         if name in given:

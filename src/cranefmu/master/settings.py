@@ -16,19 +16,20 @@ from dataclasses import MISSING, dataclass, field, fields
 
 from ..errors import SettingsError
 from .acceleration import ACCELERATORS
+from .algorithm_table import ALGORITHMS, described as algorithms_described, takers
 
-ALGORITHMS = ("jacobi", "gauss-seidel", "iterative", "jacobi-plain")  # made by algorithms.make_algorithm
 STEP_CONTROLS = ("extrapolation", "ecco")
 FMU_KINDS = ("native", "python")   # the kinds of FMU a scene given by name runs with (.fmu_kind)
 DEFAULT_STOP_TIME = 10.0   # [s] of a scene whose DefaultExperiment states none
 
 
-def setting(default, help: str, *, type=None, flag: str | None = None, metavar: str | None = None,
+def setting(default, help, *, type=None, flag: str | None = None, metavar: str | None = None,
             form: str = "value", flag_help: str | None = None):
     """A settings field.  ``form``: value (``--flag VALUE``), switch (``--flag`` sets True), negate
     (``--no-flag`` sets False), off (``--no-flag`` sets False, default None = automatic), list
     (comma-separated names; for stop_when 'none' is the empty list).  ``flag_help``: the option's
-    help where it differs from the setting's (a --no- option)."""
+    help where it differs from the setting's (a --no- option).  ``help`` may be a function of no
+    argument, asked each time (the algorithm's: from the registry, :mod:`.algorithm_table`)."""
     return field(default=default, metadata=dict(help=help, type=type, flag=flag, metavar=metavar, form=form,
                                                  flag_help=flag_help))
 
@@ -41,8 +42,7 @@ class Settings:
                                       type=float)
     step_size: float = setting(1e-3, "macro (communication) step [s]; the first step with adaptive", type=float,
                                flag="--step")
-    algorithm: str = setting("jacobi", "coupling: " + ", ".join(ALGORITHMS) + " (iterative: strong coupling with "
-                             "rollback; jacobi-plain: libcosim's fixed-step Jacobi, no feedthrough re-read)", type=str)
+    algorithm: str = setting("jacobi", lambda: "coupling: " + algorithms_described(), type=str)
     extrapolation: int = setting(0, "order of the polynomial the coupling inputs follow inside a step: 0, 1, 2 "
                                  "(iterative: degree of the interpolation; 0 holds the end value over the "
                                  "step, an implicit coupling that damps a stiff spring's modes H cannot resolve; "
@@ -68,8 +68,6 @@ class Settings:
     progress: bool | None = setting(None, "progress bar (default: on a terminal, for runs longer than 3 s)",
                                     form="off", flag_help="no progress bar (it shows on a terminal only, for "
                                     "runs longer than 3 s)")
-    substeps: int = setting(1, "iterative: waveform iteration on this many sub-intervals of each macro step "
-                            "(1: one input polynomial per step)", type=int, metavar="M")
     instability_alarm: bool = setting(True, "stop a run whose explicit coupling is unstable (a power bond's "
                                       "residual grows geometrically, or a coupling value's change per step)",
                                       form="negate", flag_help="do not stop a run whose explicit coupling is "
@@ -102,9 +100,6 @@ class Settings:
             if isinstance(self.implicit, str) or not all(isinstance(v, str) and v for v in self.implicit):
                 raise SettingsError(f"implicit = {self.implicit!r} is not allowed: a list of power-bond or "
                                     "component names")
-            if self.implicit and self.algorithm != "jacobi":
-                raise SettingsError(f"implicit = {self.implicit!r} is not allowed with algorithm = "
-                                    f"{self.algorithm!r}: only with 'jacobi' (iterative couples everything implicitly)")
         for name in ("start_time", "stop_time", "step_size", "tolerance", "coupling_tolerance", "init_tolerance"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
@@ -120,6 +115,7 @@ class Settings:
                                 f"= {span!r} s")
         if self.algorithm not in ALGORITHMS:
             raise SettingsError(f"algorithm = {self.algorithm!r} is not allowed: one of {', '.join(ALGORITHMS)}")
+        self._check_options()
         if isinstance(self.extrapolation, bool) or self.extrapolation not in (0, 1, 2):
             raise SettingsError(f"extrapolation = {self.extrapolation!r} is not allowed: 0, 1 or 2")
         for name in ("tolerance", "coupling_tolerance", "init_tolerance"):
@@ -130,17 +126,8 @@ class Settings:
                                 f"{', '.join(STEP_CONTROLS)}")
         if self.accelerator not in ACCELERATORS:
             raise SettingsError(f"accelerator = {self.accelerator!r} is not allowed: one of {', '.join(ACCELERATORS)}")
-        for name in ("max_iterations", "substeps"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise SettingsError(f"{name} = {value!r} is not allowed: an integer >= 1")
-        if self.order and self.algorithm != "gauss-seidel":   # silently unused otherwise
-            raise SettingsError(f"order = {','.join(map(str, self.order))!r} is not allowed with algorithm = "
-                                f"{self.algorithm!r}: only with 'gauss-seidel' (the others step every component "
-                                "at once)")
-        if self.substeps > 1 and self.algorithm != "iterative":
-            raise SettingsError(f"substeps = {self.substeps!r} is not allowed with algorithm = {self.algorithm!r}: "
-                                "only with 'iterative' (waveform iteration); use 1")
+        if isinstance(self.max_iterations, bool) or not isinstance(self.max_iterations, int) or self.max_iterations < 1:
+            raise SettingsError(f"max_iterations = {self.max_iterations!r} is not allowed: an integer >= 1")
         for name in ("min_step", "max_step", "energy_alarm"):
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
@@ -150,6 +137,17 @@ class Settings:
             raise SettingsError(f"min_step = {self.h_min!r} is not allowed: must be <= step_size = {self.step_size!r} s")
         if self.adaptive and self.h_max < self.step_size:
             raise SettingsError(f"max_step = {self.h_max!r} is not allowed: must be >= step_size = {self.step_size!r} s")
+
+    def _check_options(self) -> None:
+        """Refuse a setting only other algorithms take (an entry's ``options``; silently unused otherwise)."""
+        for name in sorted({o for e in ALGORITHMS.values() for o in e.options}):
+            value = getattr(self, name)
+            if value and name not in ALGORITHMS[self.algorithm].options:
+                owners = takers(name)
+                shown = ",".join(map(str, value)) if isinstance(value, (list, tuple)) else value
+                why = ALGORITHMS[owners[0]].options[name]
+                raise SettingsError(f"{name} = {shown!r} is not allowed with algorithm = {self.algorithm!r}: only "
+                                    f"with {' or '.join(map(repr, owners))} ({why})")
 
     @property
     def h_min(self) -> float:
@@ -167,7 +165,13 @@ class Settings:
 
 def describe() -> str:
     """One line per setting (for docstrings): ``name = default: meaning``."""
-    return "\n".join(f"    {f.name} = {f.default!r}: {f.metadata['help']}" for f in fields(Settings))
+    return "\n".join(f"    {f.name} = {f.default!r}: {help_of(f)}" for f in fields(Settings))
+
+
+def help_of(f) -> str:
+    """The meaning of settings field ``f`` (asked now where it is a function)."""
+    text = f.metadata["help"]
+    return text() if callable(text) else text
 
 
 def flag_of(f) -> str:
@@ -189,7 +193,7 @@ def add_arguments(parser: argparse.ArgumentParser, names: tuple[str, ...] | None
         # not given, a run takes the scene's stored value (runspec.resolve): say so where a scene may store it
         default = "" if not shown else f" (default: the scene's stored {f.name}, else {shown})" \
             if absent and f.name not in NOT_STORED else f" (default {shown})"
-        common = dict(dest=f.name, default=argparse.SUPPRESS if absent else f.default, help=(meta["flag_help"] or meta["help"]) + default)
+        common = dict(dest=f.name, default=argparse.SUPPRESS if absent else f.default, help=(meta["flag_help"] or help_of(f)) + default)
         if form == "switch":
             parser.add_argument(flag_of(f), action="store_true", **common)
         elif form in ("negate", "off"):
@@ -211,10 +215,8 @@ NOT_STORED = SCENE_ONLY + ("progress", "fmus")   # display and the kind of FMU, 
 # the settings that choose the numerical method: a scene's stored ones were measured for its stored
 # algorithm and are not taken by a run of another algorithm (runspec's stored-settings rule)
 NUMERICAL = ("step_size", "extrapolation", "adaptive", "tolerance", "min_step", "max_step", "step_control",
-             "coupling_tolerance", "max_iterations", "accelerator", "order", "implicit", "substeps",
+             "coupling_tolerance", "max_iterations", "accelerator", "order", "implicit",
              "init_tolerance")
-# an algorithm's own defaults where they differ from the fields' (jacobi-plain: libcosim's zero-order hold)
-ALGORITHM_DEFAULTS: dict[str, dict[str, object]] = {"jacobi-plain": {"extrapolation": 0}}
 
 BOOLEAN_TEXT = {"true": True, "1": True, "false": False, "0": False}   # xs:boolean, any case
 

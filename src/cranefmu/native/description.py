@@ -22,7 +22,7 @@ import uuid
 from pathlib import Path
 from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
-from .. import __version__
+from ..version import __version__
 from ..fmi_adapter import EXTRAPOLATION_SUFFIXES, CraneSlave, solvers
 from ..physics.params import allowed_text, enumeration_text
 

@@ -31,7 +31,7 @@ from . import table as tables
 from .metrics import Custom, Metric, check, parse_metric
 from .request import digest as request_digest
 from .spec import Run, design as make_design
-from .worker import execute
+from .worker import SspFile, execute
 
 MAX_ATTEMPTS = 2   # a run is retried at most once
 
@@ -202,8 +202,6 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
     level = quiet.level
     quiet.setLevel(logging.CRITICAL)
     try:
-        from .tasks import ship_ssp
-
         # every remote worker, also one that joins later, gets the bytes once through a plugin
         ssp = ship_ssp(client, facts.ssp, facts.name, local=cluster is not None or _is_local(client))
         out.workers = len(client.scheduler_info().get("workers", {}))
@@ -381,6 +379,20 @@ def close(client, cluster) -> None:
     finally:
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
+
+
+def ship_ssp(client, path: Path, name: str, local: bool | None = None) -> SspFile:
+    """The scene ``path`` as the tasks on ``client``'s workers find it: its path on a local cluster; else
+    its bytes, written on every worker (also one that joins later) by a worker plugin, registered once
+    per content."""
+    local = _is_local(client) if local is None else local
+    ssp = SspFile.of(Path(path), name, with_data=not local)
+    if local:
+        return ssp
+    from .plugin import PluginSsp, SspPlugin
+
+    client.register_plugin(SspPlugin(ssp), name=f"cranefmu-ssp-{ssp.sha256[:16]}")
+    return PluginSsp(ssp.name, ssp.sha256, ssp.path)
 
 
 def _is_local(client) -> bool:

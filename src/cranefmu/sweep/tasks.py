@@ -4,7 +4,7 @@
 of ``workers`` processes, or the cluster at ``scheduler``) and returns each task's result in the items'
 order.  A task whose worker dies (or that raises something unexpected) is submitted once more, as a
 sweep's run is; the second failure, or a lost scheduler, gives a :class:`TaskLost` with the reason in
-the task's place: the other tasks still run.  :func:`ship_ssp` makes a scene file reach the workers.
+the task's place: the other tasks still run.  :func:`.engine.ship_ssp` makes a scene file reach the workers.
 """
 from __future__ import annotations
 
@@ -13,8 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from .engine import MAX_ATTEMPTS, close, connect
-from .worker import SspFile
+from .engine import MAX_ATTEMPTS, close, connect, ship_ssp  # noqa: F401 (ship_ssp: for the callers of run_tasks)
 
 
 @dataclass(frozen=True)
@@ -22,22 +21,6 @@ class TaskLost:
     """A task that gave no result: why (one line)."""
 
     reason: str
-
-
-def ship_ssp(client, path: Path, name: str, local: bool | None = None) -> SspFile:
-    """The scene ``path`` as the tasks on ``client``'s workers find it: its path on a local cluster; else
-    its bytes, written on every worker (also one that joins later) by a worker plugin, registered once
-    per content."""
-    from .engine import _is_local
-
-    local = _is_local(client) if local is None else local
-    ssp = SspFile.of(Path(path), name, with_data=not local)
-    if local:
-        return ssp
-    from .plugin import PluginSsp, SspPlugin
-
-    client.register_plugin(SspPlugin(ssp), name=f"cranefmu-ssp-{ssp.sha256[:16]}")
-    return PluginSsp(ssp.name, ssp.sha256, ssp.path)
 
 
 def run_tasks(fn: Callable, items: list[tuple], *, workers: int | None = None, scheduler: str | None = None,
