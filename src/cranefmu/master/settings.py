@@ -17,7 +17,7 @@ from dataclasses import MISSING, dataclass, field, fields
 from ..errors import SettingsError
 from .acceleration import ACCELERATORS
 
-ALGORITHMS = ("jacobi", "gauss-seidel", "iterative", "jacobi-plain")  # made by algorithms.make_algorithm
+ALGORITHMS = ("jacobi", "gauss-seidel", "iterative", "jacobi-plain")  # made by algorithm_table.make_algorithm
 STEP_CONTROLS = ("extrapolation", "ecco")
 FMU_KINDS = ("native", "python")   # the kinds of FMU a scene given by name runs with (.fmu_kind)
 DEFAULT_STOP_TIME = 10.0   # [s] of a scene whose DefaultExperiment states none
