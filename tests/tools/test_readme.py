@@ -77,3 +77,17 @@ def test_scene_table_is_the_generated_one(built):
 
     assert scene_docs.readme_text(TEXT) == TEXT, \
         "README.md's scene table is out of date: run `python -m cranefmu.scene_docs` and commit README.md"
+
+
+def test_architecture_map_names_files_that_exist():
+    """docs/architecture.md's 'Where to change what': every repository path it names is there (a newcomer
+    follows them), and it has a row for a rope model, an algorithm, a scene and a CLI command."""
+    page = (ROOT / "docs" / "architecture.md").read_text()
+    table = page.split("## Where to change what", 1)[1].split("\n## ", 1)[0]
+    rows = [line.split("|")[1].strip() for line in table.splitlines() if line.startswith("| ") and "---" not in line]
+    assert {"a rope model (or any subsystem's equations)", "a coupling algorithm", "a scene", "a CLI command"} <= set(rows)
+    paths = {p for p in re.findall(r"`([\w./-]+/[\w.-]+\.(?:py|c|md|toml))`", table)}
+    assert len(paths) >= 10
+    for path in paths:   # from the root, the package (master/algorithms.py) or docs/
+        assert any((base / path).exists() for base in (ROOT, ROOT / "src" / "cranefmu", ROOT / "docs")), \
+            f"docs/architecture.md names {path}, which is not in the repository"
