@@ -137,13 +137,14 @@ def mode_rows(name: str) -> list[str]:
     if not specs:
         return []
     values = modal.scene_values(name)
-    rows = []
+    rows, last = [], None
     for spec in specs:
         f, zeta = spec.closed_form({**values, **spec.probe})
         probe = ", ".join(f"`{k} = {_num(v)}`" for k, v in spec.probe.items()) or "the scene as it is"
         fitted = f"`{spec.column}`" + (f" ({spec.n_fit} modes fitted)" if spec.n_fit > 1 else "")
-        rows.append(f"| {spec.name} | {fitted} | {_num(spec.span)} s, {probe} | {_md(spec.formula)} | "
-                    f"{f:.5g} Hz | {_zeta(zeta)} |")
+        formula = "the same" if spec.formula == last else _md(spec.formula)
+        rows.append(f"| {spec.name} | {fitted} | {_num(spec.span)} s, {probe} | {formula} | {f:.5g} Hz | {_zeta(zeta)} |")
+        last = spec.formula
     return rows
 
 
