@@ -54,7 +54,7 @@ def _reference_lines(result) -> dict[str, list[tuple[str, float]]]:
         lines["rope.tension"] = [("static (rest tension + ground reaction at the start)", weight)]
         if ground > 0 and "drive.payout_rate" in names:
             # a grounded load hoisted: EN 13001-2 phi2 = phi2,min + beta2 v_h (hoist drive class HD1: v_h the
-            # largest hoisting speed), the band from hoisting class HC1 to HC4 (shared/notes/crane-standards.md)
+            # largest hoisting speed), the band from hoisting class HC1 to HC4 (EN 13001-2)
             # largest hoisting speed OF THE HOOK: the drum pays out rope at n_lines times the hook's speed, the
             # reeving ratio read off the rows (the drum sees one line: drum_force = tension / n_lines)
             v_h = float(np.max(np.abs(result["drive.payout_rate"]))) * _reeving_fraction(result)

@@ -9,7 +9,7 @@ ahead of the slewing centre, the front pads 1.452 m ahead, so the front governs)
 least over all slewing angles: located with the tilt-free statics (vectorised, cheap; 0.04-5 % above the
 settled loads on this chart, :func:`tipping_loads_tilt_free`), then the settled load searched around each
 tilt-free minimum that the tilt could make the least (:func:`tipping_360`).  Stability limit = 85 % of
-tipping on outriggers (ASME B30.5 / SAE J765, /work/shared/notes/crane-standards.md).
+tipping on outriggers (ASME B30.5 / SAE J765 practice; 75 % on crawlers or tyres).
 
 Structure (at rest, per g; seed 000 gives no section or cylinder data, so the allowables are ASSUMED and
 stated on the chart): the luffing cylinder pushes F = g cos(phi) (S + m L) / lever (the boom's moment about
