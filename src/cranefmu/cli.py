@@ -460,6 +460,37 @@ def _say(text: str) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The command line (``argv``: its arguments, default ``sys.argv[1:]``); returns the exit code.  As the
+    program (``argv`` None) a ``run`` ends the process at once after its output and exit handlers
+    (:func:`_end_now`)."""
+    code = _main(argv)
+    if argv is None and _END_AT_ONCE:
+        _end_now(code)
+    return code
+
+
+_END_AT_ONCE: list[bool] = []   # set by the run command: the program ends with _end_now
+
+
+def _end_now(code: int) -> None:
+    """End the process now with ``code``: Python's exit handlers run (temporary folders removed, pythonfmu's
+    libraries released), the streams are flushed, and the interpreter's teardown, which frees every module
+    one by one (about 0.03 s of CPU with numpy and fmpy loaded, a tenth of a cold native run), and the loaded
+    FMU libraries' C destructors are skipped, as the worker processes (:mod:`.master.worker`) and the test
+    session end."""
+    import atexit
+    import os
+
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
+    os._exit(code if isinstance(code, int) else 1)
+
+
+def _main(argv: list[str] | None) -> int:
     import signal
 
     from .master.interrupt import wanted
@@ -479,6 +510,8 @@ def main(argv: list[str] | None = None) -> int:
             _one_blas_thread()
         if args.func is _cmd_run:
             from .master.interrupt import stop_on
+
+            _END_AT_ONCE.append(True)
 
             stop_on(*old)   # during the run: stop between steps, keep the rows
         else:   # the other commands: Ctrl-C as Python has it; SIGTERM and SIGHUP raise as Ctrl-C does (the
