@@ -81,3 +81,16 @@ def test_pythonfmu_fmus_run_in_a_worker_and_the_command_loads_none_of_their_code
     assert any(line.startswith("  process: a worker process (pythonfmu FMUs") for line in out.splitlines())
     assert _loaded(modules, "cranefmu.master.isolated")
     assert not _loaded(modules, "pythonfmu") and not _loaded(modules, "scipy")
+
+
+def test_the_command_list_names_every_subcommand():
+    """``cranefmu run`` builds only its own subparser from :data:`cli.COMMANDS`: a subcommand missing there
+    would be unreachable by name (the full parser, built for anything else, lists every one)."""
+    import argparse
+
+    from cranefmu import cli
+
+    (sub,) = [a for a in cli.build_parser()._actions if isinstance(a, argparse._SubParsersAction)]
+    assert tuple(sub.choices) == cli.COMMANDS
+    (only,) = [a for a in cli.build_parser("run")._actions if isinstance(a, argparse._SubParsersAction)]
+    assert tuple(only.choices) == ("run",)
