@@ -77,8 +77,8 @@ def main() -> None:
              "after / before |", "| --- | --- | --- | --- | --- | --- | --- |"]
     for command in COMMANDS:
         name = " ".join(command)
-        (wb, cb), (wa, ca) = ((statistics.median(x[i] for x in times[(t, name)]) for i in (0, 1))
-                              for t in ("before", "after"))
+        (wb, cb), (wa, ca) = [[statistics.median(x[i] for x in times[(t, name)]) for i in (0, 1)]
+                              for t in ("before", "after")]
         lines.append(f"| `cranefmu {name}` | {wb:.3f} | {wa:.3f} | {wa / wb:.2f} | {cb:.3f} | {ca:.3f} | {ca / cb:.2f} |")
     text = "\n".join(lines) + "\n"
     print(text)
