@@ -78,3 +78,11 @@ def test_run_and_info_print_it(built, lib):
                      "every run):")
     assert lines[at + 1] == ("    default (5 steps): compiled kernel: 3 of 5 macro steps, in 1 kernel calls; Python: "
                              "the other 2, the iterative start-up of extrapolation order 2")
+
+
+def test_the_html_report_lists_it():
+    from cranefmu.report import _stats_rows
+
+    label = "compiled kernel: all 500 macro steps, in 500 kernel calls"
+    rows = _stats_rows(RunStats(steps=500, compiled_steps=500, kernel_calls=500, exchange=label), None)
+    assert ("exchange", label) in rows
