@@ -25,7 +25,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from . import cache, compose
+from . import cache
 from . import host_steps as host_steps_module
 from .errors import CraneFmuError, SceneError
 from .compose.ssd import add_parameters  # the ssv:Parameter writer, shared with the scene sources
@@ -155,13 +155,22 @@ def _ensure_binaries(fmu: Path, model_identifier: str) -> None:
             zf.write(lib, f"binaries/{lib.parent.name}/{model_identifier}{lib.suffix}")
 
 
+
+def _compose():
+    """:mod:`cranefmu.compose`, imported when a scene source is read or built (a run's build check of a
+    built scene does not need it)."""
+    from . import compose
+
+    return compose
+
+
 def scene_fmus(scene_dir: Path, fmu_dir: Path | None = None) -> list[Path]:
     """FMUs a scene's SSD refers to (``source="resources/<Name>.fmu"``), as paths under ``fmu_dir``
     (default :data:`FMU_DIR`, the pythonfmu FMUs; :mod:`cranefmu.fmu_kinds` passes the native folder)."""
     fmu_dir = Path(fmu_dir) if fmu_dir is not None else FMU_DIR
     ssd = Path(scene_dir) / "SystemStructure.ssd"
-    if not ssd.is_file() and compose.has_source(scene_dir):   # a new scene source, its SSD not written yet
-        return sorted({fmu_dir / c.fmu_file for c in compose.read_source(scene_dir).components})
+    if not ssd.is_file() and _compose().has_source(scene_dir):   # a new scene source, its SSD not written yet
+        return sorted({fmu_dir / c.fmu_file for c in _compose().read_source(scene_dir).components})
     try:
         key = (str(scene_dir), str(fmu_dir), ssd.stat().st_mtime_ns)
     except OSError:
@@ -445,6 +454,7 @@ def _build(force: bool, verbose: bool, only: list[str] | None) -> list[Path]:
     done = []
     remove_stale_temps()
     scripts, scenes = _selected(only)
+    compose = _compose()
     FMU_DIR.mkdir(parents=True, exist_ok=True)
     for script in scripts:
         if force or fmu_is_stale(script):

@@ -40,6 +40,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
     from .master.output_file import check_directory, check_target, is_stream, same_file_as
     from .master.run import preview, run
+    from .master.run_process import choose as choose_process
     from .master.runspec import resolve
     from .master.settings import Settings
 
@@ -51,7 +52,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
         spec, experiment = experiment_run_spec(args, options, _parse_set(args.set))
     else:
         spec = resolve(args.scene, parameter_set=args.parameter_set, parameters=_parse_set(args.set),
-                       output=args.output, isolate=not args.in_process, **options)
+                       output=args.output, **options)
+    isolate, where = choose_process(spec.settings.fmus, args.isolate, args.in_process)
+    spec = replace(spec, isolate=isolate)
     scene = preview(spec.ssp)
     rows = spec.settings.rows_expected()
     if rows > args.max_rows:
@@ -76,14 +79,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
         raise CraneFmuError(f"--plot is not allowed with --output {args.output} and {rows:.3g} rows: a stream cannot "
                             f"be read back and at most {KEEP_ROWS:g} rows are kept in memory; write a file instead")
     say = sys.stderr if streamed and same_file_as(args.output, 1) else sys.stdout   # stdout holds the CSV
-    if not args.in_process:   # the worker takes this process's extraction of the scene (one run here)
+    if spec.isolate:   # the worker takes this process's extraction of the scene (one run here)
         from .master import isolated
 
         isolated.HAND_OVER = True
     res = run(replace(spec, keep=keep))
     OUTSIDE.when = f" after the run ended: its {res.rows} rows are in {res.output}" if res.output \
         else " after the run ended"
-    _report(res, keep, say, None if keep or streamed else _summary_rows(res))
+    _report(res, keep, say, None if keep or streamed else _summary_rows(res), where)
     if prefix is not None:
         from .master.plot import write_plots
         from .master.results import read_csv
@@ -146,9 +149,10 @@ def _summary_rows(res):
     return read_csv(res.output, wanted) if res.rows else None
 
 
-def _report(res, kept: bool, out=None, rows=None) -> None:
+def _report(res, kept: bool, out=None, rows=None, where: str = "") -> None:
     """The run's statistics, the scene's summary and where the results are (to ``out``, default stdout);
-    ``rows``: the summary's columns read back, where the rows were not kept."""
+    ``rows``: the summary's columns read back, where the rows were not kept; ``where``: the line saying
+    which process ran the FMUs (:func:`.master.run_process.choose`)."""
     from functools import partial
 
     from .scenes import summary
@@ -162,6 +166,10 @@ def _report(res, kept: bool, out=None, rows=None) -> None:
     print(f"scene {res.scene}: {steps} to t = {simulated:g} s ({s.algorithm}, extrapolation {s.extrapolation})")
     for line in res.spec.describe():
         print("  " + line)
+    if where:
+        print("  " + where)
+    if st.exchange:
+        print(f"  exchange: {st.exchange}")
     if st.stopped:
         print(st.stopped)
     print(f"wall time {st.wall_time:.3f} s (master {st.master_time:.3f} s), real-time factor "
@@ -193,8 +201,24 @@ def _cmd_info(args: argparse.Namespace) -> int:
 
     ssp = resolve_scene(args.scene, getattr(args, "fmus", None))
     workdir, scene = extracted_scene(ssp)   # the guarded extract a run uses
-    print("\n".join([*describe(scene), info_line(args.scene, ssp, workdir, scene)]))
+    print("\n".join([*describe(scene), info_line(args.scene, ssp, workdir, scene)]), flush=True)
+    print("\n".join(_exchange_lines(ssp, scene)))
     return 0
+
+
+def _exchange_lines(ssp: Path, scene) -> list[str]:
+    """``info``'s lines on the exchange a run at the stored settings takes (compiled kernel or Python, and
+    why), from a probe run of a few steps: the scene's settings, and each parameter set storing its own."""
+    from .exchange_probe import probe
+
+    lines = ["  exchange at the stored settings (a probe run of the first steps; cranefmu run says it for every run):"]
+    for name in [None, *[n for n in scene.parameter_sets if scene.set_settings.get(n)]]:
+        try:
+            steps, label = probe(ssp, parameter_set=name)
+            lines.append(f"    {name or 'default'} ({steps} steps): {label}")
+        except CraneFmuError as err:   # a set whose run fails at once: said here, the description stands
+            lines.append(f"    {name or 'default'}: the probe run failed: {err}")
+    return lines
 
 
 def _cmd_converge(args: argparse.Namespace) -> int:
@@ -263,14 +287,58 @@ def _cmd_build_fmi3(args: argparse.Namespace) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
+# every subcommand, in the order of the parser's help
+COMMANDS = ("build", "run", "info", "converge", "fit-boucwen", "docs", "build-fmi3", "scenes", "sweep", "export",
+            "report", "study", "check", "compose")
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The command line's parser; ``command`` (one of :data:`COMMANDS`): only that subcommand's (the others'
+    modules are then not imported: ``cranefmu run`` starts without the sweep, compose and study code)."""
     from .version import __version__
-    from .report.command import add_parser as add_report_parser, add_run_option as add_report_option
 
     p = argparse.ArgumentParser(prog="cranefmu", description="Crane dynamics as FMI co-simulation components.")
     p.add_argument("--version", action="version", version=f"cranefmu {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
+    wanted = (lambda name: True) if command is None else (lambda name: name == command)
+    if wanted("build"):
+        _build_parser_build(sub)
+    if wanted("run"):
+        _build_parser_run(sub)
+    if wanted("info"):
+        from .master.settings import add_arguments
 
+        i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
+        i.add_argument("scene")
+        add_arguments(i, ("fmus",))   # which kind's scene file it describes (the FMUs' descriptions differ)
+        i.set_defaults(func=_cmd_info)
+    if wanted("converge"):
+        _build_parser_converge(sub)
+    if wanted("fit-boucwen"):
+        from .fit_boucwen import add_arguments as fit_boucwen_arguments
+
+        f = sub.add_parser("fit-boucwen", help="fit the nine modified Bouc-Wen rope parameters (seed 001 eq. 1-3) "
+                                               "to a measured load-unload loop CSV (elongation, force)")
+        fit_boucwen_arguments(f)
+        f.set_defaults(func=_cmd_fit_boucwen)
+    if wanted("docs"):
+        _build_parser_docs(sub)
+    if wanted("build-fmi3"):
+        f3 = sub.add_parser("build-fmi3", help="build FMI 3.0 variants fmus/<Name>3.fmu (pythonfmu3, same physics "
+                                               "and adapter as the FMI 2.0 FMUs)")
+        f3.add_argument("only", nargs="*", help="FMU names (default: all)")
+        f3.set_defaults(func=_cmd_build_fmi3)
+    for name, module in (("scenes", "scene_list"), ("sweep", "sweep.command"), ("export", "export"),
+                         ("report", "report.command"), ("study", "studies.command"),
+                         ("check", "experiments.command"), ("compose", "compose.command")):
+        if wanted(name):
+            import importlib
+
+            importlib.import_module(f".{module}", __package__).add_parser(sub)
+    return p
+
+
+def _build_parser_build(sub) -> None:
     b = sub.add_parser("build", help="build the FMUs and .ssp scenes that are missing or older than their sources "
                                      "(a checkout: into fmus/ and ssp/; installed: into the user cache), the "
                                      "pythonfmu ones and, where a C compiler is found, the native ones in native/")
@@ -284,14 +352,18 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("only", nargs="*", help="FMU or scene names to build (default: all)")
     b.set_defaults(func=_cmd_build)
 
+
+def _build_parser_run(sub) -> None:
+    from .experiments.command import add_run_option as add_case_option
+    from .master.settings import add_arguments
+    from .report.command import add_run_option as add_report_option
+
     r = sub.add_parser("run", help="run a scene (builds what is missing first)",
                        description="Run a scene.  A setting not given is the scene's stored one if it stores it "
                        "(cranefmu info SCENE), else the default shown.  SIGINT, SIGTERM or SIGHUP ends the run at the "
                        "next step, keeps the rows so far in the CSV and exits 130, 143 or 129.")
     r.add_argument("scene", help="a shipped scene's name (cranefmu scenes lists them), the path to an .ssp file, "
                    "or an experiment file FILE.toml (its scene, settings and commands; then its assertions)")
-    from .master.settings import add_arguments
-
     add_arguments(r)   # every run setting, from cranefmu.master.settings.Settings
     r.add_argument("--parameter-set", default=None, help="a parameter set of the scene (see cranefmu info)")
     r.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
@@ -303,19 +375,18 @@ def build_parser() -> argparse.ArgumentParser:
                    "figure groups, or one figure of the comma-separated columns VARS")
     r.add_argument("--max-rows", type=float, default=MAX_ROWS, metavar="N", help="refuse a run that would "
                    f"record more rows than this (default {MAX_ROWS:g})")
-    r.add_argument("--in-process", action="store_true", help="run the FMUs in this process (default: a worker "
-                   "process, so a crash inside an FMU is reported instead of ending the command)")
+    where = r.add_mutually_exclusive_group()
+    where.add_argument("--in-process", action="store_true", help="run the FMUs in this process (the default with "
+                       "cranefmu's native FMUs)")
+    where.add_argument("--isolate", action="store_true", help="run the FMUs in a worker process, so a crash inside "
+                       "an FMU is reported instead of ending the command (the default with pythonfmu FMUs and "
+                       "other tools' FMUs)")
     add_report_option(r)
-    from .experiments.command import add_parser as add_check_parser, add_run_option as add_case_option
-
     add_case_option(r)
     r.set_defaults(func=_cmd_run)
 
-    i = sub.add_parser("info", help="components, parameter sets, parameters and connections of a scene")
-    i.add_argument("scene")
-    add_arguments(i, ("fmus",))   # which kind's scene file it describes (the FMUs' descriptions differ)
-    i.set_defaults(func=_cmd_info)
 
+def _build_parser_converge(sub) -> None:
     c = sub.add_parser("converge", help="error of the key outputs against a reference at several steps; "
                                         "recommends the cheapest setting meeting --target")
     c.add_argument("scene", help="scene name (one of cranefmu.scenes.SCENES)")
@@ -337,13 +408,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "(cranefmu.modal: extra probe runs and monolithic solves per setting)")
     c.set_defaults(func=_cmd_converge)
 
-    from .fit_boucwen import add_arguments as fit_boucwen_arguments
 
-    f = sub.add_parser("fit-boucwen", help="fit the nine modified Bouc-Wen rope parameters (seed 001 eq. 1-3) "
-                                           "to a measured load-unload loop CSV (elongation, force)")
-    fit_boucwen_arguments(f)
-    f.set_defaults(func=_cmd_fit_boucwen)
-
+def _build_parser_docs(sub) -> None:
     d = sub.add_parser("docs", help="write docs/fmus/<Name>.md for every FMU from its built modelDescription.xml "
                                     "and bundled sources (builds stale FMUs first)")
     d.add_argument("--output", default=None, help="directory of the pages (default: docs/fmus in a checkout, "
@@ -351,29 +417,6 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--check", action="store_true", help="write nothing; exit 1 if a page differs from its FMU")
     d.add_argument("only", nargs="*", help="FMU names (default: all)")
     d.set_defaults(func=_cmd_docs)
-
-    f3 = sub.add_parser("build-fmi3", help="build FMI 3.0 variants fmus/<Name>3.fmu (pythonfmu3, same physics and "
-                                           "adapter as the FMI 2.0 FMUs)")
-    f3.add_argument("only", nargs="*", help="FMU names (default: all)")
-    f3.set_defaults(func=_cmd_build_fmi3)
-    from .scene_list import add_parser as add_scenes_parser
-    from .sweep.command import add_parser as add_sweep_parser
-
-    add_scenes_parser(sub)
-
-    add_sweep_parser(sub)
-    from .export import add_parser as add_export_parser
-
-    add_export_parser(sub)
-    add_report_parser(sub)
-    from .studies.command import add_parser as add_study_parser
-
-    add_study_parser(sub)
-    add_check_parser(sub)
-    from .compose.command import add_parser as add_compose_parser
-
-    add_compose_parser(sub)
-    return p
 
 
 STOP = ("SIGINT", "SIGTERM", "SIGHUP")   # end a run at the next step, rows kept (exit 130, 143, 129)
@@ -404,6 +447,37 @@ def _say(text: str) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The command line (``argv``: its arguments, default ``sys.argv[1:]``); returns the exit code.  As the
+    program (``argv`` None) a ``run`` ends the process at once after its output and exit handlers
+    (:func:`_end_now`)."""
+    code = _main(argv)
+    if argv is None and _END_AT_ONCE:
+        _end_now(code)
+    return code
+
+
+_END_AT_ONCE: list[bool] = []   # set by the run command: the program ends with _end_now
+
+
+def _end_now(code: int) -> None:
+    """End the process now with ``code``: Python's exit handlers run (temporary folders removed, pythonfmu's
+    libraries released), the streams are flushed, and the interpreter's teardown, which frees every module
+    one by one (about 0.03 s of CPU with numpy and fmpy loaded, a tenth of a cold native run), and the loaded
+    FMU libraries' C destructors are skipped, as the worker processes (:mod:`.master.worker`) and the test
+    session end."""
+    import atexit
+    import os
+
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
+    os._exit(code if isinstance(code, int) else 1)
+
+
+def _main(argv: list[str] | None) -> int:
     import signal
 
     from .master.interrupt import wanted
@@ -417,11 +491,14 @@ def main(argv: list[str] | None = None) -> int:
 
             print(f"cranefmu {__version__}")
             return 0
-        args = build_parser().parse_args(argv)
+        given = sys.argv[1:] if argv is None else argv
+        args = build_parser(given[0] if given and given[0] in COMMANDS else None).parse_args(argv)
         if args.func in (_cmd_run, _cmd_converge):
             _one_blas_thread()
         if args.func is _cmd_run:
             from .master.interrupt import stop_on
+
+            _END_AT_ONCE.append(True)
 
             stop_on(*old)   # during the run: stop between steps, keep the rows
         else:   # the other commands: Ctrl-C as Python has it; SIGTERM and SIGHUP raise as Ctrl-C does (the

@@ -29,6 +29,8 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
                         ["{tmp}/blas_threads.md"]),
     "kernel_call_cost.py": (["--calls", "2000", "--out", "{tmp}"], ["{tmp}/kernel_call_cost.md"]),
     "kinds_speed.py": (["--smoke"], ["benchmarks/results/kinds_speed_smoke.md"]),
+    "cold_run_ab.py": (["--before", "HEAD", "--rounds", "1", "--scenes", "elastic_pendulum"],
+                       ["benchmarks/results/cold_run_ab.md"]),
     "master_per_step.py": (["--steps", "200", "--rounds", "1", "--ks", "1", "--out", "{tmp}"],
                            ["{tmp}/master_per_step.md", "{tmp}/master_per_step.json"]),
     "memory_flat.py": (["--short", "0.2", "--long", "0.5", "--out", "{tmp}"], ["{tmp}/memory_flat.md"]),

@@ -217,7 +217,7 @@ def test_bursts_of_signals_at_random_times_end_in_one_correct_line(built, tmp_pa
         signum = rng.choice([signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
         delay, count = rng.uniform(0.0, 3.0), rng.choice([1, 2, 2, 3])
         gaps = [rng.choice([0.001, 0.01, 0.1, 0.2]) for _ in range(count - 1)]
-        proc, out, tmpdir = start(case, *(["--in-process"] if trial % 4 == 3 else []))
+        proc, out, tmpdir = start(case, "--isolate" if trial % 2 else "--in-process")   # a worker, or the command
         handlers_in(proc.pid)
         time.sleep(delay)
         for gap in [0.0, *gaps]:

@@ -48,7 +48,7 @@ def assert_rows_up_to(out: Path, seen: int, message: str) -> np.ndarray:
     (signal.SIGINT, True, "worker"), (signal.SIGTERM, True, "worker"),
     (signal.SIGINT, False, "in-process"), (signal.SIGTERM, True, "in-process")])
 def test_signal_ends_the_run_keeping_every_row(built, tmp_path, signum, to_group, mode):
-    proc, out, tmpdir = start(tmp_path, *(["--in-process"] if mode == "in-process" else []))
+    proc, out, tmpdir = start(tmp_path, "--in-process" if mode == "in-process" else "--isolate")
     seen = wait_for_rows(proc, out)
     workers = children(proc.pid)
     assert len(workers) == (1 if mode == "worker" else 0)
@@ -62,7 +62,7 @@ def test_signal_ends_the_run_keeping_every_row(built, tmp_path, signum, to_group
 
 
 def test_a_second_sigint_never_hangs(built, tmp_path):
-    proc, out, tmpdir = start(tmp_path)
+    proc, out, tmpdir = start(tmp_path, "--isolate")   # native FMUs run in the command by default
     seen = wait_for_rows(proc, out)
     workers = children(proc.pid)
     os.killpg(proc.pid, signal.SIGINT)
@@ -77,7 +77,7 @@ def test_a_second_sigint_never_hangs(built, tmp_path):
 
 
 def test_a_killed_worker_is_reported_and_cleaned_up_by_the_parent(built, tmp_path):
-    proc, out, tmpdir = start(tmp_path)
+    proc, out, tmpdir = start(tmp_path, "--isolate")   # native FMUs run in the command by default
     seen = wait_for_rows(proc, out)
     (worker,) = children(proc.pid)
     os.kill(worker, signal.SIGKILL)
@@ -92,7 +92,7 @@ def test_a_killed_worker_is_reported_and_cleaned_up_by_the_parent(built, tmp_pat
 def test_no_worker_outlives_a_killed_parent(built, tmp_path):
     """SIGKILL to the CLI: its worker reads end-of-file on its stdin, stops, puts the rows in place and
     removes its temporary directory."""
-    proc, out, tmpdir = start(tmp_path)
+    proc, out, tmpdir = start(tmp_path, "--isolate")   # native FMUs run in the command by default
     seen = wait_for_rows(proc, out)
     (worker,) = children(proc.pid)
     os.kill(proc.pid, signal.SIGKILL)

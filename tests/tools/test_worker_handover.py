@@ -7,6 +7,8 @@ import subprocess
 import sys
 import textwrap
 
+import pytest
+
 # In a child (a process of its own, as the worker is): extract, hand over, adopt, then run with every
 # unzip refused: the run must need none.
 _CHILD = textwrap.dedent("""
@@ -41,11 +43,12 @@ def test_a_worker_runs_from_the_handed_over_extraction_without_unzipping(built, 
     assert [p.name.startswith("scene_") for p in jobdir.iterdir()] == [True]
 
 
-def test_an_isolated_cli_run_leaves_no_extraction_behind(built, tmp_path):
+@pytest.mark.parametrize("where", ["--isolate", "--in-process"])
+def test_a_cli_run_leaves_no_extraction_behind(built, tmp_path, where):
     tmpdir = tmp_path / "tmp"
     tmpdir.mkdir()
     out = subprocess.run([sys.executable, "-m", "cranefmu.cli", "run", "elastic_pendulum", "--stop-time", "0.05",
-                          "--output", str(tmp_path / "out.csv")], capture_output=True, text=True, cwd=tmp_path,
+                          "--output", str(tmp_path / "out.csv"), where], capture_output=True, text=True, cwd=tmp_path,
                          env={**os.environ, "TMPDIR": str(tmpdir)}, timeout=300)
     assert out.returncode == 0, out.stderr
     assert list(tmpdir.iterdir()) == []

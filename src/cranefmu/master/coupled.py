@@ -598,11 +598,16 @@ class Coupling:
         connections, ...)."""
         if self._kernel is None and self._phases is not None:
             self._kernel = False
-            if self.compiled:
-                from .kernel import library
+            if not self.compiled:
+                self.stats.python_exchange = "the compiled exchange was switched off for this run (compiled = False)"
+            else:
+                from . import kernel as compiled
                 from .kernel.plan import KernelPlan
 
-                self._kernel = KernelPlan.make(library(), self) or False
+                lib = compiled.library()
+                why = KernelPlan.refusal(lib, self) if lib is not None else compiled.why_not
+                self._kernel = KernelPlan.make(lib, self) if not why else False
+                self.stats.python_exchange = why
         return self._kernel or None
 
     def jacobi_step(self, t: float, h: float) -> None:

@@ -22,6 +22,7 @@ import time as clock
 from pathlib import Path
 
 from .algorithm_table import make_algorithm
+from .exchange_label import exchange_label
 from .coupled import Coupling
 from .divergence import ValueCheck
 from ..errors import CraneFmuError, SceneError, SettingsError, SimulationError
@@ -298,6 +299,7 @@ class Execution:
         st.master_time = st.wall_time - sum(st.fmu_time.values())
         st.bond_energy = self.bonds.totals()
         st.bond_carried = self.bonds.carried_totals()
+        st.exchange = exchange_label(st, self._march.algorithm)
         try:
             recorder.close()
             where = _finish(self._claim, recorder)

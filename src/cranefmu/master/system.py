@@ -24,6 +24,8 @@ class RunStats:
     stopped: str = ""                # why a stop condition ended the run early ('' = ran to the end)
     compiled_steps: int = 0          # macro steps whose exchange ran in compiled code (master/kernel)
     kernel_calls: int = 0            # calls into it (fewer than those steps where stretches ran in one call)
+    python_exchange: str = ""        # why the compiled kernel refused this run's exchange ('' if it did not)
+    exchange: str = ""               # which exchange ran, and why Python where it did (.exchange_label)
 
     def real_time_factor(self, simulated: float) -> float:
         return simulated / self.wall_time if self.wall_time > 0 else float("inf")

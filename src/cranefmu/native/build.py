@@ -32,7 +32,6 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from .description import native_description, slave_class, variables_header
 from .tables import model_header
 
 HERE = Path(__file__).resolve().parent
@@ -108,6 +107,9 @@ def assemble_source_fmu(name: str, unzipdir: Path, *, script: Path | None = None
 
     ``script`` (default ``fmus/<name>.py``) holds the pythonfmu slave class ``name``; ``model_c``
     (default ``models/<name>.c``) its C model (tests pass their own)."""
+    # here, not at the top: the generator imports the pythonfmu adapter, which a run's build check never needs
+    from .description import native_description, slave_class, variables_header
+
     cls = slave_class(name, script)
     model_c = model_c or model_source(name)
     if not model_c.is_file():

@@ -108,6 +108,8 @@ def _stats_rows(stats, settings) -> list[tuple[str, str]]:
         rows.append(("steps", f"{stats.min_step:.3g} to {stats.max_step:.3g} s, {stats.rejections} rejected"))
     if stats.iterations:
         rows.append(("coupling iterations", f"{stats.iterations} (at most {stats.max_iterations} in a step)"))
+    if getattr(stats, "exchange", ""):   # compiled kernel or Python, and why (master/exchange_label.py)
+        rows.append(("exchange", stats.exchange))
     rows += [(f"FMU {k}", f"{stats.fmu_calls.get(k, 0)} steps, {stats.fmu_time[k]:.3f} s") for k in stats.fmu_time]
     rows += [(f"power bond {k}", f"energy residual {e:.6g} J of {stats.bond_carried.get(k, 0.0):.6g} J carried")
              for k, e in stats.bond_energy.items()]

@@ -28,6 +28,7 @@ DISABLE = "CRANEFMU_PYTHON_EXCHANGE"   # set (to anything but '' or '0'): always
 _LIB: ctypes.CDLL | None = None
 _TRIED = False
 _CHECKED: set[int] = set()   # sizes whose product was checked against numpy
+_FOLDER: list[Path] = []     # the library's folder in the cache (where the sizes checked are kept, :func:`_agreed_file`)
 why_not = ""                 # why the compiled exchange is not used ('' when it is)
 
 
@@ -70,6 +71,7 @@ def library() -> ctypes.CDLL | None:
                 if not target.is_file():
                     _build(target)
         lib = ctypes.CDLL(str(target))
+        _FOLDER[:] = [folder]
     except Exception as err:   # no compiler, no setuptools, a read-only cache: the Python exchange
         why_not = f"the compiled exchange could not be built ({type(err).__name__}: {str(err).splitlines()[0] if str(err) else ''})"
         print(f"cranefmu: {why_not}; the exchange runs in Python (same results, slower)", file=sys.stderr)
@@ -97,6 +99,12 @@ def agrees_with_numpy(lib: ctypes.CDLL, sizes: list[int], trials: int = 40) -> b
     todo = sorted(set(sizes) - _CHECKED)
     if not todo:
         return True
+    kept = _agreed_file() if lib is _LIB else None
+    if kept is not None:   # sizes checked by an earlier process with this numpy and BLAS
+        _CHECKED.update(_read_sizes(kept))
+        todo = sorted(set(sizes) - _CHECKED)
+        if not todo:
+            return True
     rng = np.random.default_rng(34)
     ptr = lambda a: a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))   # noqa: E731
     for n in todo:
@@ -116,4 +124,41 @@ def agrees_with_numpy(lib: ctypes.CDLL, sizes: list[int], trials: int = 40) -> b
                     if not np.array_equal(out, w @ stack):
                         return False
     _CHECKED.update(todo)
+    if kept is not None:
+        _write_sizes(kept, _CHECKED | _read_sizes(kept))
     return True
+
+
+def _agreed_file() -> Path | None:
+    """The file of the sizes on which the library agrees with numpy, for this numpy and these BLAS libraries:
+    beside the library, named by a digest of numpy's version and location and each loaded BLAS's name, version,
+    CPU architecture (the kernels OpenBLAS chose) and file (threadpoolctl).  A cold ``cranefmu run`` then skips
+    the check (0.02-0.2 s of CPU, more with more coupling sizes).  None without threadpoolctl (the BLAS is
+    unknown: checked in every process)."""
+    if not _FOLDER:
+        return None
+    try:
+        from threadpoolctl import threadpool_info
+    except ImportError:
+        return None
+    blas = sorted((i.get("internal_api"), i.get("version"), i.get("architecture"), i.get("filepath"))
+                  for i in threadpool_info() if i.get("user_api") == "blas")
+    key = hashlib.sha256(repr((np.__version__, np.__file__, sys.platform, blas)).encode()).hexdigest()[:16]
+    return _FOLDER[0] / f"agrees_{key}.txt"
+
+
+def _read_sizes(path: Path) -> set[int]:
+    try:
+        return {int(x) for x in path.read_text().split()}
+    except (OSError, ValueError):   # none kept yet, or a damaged file: checked again
+        return set()
+
+
+def _write_sizes(path: Path, sizes: set[int]) -> None:
+    """Whole or not at all (a rename); a cache that cannot be written only costs the check next time."""
+    try:
+        partial = path.with_name(f"{path.name}.{os.getpid()}.tmp")
+        partial.write_text("\n".join(str(n) for n in sorted(sizes)) + "\n")
+        os.replace(partial, path)
+    except OSError:
+        pass

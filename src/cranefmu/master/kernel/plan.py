@@ -51,27 +51,39 @@ class KernelPlan:
 
     @classmethod
     def make(cls, lib, coupling) -> KernelPlan | None:
-        """None where the Python exchange must run: commanded inputs, Integer/Boolean/Enumeration
-        connections (the kernel moves Real values only), FMI input derivatives, wrapped FMI calls, or a
-        product size whose bits the kernel does not reproduce here."""
-        from . import agrees_with_numpy
-
-        if lib is None or coupling.commands is not None or coupling._phases is None:
-            return None
-        if coupling.discrete:   # held by coupled.Coupling.exchange (.discrete_links), in Python
-            return None
-        if any(w.derivatives for ph in coupling._phases for w in ph.writes):
-            return None
-        functions = [f for comp in coupling.comps
-                     for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
-        if any(_address(f) is None for f in functions):
-            return None
-        sizes = {ph.n for ph in coupling._phases} | {g.sl.stop - g.sl.start for g in coupling.links}
-        if not agrees_with_numpy(lib, sorted(sizes)):
+        """None where the Python exchange must run (:meth:`refusal` says why)."""
+        if cls.refusal(lib, coupling):
             return None
         plan = cls(lib, coupling)
         plan._build()
         return plan
+
+    @staticmethod
+    def refusal(lib, coupling) -> str:
+        """Why the Python exchange must run this coupling ('' where the kernel can): commanded inputs,
+        Integer/Boolean/Enumeration connections (the kernel moves Real values only), FMI input derivatives,
+        wrapped FMI calls, or a product size whose bits the kernel does not reproduce here.  Each reason is
+        one phrase, shown by ``cranefmu run`` and ``info`` (:mod:`..exchange_label`)."""
+        from . import agrees_with_numpy
+
+        if lib is None:
+            return "no compiled kernel"
+        if coupling._phases is None:
+            return "the exchange is not planned yet"
+        if coupling.commands is not None:
+            return "commanded inputs (the kernel does not feed commands)"
+        if coupling.discrete:   # held by coupled.Coupling.exchange (.discrete_links), in Python
+            return "Integer, Boolean or Enumeration connections (the kernel moves Real values only)"
+        if any(w.derivatives for ph in coupling._phases for w in ph.writes):
+            return "inputs fed through fmi2SetRealInputDerivatives (the kernel does not set derivatives)"
+        functions = [f for comp in coupling.comps
+                     for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
+        if any(_address(f) is None for f in functions):
+            return "FMI calls wrapped in Python (a component's functions are not the FMU's own)"
+        sizes = {ph.n for ph in coupling._phases} | {g.sl.stop - g.sl.start for g in coupling.links}
+        if not agrees_with_numpy(lib, sorted(sizes)):
+            return "the kernel's extrapolation product does not give numpy's bits with this BLAS"
+        return ""
 
     def _array(self, values, dtype) -> int:
         a = np.ascontiguousarray(np.array(values, dtype=dtype))
