@@ -314,7 +314,7 @@ class ChassisModel(Model):
         n = v[m:]
         if min(v[:m]) <= 0.0 or min(n) <= 2.0 * margin * max(n):   # N1 + N2 <= 2 max N
             return None
-        return end @ z
+        return LinearPropagator.apply(end, z)
 
     def _modal_step(self, x: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray, r2: np.ndarray,
                     max_step: float) -> np.ndarray | None:
