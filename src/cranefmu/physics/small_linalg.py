@@ -15,7 +15,11 @@ Order (each line is evaluated left to right, no fused multiply-add):
 - det        = a0 c00 + a1 c01 + a2 c02 (expansion along the first row);
 - inverse    inv[3 i + j] = c_ji / det (the adjugate divided, not multiplied by 1 / det);
 - matvec     y_i = a[3 i] v0 + a[3 i + 1] v1 + a[3 i + 2] v2;
-- solve      x = inverse(a) v, then matvec (Cramer's rule in the same cofactors).
+- solve      x = inverse(a) v, then matvec (Cramer's rule in the same cofactors);
+- solve on the free directions (a mask of 3 with zeros for the frozen ones, as the Pendulum's dimension):
+  3 free: solve; 2 free (i < j): det = a_ii a_jj - a_ij a_ji, the inverse [a_jj, -a_ij; -a_ji, a_ii] / det
+  (each entry divided), then x_i = inv_00 v_i + inv_01 v_j, x_j = inv_10 v_i + inv_11 v_j; 1 free:
+  x_i = v_i / a_ii; 0 elsewhere.
 
 Source: the adjugate formula of the inverse (any linear algebra text, e.g. Strang, Introduction to Linear
 Algebra, sec. 5.3); derived here: the order of operations is the project's choice, stated so that C and
@@ -58,3 +62,26 @@ def matvec3(a: Sequence[float], v: Sequence[float]) -> list[float]:
 def solve3(a: Sequence[float], v: Sequence[float]) -> list[float]:
     """x with a x = v: :func:`inverse3` then :func:`matvec3` (raises :class:`SingularMatrix`)."""
     return matvec3(inverse3(a), v)
+
+
+def solve_free3(a: Sequence[float], v: Sequence[float], mask: Sequence[float]) -> list[float]:
+    """x with a x = v on the directions where ``mask`` is not 0 (the rows and columns of the others
+    dropped), 0 on the others (module docstring's order); raises :class:`SingularMatrix`."""
+    free = [i for i in range(3) if mask[i] != 0.0]
+    x = [0.0, 0.0, 0.0]
+    if len(free) == 3:
+        return solve3(a, v)
+    if len(free) == 2:
+        i, j = free
+        aii, aij, aji, ajj = a[3 * i + i], a[3 * i + j], a[3 * j + i], a[3 * j + j]
+        det = aii * ajj - aij * aji
+        if det == 0.0:
+            raise SingularMatrix(f"2x2 block {[aii, aij, aji, ajj]!r} is singular (determinant 0)")
+        i00, i01, i10, i11 = ajj / det, -aij / det, -aji / det, aii / det
+        x[i], x[j] = i00 * v[i] + i01 * v[j], i10 * v[i] + i11 * v[j]
+    elif len(free) == 1:
+        i = free[0]
+        if a[4 * i] == 0.0:
+            raise SingularMatrix(f"1x1 block {a[4 * i]!r} is singular")
+        x[i] = v[i] / a[4 * i]
+    return x

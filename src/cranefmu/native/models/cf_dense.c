@@ -128,3 +128,38 @@ int cf_solve3(const double *a, const double *v, double *x)
     cf_matvec3(inv, v, x);
     return 0;
 }
+
+int cf_solve_free3(const double *mask, const double *a, const double *v, double *x)
+{
+    int free[3], n = 0, i, j;
+    for (i = 0; i < 3; i++)
+        if (mask[i] != 0.0)
+            free[n++] = i;
+    if (n == 3)
+        return cf_solve3(a, v, x);
+    x[0] = x[1] = x[2] = 0.0;
+    if (n == 2) {
+        double aii, aij, aji, ajj, det, i00, i01, i10, i11;
+        i = free[0];
+        j = free[1];
+        aii = a[3 * i + i];
+        aij = a[3 * i + j];
+        aji = a[3 * j + i];
+        ajj = a[3 * j + j];
+        det = aii * ajj - aij * aji;
+        if (det == 0.0)
+            return 1;
+        i00 = ajj / det;
+        i01 = -aij / det;
+        i10 = -aji / det;
+        i11 = aii / det;
+        x[i] = i00 * v[i] + i01 * v[j];
+        x[j] = i10 * v[i] + i11 * v[j];
+    } else if (n == 1) {
+        i = free[0];
+        if (a[4 * i] == 0.0)
+            return 1;
+        x[i] = v[i] / a[4 * i];
+    }
+    return 0;
+}

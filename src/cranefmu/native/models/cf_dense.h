@@ -22,5 +22,9 @@ int cf_solve(int n, const double *a, const double *b, double *x);
 int cf_inverse3(const double *a, double *inv);
 void cf_matvec3(const double *a, const double *v, double *y);
 int cf_solve3(const double *a, const double *v, double *x);
+/* x with a x = v on the directions where mask is not 0, 0 on the others (small_linalg.solve_free3: 3 free
+   cf_solve3; 2 free i < j: det = a_ii a_jj - a_ij a_ji, inverse [a_jj, -a_ij; -a_ji, a_ii] / det, then
+   x_i = inv00 v_i + inv01 v_j, x_j = inv10 v_i + inv11 v_j; 1 free: v_i / a_ii).  Returns 0, or 1 if singular. */
+int cf_solve_free3(const double *mask, const double *a, const double *v, double *x);
 
 #endif
