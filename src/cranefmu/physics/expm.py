@@ -39,12 +39,18 @@ _C_RECIP = {3: 100800.0, 5: 10059033600.0, 7: 4487938430976000.0, 9: 59143847818
             13: 113250775606021113483283660800000000.0}
 
 
+def _seq_sum(terms: np.ndarray) -> np.ndarray:
+    """0.0 + terms[0] + terms[1] + ... along axis 0, one addition after the other (np.add.accumulate is
+    sequential; np.sum is pairwise and would not be C's loop)."""
+    first = terms[0] + 0.0          # C's s = 0.0; s += t0 (turns -0.0 into 0.0 as C does)
+    if len(terms) == 1:
+        return first
+    return np.add.accumulate(np.concatenate((first[None], terms[1:])), axis=0)[-1]
+
+
 def matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """A B with each entry summed from 0.0 in increasing inner index (module docstring)."""
-    c = np.zeros((a.shape[0], b.shape[1]))
-    for col, row in zip(a.T, b):
-        c = c + np.multiply.outer(col, row)
-    return c
+    return _seq_sum(a.T[:, :, None] * b[:, None, :])
 
 
 def matvec(a, z) -> list[float]:
@@ -68,10 +74,7 @@ def _largest(values: np.ndarray) -> float:
 
 
 def _one_norm(a: np.ndarray) -> float:
-    s = np.zeros(a.shape[1])
-    for row in np.abs(a):
-        s = s + row
-    return _largest(s)
+    return _largest(_seq_sum(np.abs(a)))
 
 
 def _abs_power_norm(a: np.ndarray, p: int) -> float:
@@ -79,10 +82,7 @@ def _abs_power_norm(a: np.ndarray, p: int) -> float:
     w = np.ones(a.shape[0])
     aa = np.abs(a)
     for _ in range(p):
-        v = np.zeros(a.shape[1])
-        for wi, row in zip(w.tolist(), aa):
-            v = v + wi * row
-        w = v
+        w = _seq_sum(w[:, None] * aa)
     return _largest(w)
 
 
@@ -110,16 +110,13 @@ def _solve_pq(u: np.ndarray, v: np.ndarray) -> np.ndarray:
             w[k + 1:, k] = w[k + 1:, k] / w[k, k]
         w[k + 1:, k + 1:] = w[k + 1:, k + 1:] - np.multiply.outer(w[k + 1:, k], w[k, k + 1:])
     col = u.copy()          # row i of col: entry i of every column's solution
+    # each s = col_i - w_0i col_0 - w_1i col_1 - ... one subtraction after the other (x - y is x + (-y))
     for i in range(n):      # R^T (the upper factor transposed), dividing by the diagonal
-        s = col[i]
-        for k in range(i):
-            s = s - w[k, i] * col[k]
+        s = col[i] if i == 0 else np.add.accumulate(
+            np.concatenate((col[i][None], -(w[:i, i, None] * col[:i]))), axis=0)[-1]
         col[i] = s / w[i, i]
-    for i in range(n - 1, -1, -1):   # L^T (unit diagonal)
-        s = col[i]
-        for k in range(i + 1, n):
-            s = s - w[k, i] * col[k]
-        col[i] = s
+    for i in range(n - 2, -1, -1):   # L^T (unit diagonal)
+        col[i] = np.add.accumulate(np.concatenate((col[i][None], -(w[i + 1:, i, None] * col[i + 1:]))), axis=0)[-1]
     for k in range(n - 1, -1, -1):
         if piv[k] != k:
             col[[k, piv[k]]] = col[[piv[k], k]]
