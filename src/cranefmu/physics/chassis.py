@@ -264,11 +264,17 @@ class ChassisModel(Model):
                            [c * s1, -c * s2, d * s1, -d * s2]])       # -(N1 x1 + N2 x2)
         a = np.zeros((4, 4))
         a[0, 2] = a[1, 3] = 1.0
-        a[2:] = self.inverse_mass @ forces
+        # M^-1 times each column as i_r1 f_0 + i_r2 f_1 on plain floats (the C model's order; numpy's BLAS
+        # product may fuse or reorder it)
+        (i11, i12), (i21, i22) = self.inverse_mass.tolist()
+
+        def times_inverse(cols):
+            return [[i11 * f0 + i12 * f1 for f0, f1 in cols], [i21 * f0 + i22 * f1 for f0, f1 in cols]]
+        a[2:] = times_inverse(list(zip(*forces.tolist())))
         b = np.zeros(4)
-        b[2:] = self.inverse_mass @ np.array([-self.mass * p.g, p.g * self.first_moment])
+        b[2:] = [row[0] for row in times_inverse([(-self.mass * p.g, p.g * self.first_moment)])]
         big_b = np.zeros((4, 3))   # the boom's loads; its carried inertia is in the mass matrix
-        big_b[2:] = self.inverse_mass @ np.array([[0.0, 1.0, 0.0], [p.h_foot, 0.0, -1.0]])
+        big_b[2:] = times_inverse([(0.0, p.h_foot), (1.0, 0.0), (0.0, -1.0)])
         return a, b, big_b
 
     def prepare_exact_step(self) -> None:
@@ -314,7 +320,7 @@ class ChassisModel(Model):
         n = v[m:]
         if min(v[:m]) <= 0.0 or min(n) <= 2.0 * margin * max(n):   # N1 + N2 <= 2 max N
             return None
-        return end @ z
+        return LinearPropagator.apply(end, z)
 
     def _modal_step(self, x: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray, r2: np.ndarray,
                     max_step: float) -> np.ndarray | None:

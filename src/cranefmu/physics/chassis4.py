@@ -57,6 +57,7 @@ import numpy as np
 from .chassis import ChassisParams
 from .component import Model, Port, Signal
 from .params import ParameterError, param
+from .small_linalg import SingularMatrix, inverse3, matvec3, solve3
 
 
 def foot_ports(heave: str) -> tuple[Port, ...]:
@@ -99,17 +100,52 @@ def contact_statics(xs: np.ndarray, zs: np.ndarray, w: float, m_gamma: float, m_
     """Static pad reactions N_i [N] and the chassis' (-y, gamma, beta) [m, rad] on unilateral equal springs
     under the vertical load ``w`` [N] and the moments about O2 ``m_gamma`` (toward +x), ``m_beta`` (toward +z)
     [N m]: the set of pads in contact with all N_i >= 0 and every other pad clear of the soil (four pads,
-    then each set of three); None when no set holds (the resultant is outside the pads: the crane tips)."""
-    d = np.column_stack([np.ones(4), xs, zs])
-    f = np.array([w, m_gamma, m_beta])
+    then each set of three); None when no set holds (the resultant is outside the pads: the crane tips).
+
+    Each set solves (c D_a^T D_a) xi = (w, m_gamma, m_beta), D_a the rows (1, x_i, z_i) of its pads, on plain
+    floats: entry (i, j) summed over the pads in order from 0.0 as (c D[r, i]) D[r, j], then
+    :func:`~.small_linalg.solve3`; q_i = D[i, 0] xi0 + D[i, 1] xi1 + D[i, 2] xi2 (the C model's order)."""
+    rows = [(1.0, x, z) for x, z in zip(np.asarray(xs, float).tolist(), np.asarray(zs, float).tolist())]
+    f = (w, m_gamma, m_beta)
     for active in itertools.chain([(0, 1, 2, 3)], itertools.combinations(range(4), 3)):
-        da = d[list(active)]
-        xi = np.linalg.solve(stiffness * da.T @ da, f)
-        q = d @ xi
-        if np.all(q[list(active)] >= 0.0) and all(q[i] <= 0.0 for i in range(4) if i not in active):
-            n = np.where(np.isin(np.arange(4), active), stiffness * q, 0.0)
-            return n, xi
+        mat = []
+        for i in range(3):
+            ktd = [stiffness * rows[r][i] for r in active]
+            for j in range(3):
+                total = 0.0
+                for k, r in enumerate(active):
+                    total += ktd[k] * rows[r][j]
+                mat.append(total)
+        try:
+            xi = solve3(mat, f)
+        except SingularMatrix:
+            continue
+        q = [row[0] * xi[0] + row[1] * xi[1] + row[2] * xi[2] for row in rows]
+        if all(q[i] >= 0.0 for i in active) and all(q[i] <= 0.0 for i in range(4) if i not in active):
+            n = np.array([stiffness * q[i] if i in active else 0.0 for i in range(4)])
+            return n, np.array(xi)
     return None
+
+
+def plane_through(xs: np.ndarray, zs: np.ndarray, q: np.ndarray) -> list[float]:
+    """(-y, gamma, beta) of the plane q_i = -y + gamma x_i + beta z_i through four pad settlements by the
+    normal equations D^T D xi = D^T q (D the rows (1, x_i, z_i); the settlements of a rectangle of pads lie on a
+    plane, so to round-off), each entry summed over the pads in order from 0.0, then
+    :func:`~.small_linalg.solve3` (the C model's order)."""
+    rows = [(1.0, x, z) for x, z in zip(np.asarray(xs, float).tolist(), np.asarray(zs, float).tolist())]
+    qs = np.asarray(q, float).tolist()
+    ata, atq = [], []
+    for i in range(3):
+        for j in range(3):
+            t = 0.0
+            for r in range(4):
+                t += rows[r][i] * rows[r][j]
+            ata.append(t)
+        s = 0.0
+        for r in range(4):
+            s += rows[r][i] * qs[r]
+        atq.append(s)
+    return solve3(ata, atq)
 
 
 _FX, _FY, _FZ, _MX, _MZ, _MB, _SX, _SZ, _JP, _JR, _JPR = range(11)
@@ -160,6 +196,7 @@ class Chassis4Model(Model):
         super().__init__(params)
         p = self.p
         self.xs, self.zs = pad_positions(p)
+        self._pad_x, self._pad_z = self.xs.tolist(), self.zs.tolist()
         x8, x9 = p.x_platform - p.x_slew, p.x_body - p.x_slew
         self.mass = p.m_platform + p.m_body
         self.first_moment = p.m_platform * x8 + p.m_body * x9
@@ -170,7 +207,7 @@ class Chassis4Model(Model):
         self.pad_damping = p.damping / p.pads_per_outrigger
         self._carried: tuple[float, ...] | None = None
         self.mass_matrix = self.own_mass_matrix
-        self.inverse_mass = np.linalg.inv(self.mass_matrix)
+        self._set_inverse()
 
     def state_names(self) -> tuple[str, ...]:
         return ("y", "gamma", "beta", "vy", "gamma_rate", "beta_rate")
@@ -185,7 +222,17 @@ class Chassis4Model(Model):
         mb, sx, sz, jp, jr, jpr = carried
         self._carried = carried
         self.mass_matrix = self.own_mass_matrix + np.array([[mb, -sx, -sz], [-sx, jp, jpr], [-sz, jpr, jr]])
-        self.inverse_mass = np.linalg.inv(self.mass_matrix)
+        self._set_inverse()
+
+    def _set_inverse(self) -> None:
+        """The inverse of the mass matrix by :func:`~.small_linalg.inverse3` (the C model's order), as a row-major
+        list for the right-hand side and as ``inverse_mass`` (3x3 array); NaN when singular (the state check
+        names it, as in C)."""
+        try:
+            self._inverse = inverse3(self.mass_matrix.ravel().tolist())
+        except SingularMatrix:
+            self._inverse = [float("nan")] * 9
+        self.inverse_mass = np.array(self._inverse).reshape(3, 3)
 
     def applied_loads(self, u: np.ndarray) -> tuple[float, float, float]:
         """Vertical load W [N] (down positive) and the moments about O2 toward +x (M_gamma) and toward +z
@@ -206,7 +253,7 @@ class Chassis4Model(Model):
         y, gamma, beta, vy, gr, br = x.tolist()
         c, b = self.stiffness, self.pad_damping
         qs, ns = [], []
-        for xi, zi in zip(self.xs.tolist(), self.zs.tolist()):
+        for xi, zi in zip(self._pad_x, self._pad_z):
             q = gamma * xi + beta * zi - y
             qs.append(q)
             ns.append(max(c * q + b * (gr * xi + br * zi - vy), 0.0) if q > 0.0 else 0.0)
@@ -225,7 +272,7 @@ class Chassis4Model(Model):
         found = contact_statics(self.xs, self.zs, w, mg, mbeta, self.stiffness)
         if found is None:
             q = self._tipping_settlements(w, mg / w, mbeta / w)
-            neg_y, gamma, beta = np.linalg.lstsq(np.column_stack([np.ones(4), self.xs, self.zs]), q, rcond=None)[0]
+            neg_y, gamma, beta = plane_through(self.xs, self.zs, q)
         else:
             _, (neg_y, gamma, beta) = found
         return np.array([-neg_y, gamma, beta, 0.0, 0.0, 0.0])
@@ -251,10 +298,11 @@ class Chassis4Model(Model):
     def derivatives(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         self.carry(u)
         w, mg, mbeta = self.applied_loads(u)
-        _, ns = self.pads(x)
-        n = np.array(ns)
-        force = np.array([n.sum() - w, mg - n @ self.xs, mbeta - n @ self.zs])
-        return np.concatenate((x[3:], self.inverse_mass @ force))
+        _, (n0, n1, n2, n3) = self.pads(x)
+        (x0, x1, x2, x3), (z0, z1, z2, z3) = self._pad_x, self._pad_z
+        force = (n0 + n1 + n2 + n3 - w, mg - (n0 * x0 + n1 * x1 + n2 * x2 + n3 * x3),
+                 mbeta - (n0 * z0 + n1 * z1 + n2 * z2 + n3 * z3))
+        return np.array([*x[3:].tolist(), *matvec3(self._inverse, force)])
 
     def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         qs, ns = self.pads(x)

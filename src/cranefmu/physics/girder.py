@@ -229,7 +229,7 @@ class GirderModel(Model):
         """Closed-form step of the linear model (module docstring)."""
         if self._linear is None:
             self._linear = LinearPropagator(*self.linear_system())
-        return self._linear.maps(h)[-1] @ self._linear.augment(x, u0, r1, r2)
+        return self._linear.apply(self._linear.maps(h)[-1], self._linear.augment(x, u0, r1, r2))
 
     def output_list(self, t: float, x: np.ndarray, u: np.ndarray) -> list[float]:
         p = self.p

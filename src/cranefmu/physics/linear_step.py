@@ -11,11 +11,15 @@ co-simulation master feeds an FMU), the vector z = (x, 1, u0, r1, r2) obeys z' =
 
 so x(s) = [expm(Z s) z(0)] restricted to x, exact to round-off (the augmented-matrix construction of
 Van Loan 1978 for integrals of matrix exponentials).  One expm per step size, then a matrix-vector
-product per step.
+product per step.  The exponential, the powers of the sub-step map and the product per step are
+cranefmu.physics.expm's (scipy's algorithm in the fixed order of operations of the C twin
+native/models/cf_linear_step.c: the Python and the native FMUs step to the same bits, issue 33).
 """
 from __future__ import annotations
 
 import numpy as np
+
+from .expm import expm, matmul, matvec
 
 
 def step_key(h: float) -> float:
@@ -40,12 +44,15 @@ class LinearPropagator:
         z[n + 1:n + 1 + m, n + 1 + m:n + 1 + 2 * m] = np.eye(m)
         z[n + 1 + m:n + 1 + 2 * m, n + 1 + 2 * m:] = np.eye(m)
         self.generator = z
-        from scipy.linalg import expm   # ~0.2 s cold: paid at construction, not in a step
-
-        self._expm = expm
         self.spectral_radius = float(np.max(np.abs(np.linalg.eigvals(a)), initial=0.0))
         self._cache: dict[tuple[float, int], list[np.ndarray]] = {}
         self._last: tuple | None = None   # (h as given, k, maps) of the last call
+
+    @staticmethod
+    def apply(m: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """The state m z of a map from :meth:`maps` and z from :meth:`augment`, each row summed from 0.0 left to
+        right (C's cf_linear_apply; numpy's BLAS product orders its sums its own way)."""
+        return np.array(matvec(m, z))
 
     def augment(self, x: np.ndarray, u0: np.ndarray, r1: np.ndarray, r2: np.ndarray) -> np.ndarray:
         return np.concatenate((x, (1.0,), u0, r1, r2))
@@ -60,11 +67,11 @@ class LinearPropagator:
         key = (h, k)
         maps = self._cache.get(key)
         if maps is None:
-            sub = self._expm(self.generator * (h / k))
+            sub = expm(self.generator * (h / k))
             phi = np.eye(self.generator.shape[0])
             maps = [phi[:self.n].copy()]
             for _ in range(k):
-                phi = sub @ phi
+                phi = matmul(sub, phi)
                 maps.append(phi[:self.n].copy())
             if len(self._cache) >= 16:   # an adaptive master varies h: keep the cache small
                 self._cache.clear()

@@ -96,6 +96,7 @@ import numpy as np
 
 from .component import Model, Port, Signal
 from .params import ParameterError, Params, param
+from .small_linalg import matvec3, solve_free3
 
 _HALF_PI = 0.5 * math.pi
 
@@ -357,45 +358,52 @@ class PendulumModel(Model):
             S = m_p (f_p.e - a_h.e + L |w|^2),   R_t = kappa m_p P_e (a_h - f_p) + (1 - kappa) tau x e / L
 
         kappa = J_p / (J_p + m_p L^2), P_e = I - e e^T, P_r = I - e_r e_r^T (derived: Newton-Euler of the
-        payload body turning with the sling, the hook turning with the rope link top -> hook of length l)."""
+        payload body turning with the sling, the hook turning with the rope link top -> hook of length l).
+        On plain floats, the dot products left to right and the 3x3 product and solve in
+        :mod:`~.small_linalg`'s order: the C model's operations (issue 33)."""
         p, m, L = self.p, self._m, self.p.L_sling
-        d = np.array([x[0] - u[3], x[1] - u[4], x[2] - u[5]])
-        ell = math.sqrt(float(d @ d))
-        er = d / ell
-        ev, fpv, fhv = np.array(e), np.array(fp), np.array(fh)
-        tau = np.zeros(3)
-        g_h = np.zeros(3)
+        d0, d1, d2 = x[0] - u[3], x[1] - u[4], x[2] - u[5]
+        ell = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        er = (d0 / ell, d1 / ell, d2 / ell)
+        tau = g_h = (0.0, 0.0, 0.0)
         if p.c_pin != 0.0:
-            wr = np.cross(er, np.array([x[3] - u[7], x[4] - u[8], x[5] - u[9]]) / ell)
-            ws = np.cross(ev, np.array(et) * dth + np.array(ep) * dph)
-            tau = -p.c_pin * (ws - wr)
-            g_h = np.cross(tau, -er / ell)
+            wr = _cross(er, ((x[3] - u[7]) / ell, (x[4] - u[8]) / ell, (x[5] - u[9]) / ell))
+            ws = _cross(e, (et[0] * dth + ep[0] * dph, et[1] * dth + ep[1] * dph, et[2] * dth + ep[2] * dph))
+            tau = (-p.c_pin * (ws[0] - wr[0]), -p.c_pin * (ws[1] - wr[1]), -p.c_pin * (ws[2] - wr[2]))
+            g_h = _cross(tau, (-er[0] / ell, -er[1] / ell, -er[2] / ell))
         mp, kappa = p.m_payload, p.J_payload / (p.J_payload + p.m_payload * L * L)
-        pe = np.eye(3) - np.outer(ev, ev)
-        pin = (1.0 - kappa) * np.cross(tau, ev) / L
-        a = (p.mass * np.eye(3) + mp * np.outer(ev, ev) + kappa * mp * pe
-             + p.J_hook / (ell * ell) * (np.eye(3) - np.outer(er, er)))
-        rhs = fhv + g_h + mp * (float(fpv @ ev) + w2) * ev + kappa * mp * (pe @ fpv) - pin
-        free = [i for i in range(3) if m[i] != 0.0]
-        ah = np.zeros(3)
-        ah[free] = np.linalg.solve(a[np.ix_(free, free)], rhs[free])
-        s = mp * (float(fpv @ ev) - float(ah @ ev) + w2)
-        r_t = kappa * mp * (pe @ (ah - fpv)) + pin
-        fp_eff = (fpv + r_t / mp) * np.array(m)
-        return tuple(ah.tolist()), s, tuple(fp_eff.tolist())
+        kmp, jl = kappa * mp, p.J_hook / (ell * ell)
+        pe, a = [], []   # row-major P_e and the matrix of a_h
+        for i in range(3):
+            for j in range(3):
+                eye = 1.0 if i == j else 0.0
+                pe.append(eye - e[i] * e[j])
+                a.append(p.mass * eye + mp * (e[i] * e[j]) + kmp * pe[-1] + jl * (eye - er[i] * er[j]))
+        te = _cross(tau, e)
+        pin = ((1.0 - kappa) * te[0] / L, (1.0 - kappa) * te[1] / L, (1.0 - kappa) * te[2] / L)
+        fe = fp[0] * e[0] + fp[1] * e[1] + fp[2] * e[2]
+        pf = matvec3(pe, fp)
+        along = mp * (fe + w2)
+        rhs = [fh[i] + g_h[i] + along * e[i] + kmp * pf[i] - pin[i] for i in range(3)]
+        ah = solve_free3(a, rhs, m)
+        s = mp * (fe - (ah[0] * e[0] + ah[1] * e[1] + ah[2] * e[2]) + w2)
+        pd = matvec3(pe, (ah[0] - fp[0], ah[1] - fp[1], ah[2] - fp[2]))
+        fp_eff = tuple((fp[i] + (kmp * pd[i] + pin[i]) / mp) * m[i] for i in range(3))
+        return tuple(ah), s, fp_eff
 
     def _turning_load(self, x: list[float], u: list[float], force: tuple[float, float, float]) -> list[float]:
         """Acceleration [m/s2] of a load without payload that turns with the rope link (``J_hook``, seed 000
-        J_1): (m I + J / l^2 (I - e_r e_r^T)) a = F on the free directions (module docstring)."""
-        p, m = self.p, self._m
-        d = np.array([x[0] - u[3], x[1] - u[4], x[2] - u[5]])
-        ell2 = float(d @ d)
-        er = d / math.sqrt(ell2)
-        a = p.mass * np.eye(3) + p.J_hook / ell2 * (np.eye(3) - np.outer(er, er))
-        free = [i for i in range(3) if m[i] != 0.0]
-        acc = np.zeros(3)
-        acc[free] = np.linalg.solve(a[np.ix_(free, free)], np.array(force)[free])
-        return acc.tolist()
+        J_1): (m I + J / l^2 (I - e_r e_r^T)) a = F on the free directions (module docstring), solved by
+        :func:`~.small_linalg.solve_free3` (the C model's order)."""
+        p = self.p
+        d0, d1, d2 = x[0] - u[3], x[1] - u[4], x[2] - u[5]
+        ell2 = d0 * d0 + d1 * d1 + d2 * d2
+        ell = math.sqrt(ell2)
+        er = (d0 / ell, d1 / ell, d2 / ell)
+        jl = p.J_hook / ell2
+        a = [p.mass * (1.0 if i == j else 0.0) + jl * ((1.0 if i == j else 0.0) - er[i] * er[j])
+             for i in range(3) for j in range(3)]
+        return solve_free3(a, force, self._m)
 
     def _rigid_free(self, x: list[float], u: list[float]) -> list[float]:
         """:meth:`derivatives_list` of :meth:`_rigid` without ground and drag (f_p = g_vec, F_h = F_rope +

@@ -21,7 +21,11 @@
 
    Statics (initial state): the rigid chassis on the pads in contact (four, else each set of three) with
    every N_i >= 0 and every other pad clear of the soil; without one (the resultant outside the support
-   polygon) it rests on the two pads of the edge the resultant lies beyond (it starts to overturn). */
+   polygon) it rests on the two pads of the edge the resultant lies beyond (it starts to overturn).
+
+   The 3x3 inverse, solves and the mass matrix times the force go through cf_inverse3, cf_solve3 and
+   cf_matvec3 (cf_dense.h): the fixed order of cranefmu.physics.small_linalg, which the Python model
+   follows too, so that both give the same bits (issue 33). */
 #include <math.h>
 #include <string.h>
 
@@ -92,7 +96,7 @@ int cf_prepare(CfModel *m)
     d->own[8] = p[P_J_roll];
     d->stiffness = p[P_soil_coefficient] * p[P_pad_area];
     d->pad_damping = p[P_damping] / p[P_pads_per_outrigger];
-    if (cf_inverse(3, d->own, d->own_inverse))
+    if (cf_inverse3(d->own, d->own_inverse))
         return cf_fail(m, "chassis: the mass matrix is singular (m_body, J_body, m_platform, J_platform, J_roll)");
     m->n_states = 6;
     return 0;
@@ -138,7 +142,7 @@ static int contact_statics(const Chassis4Data *d, double w, double m_gamma, doub
                     sum += ktd[i][r] * rows[sets[s][r]][j];
                 mat[i * 3 + j] = sum;
             }
-        if (cf_solve(3, mat, f, xi))
+        if (cf_solve3(mat, f, xi))
             continue;
         for (i = 0; i < 4; i++) {
             q[i] = rows[i][0] * xi[0] + rows[i][1] * xi[1] + rows[i][2] * xi[2];
@@ -225,7 +229,7 @@ int cf_initial_state(CfModel *m, const double *u, double *x)
                 s += rows[r][i] * q[r];
             atq[i] = s;
         }
-        if (cf_solve(3, ata, atq, xi))
+        if (cf_solve3(ata, atq, xi))
             return cf_fail(m, "chassis: the pads lie on a line (outrigger_base, outrigger_width)");
     }
     x[0] = -xi[0];
@@ -268,7 +272,7 @@ void cf_derivatives(const CfModel *m, double t, const double *x, const double *u
         mm[6] = d->own[6] + -sz;
         mm[7] = d->own[7] + jpr;
         mm[8] = d->own[8] + jr;
-        if (cf_inverse(3, mm, inv))
+        if (cf_inverse3(mm, inv))
             for (i = 0; i < 9; i++)
                 inv[i] = NAN;   /* a singular mass matrix: the state check names it */
     } else {
@@ -285,8 +289,7 @@ void cf_derivatives(const CfModel *m, double t, const double *x, const double *u
     dx[0] = x[3];
     dx[1] = x[4];
     dx[2] = x[5];
-    for (i = 0; i < 3; i++)
-        dx[3 + i] = inv[i * 3 + 0] * force[0] + inv[i * 3 + 1] * force[1] + inv[i * 3 + 2] * force[2];
+    cf_matvec3(inv, force, dx + 3);
 }
 
 void cf_outputs(const CfModel *m, double t, const double *x, const double *u, double *y)

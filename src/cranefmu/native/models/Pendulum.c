@@ -24,16 +24,13 @@
        pen = ground_height - y,  N = max(0, c_g pen - b_g v_y) if pen > 0 else 0.
    Air drag (derived, quadratic drag in still air): F_drag = -0.5 rho C_d A |v| v.
 
-   numpy's linear algebra is mirrored as this machine's OpenBLAS computes it (measured, tests/native/
-   test_pendulum_model.py): a 3-vector dot product x0 y0, then two fused multiply-adds in order; a 3x3
-   row-major matrix times a vector, per row fma(a2, v2, fma(a0, v0, a1 v1)); numpy.linalg.solve as
-   OpenBLAS' dgesv with one right-hand side (getf2: left-looking LU with partial pivoting, the column
-   below the pivot scaled by its reciprocal; then the unit lower and the upper triangular solves by
-   fused axpys, dividing by the diagonal). */
-#include <float.h>
+   The 3-vector dot products (a0 b0 + a1 b1 + a2 b2, left to right), the 3x3 products and the solve on the
+   free directions are cf_dense.h's fixed order (cf_matvec3, cf_solve_free3), which the Python model follows
+   too (cranefmu.physics.small_linalg): the same bits on any machine, without mirroring a BLAS (issue 33). */
 #include <math.h>
 
 #include "Pendulum_tables.h"
+#include "cf_dense.h"
 #include "cf_model.h"
 #include "cf_pymath.h"
 #include "cf_repr.h"
@@ -59,18 +56,11 @@ typedef char pendulum_data_fits[sizeof(PendulumData) <= CF_MODEL_DATA * sizeof(d
 
 #define DATA(m) ((const PendulumData *)(m)->data)
 
-/* --- numpy's arithmetic on 3-vectors ------------------------------------------------------------ */
-/* float(a @ b) (OpenBLAS ddot: fused tail loop) */
+/* --- 3-vectors ----------------------------------------------------------------------------------- */
+/* a . b, left to right (small_linalg's order) */
 static double dot3(const double a[3], const double b[3])
 {
-    return fma(a[2], b[2], fma(a[1], b[1], a[0] * b[0]));
-}
-
-/* a @ v for the row-major 3x3 a (OpenBLAS dgemv); a is not changed (C99 has no const 2-D array parameters) */
-static void matvec3(double a[3][3], const double v[3], double out[3])
-{
-    for (int i = 0; i < 3; i++)
-        out[i] = fma(a[i][2], v[2], fma(a[i][0], v[0], a[i][1] * v[1]));
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 /* np.cross(a, b) */
@@ -79,77 +69,6 @@ static void cross3(const double a[3], const double b[3], double out[3])
     out[0] = a[1] * b[2] - a[2] * b[1];
     out[1] = a[2] * b[0] - a[0] * b[2];
     out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-/* x = a^-1 b for the n x n (n <= 3) a as numpy.linalg.solve with a 1-D b: OpenBLAS' dgetf2 and
-   dgetrs with one right-hand side (header comment).  a is overwritten by its factors. */
-static void solve_small(int n, double a[3][3], double b[3])
-{
-    int ipiv[3];
-    for (int j = 0; j < n; j++) {
-        for (int i = 0; i < j; i++) {   /* earlier row swaps on this column */
-            int ip = ipiv[i];
-            if (ip != i) {
-                double t = a[i][j];
-                a[i][j] = a[ip][j];
-                a[ip][j] = t;
-            }
-        }
-        for (int i = 1; i < j; i++) {   /* the U part: dot with the unit lower rows */
-            double d = 0.0;
-            for (int k = 0; k < i; k++) d = fma(a[i][k], a[k][j], d);
-            a[i][j] -= d;
-        }
-        if (j > 0)
-            for (int r = j; r < n; r++) {   /* gemv: the rest of the column */
-                double t = 0.0;
-                for (int k = 0; k < j; k++) t = fma(a[r][k], a[k][j], t);
-                a[r][j] -= t;
-            }
-        int jp = j;   /* first largest magnitude (idamax) */
-        for (int r = j + 1; r < n; r++)
-            if (fabs(a[r][j]) > fabs(a[jp][j])) jp = r;
-        ipiv[j] = jp;
-        double pivot = a[jp][j];
-        if (pivot != 0.0 && fabs(pivot) >= DBL_MIN) {
-            double rec = 1.0 / pivot;
-            if (jp != j)
-                for (int k = 0; k <= j; k++) {
-                    double t = a[j][k];
-                    a[j][k] = a[jp][k];
-                    a[jp][k] = t;
-                }
-            for (int r = j + 1; r < n; r++) a[r][j] *= rec;
-        }
-    }
-    for (int i = 0; i < n; i++)
-        if (ipiv[i] != i) {
-            double t = b[i];
-            b[i] = b[ipiv[i]];
-            b[ipiv[i]] = t;
-        }
-    for (int i = 0; i < n; i++)   /* unit lower */
-        for (int k = i + 1; k < n; k++) b[k] = fma(-b[i], a[k][i], b[k]);
-    for (int i = n - 1; i >= 0; i--) {   /* upper */
-        b[i] /= a[i][i];
-        for (int k = 0; k < i; k++) b[k] = fma(-b[i], a[k][i], b[k]);
-    }
-}
-
-/* out[free] = solve(a[free, free], rhs[free]), 0 elsewhere (the frozen directions); a is not changed */
-static void solve_free(const double mask[3], double a[3][3], const double rhs[3], double out[3])
-{
-    int free[3], n = 0;
-    double sub[3][3], b[3];
-    for (int i = 0; i < 3; i++)
-        if (mask[i] != 0.0) free[n++] = i;
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) sub[i][j] = a[free[i]][free[j]];
-        b[i] = rhs[free[i]];
-    }
-    solve_small(n, sub, b);
-    out[0] = out[1] = out[2] = 0.0;
-    for (int i = 0; i < n; i++) out[free[i]] = b[i];
 }
 
 /* --- parameters ------------------------------------------------------------------------------ */
@@ -320,25 +239,26 @@ static void rigid_body(const CfModel *m, const double *x, const double *u, const
         cross3(tau, ner, g_h);
     }
     double mp = p[P_m_payload], kappa = p[P_J_payload] / (p[P_J_payload] + p[P_m_payload] * L * L);
-    double pe[3][3], a[3][3], te[3], pin[3], pf[3], rhs[3];
+    double pe[9], a[9], te[3], pin[3], pf[3], rhs[3];   /* row-major 3x3 */
     double kmp = kappa * mp, jl = p[P_J_hook] / (ell * ell);
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
             double eye = i == j ? 1.0 : 0.0;
-            pe[i][j] = eye - e[i] * e[j];
-            a[i][j] = p[P_mass] * eye + mp * (e[i] * e[j]) + kmp * pe[i][j] + jl * (eye - er[i] * er[j]);
+            pe[3 * i + j] = eye - e[i] * e[j];
+            a[3 * i + j] = p[P_mass] * eye + mp * (e[i] * e[j]) + kmp * pe[3 * i + j] + jl * (eye - er[i] * er[j]);
         }
     cross3(tau, e, te);
     for (int i = 0; i < 3; i++) pin[i] = (1.0 - kappa) * te[i] / L;
     double fe = dot3(fp, e);
-    matvec3(pe, fp, pf);
+    cf_matvec3(pe, fp, pf);
     double along = mp * (fe + w2);
     for (int i = 0; i < 3; i++) rhs[i] = fh[i] + g_h[i] + along * e[i] + kmp * pf[i] - pin[i];
-    solve_free(dd->m, a, rhs, ah);
+    if (cf_solve_free3(dd->m, a, rhs, ah))   /* not with mass > 0: the matrix is positive definite */
+        ah[0] = ah[1] = ah[2] = NAN;
     *s = mp * (fe - dot3(ah, e) + w2);
     double diff[3], pd[3];
     for (int i = 0; i < 3; i++) diff[i] = ah[i] - fp[i];
-    matvec3(pe, diff, pd);
+    cf_matvec3(pe, diff, pd);
     for (int i = 0; i < 3; i++) {
         double r_t = kmp * pd[i] + pin[i];
         fp[i] = (fp[i] + r_t / mp) * dd->m[i];
@@ -425,15 +345,16 @@ static void turning_load(const CfModel *m, const double *x, const double *u, con
 {
     const double *p = m->p;
     double d[3] = {x[0] - u[IN_x_top], x[1] - u[IN_y_top], x[2] - u[IN_z_top]};
-    double ell2 = dot3(d, d), ell = sqrt(ell2), er[3], a[3][3];
+    double ell2 = dot3(d, d), ell = sqrt(ell2), er[3], a[9];
     for (int i = 0; i < 3; i++) er[i] = d[i] / ell;
     double jl = p[P_J_hook] / ell2;
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
             double eye = i == j ? 1.0 : 0.0;
-            a[i][j] = p[P_mass] * eye + jl * (eye - er[i] * er[j]);
+            a[3 * i + j] = p[P_mass] * eye + jl * (eye - er[i] * er[j]);
         }
-    solve_free(DATA(m)->m, a, force, acc);
+    if (cf_solve_free3(DATA(m)->m, a, force, acc))   /* not with mass > 0 */
+        acc[0] = acc[1] = acc[2] = NAN;
 }
 
 /* --- interface --------------------------------------------------------------------------------- */
