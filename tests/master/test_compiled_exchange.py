@@ -100,3 +100,50 @@ def test_without_a_compiler_one_line_says_so_and_python_runs(monkeypatch, tmp_pa
     assert "OSError: no C compiler here" in kernel.why_not
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and lines[0].endswith("the exchange runs in Python (same results, slower)")
+
+
+def _lowering():
+    """rope.payout and its rate input commanded: lowering 0.3 m from t = 0.05 s (breakpoints between steps)."""
+    from cranefmu.experiments.profiles import moves
+    from cranefmu.master.commands import Command
+
+    profile = moves(0.0, [{"start": 0.0503, "to": 0.3, "speed": 0.5, "accel_time": 0.1}])
+    return profile, [Command("rope.payout", profile), Command("rope.payout_rate", profile.derivative())]
+
+
+@pytest.mark.parametrize("algorithm", ["jacobi", "gauss-seidel"])
+def test_commanded_inputs_bit_for_bit(lib, built, monkeypatch, algorithm):
+    """elastic_pendulum lowered by a command (value, rate and curvature inputs): the kernel sets the
+    commanded values Python evaluated for each step's end (after each FMU's step and at the exchange, as
+    commands.CommandFeed does); the Jacobi steps run in stretches of one call, the rows are Python's."""
+    profile, commands = _lowering()
+    python, compiled = _both(monkeypatch, "elastic_pendulum", algorithm=algorithm, extrapolation=2, step_size=1e-3,
+                             stop_time=0.4, commands=commands)
+    assert _equal(python.result, compiled.result)
+    assert python.stats.compiled_steps == 0 and compiled.stats.compiled_steps == 398   # after a start-up of 2
+    if algorithm == "jacobi":
+        assert compiled.stats.kernel_calls <= 3   # stretches of up to 256 steps
+    # the command reached the FMU: the rope paid out 0.15 m by 0.4 s (the hanging length follows within 1 cm)
+    length = compiled.result["rope.rope_length"]
+    assert profile.at(0.4)[0] == pytest.approx(0.14985, abs=1e-9)
+    assert length[-1] - length[0] == pytest.approx(profile.at(0.4)[0], abs=0.01)
+
+
+def test_command_started_by_an_event_bit_for_bit(lib, built, monkeypatch):
+    """A command that starts where a condition on a row first holds (an event watcher sees every row:
+    no stretches, the kernel is called step by step with the values Python evaluates after the
+    watcher saw the last row): the event is found at the same row, the rows are Python's."""
+    from cranefmu.experiments.events import Trigger, Triggered
+    from cranefmu.experiments.profiles import moves
+    from cranefmu.master.commands import Command
+
+    trigger = Trigger("pendulum.theta < 0")
+    lower = Triggered(moves(0.0, [{"start": 0.0, "to": 0.5, "speed": 0.2, "accel_time": 0.5}]), trigger, "start")
+    python, compiled = _both(monkeypatch, "elastic_pendulum", algorithm="jacobi", extrapolation=2, step_size=0.01,
+                             stop_time=2.5, commands=[Command("rope.payout", lower)])
+    assert _equal(python.result, compiled.result)
+    assert compiled.stats.compiled_steps == 248 and compiled.stats.kernel_calls == 248   # one call a step
+    theta, length, t = compiled.result["pendulum.theta"], compiled.result["rope.rope_length"], compiled.result["time"]
+    k = int(np.flatnonzero(theta < 0)[0])   # the event's row: a quarter period of the 5 deg swing, about 1.6 s
+    assert 1.0 < t[k] < 2.0
+    assert np.ptp(length[:k + 1]) < 1e-3 and length[-1] - length[k] > 0.05   # lowering after it (0.13 m), not before

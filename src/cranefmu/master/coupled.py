@@ -131,6 +131,7 @@ class Coupling:
         self.can_rollback = all(c.can_get_state for c in self.comps)
         self.commands = None   # a .commands.CommandFeed: commanded inputs set at every exchange, before the reads
         self.compiled = True   # use the compiled exchange where it can run (:mod:`.kernel`); False: Python only
+        self.python_reason = ""   # why the Python exchange runs ('' where the compiled one does, or not decided yet)
         # more values a stretch's rows carry after the outputs: positions in the read buffer and in input_end
         self.row_extra: tuple[list[int], list[int]] = ([], [])
         self._prepare_buffers()
@@ -583,7 +584,7 @@ class Coupling:
         """Jacobi steps on the grid ``ts`` in one compiled call: (rows, steps done, failure or None), or
         None where the compiled exchange does not run."""
         kernel = self.kernel()
-        if kernel is None or len(ts) < 2:
+        if kernel is None or len(ts) < 2 or not self._commands_known_ahead():
             return None
         rows = np.empty((len(ts) - 1, 1 + len(self.columns) + sum(len(x) for x in self.row_extra)))
         try:
@@ -592,17 +593,30 @@ class Coupling:
             return rows, kernel.done, err
         return rows, done, None
 
+    def _commands_known_ahead(self) -> bool:
+        """Every command source's values over a stretch are known before it is stepped: none follows an
+        event on the run's rows (a source with ``watchers()``, :mod:`cranefmu.experiments.events`, learns
+        its event time from each row as the observers see it)."""
+        if self.commands is None:
+            return True
+        return not any(getattr(source, "watchers", None) and source.watchers()
+                       for *_, source in self.commands.bound)
+
     def kernel(self):
         """The compiled exchange bound to this coupling (:class:`.kernel.plan.KernelPlan`), or None where
-        the Python exchange runs (not wanted, no compiler, commands, FMI input derivatives, discrete
-        connections, ...)."""
+        the Python exchange runs (:attr:`python_reason` says why: not wanted, no compiler, discrete
+        connections, wrapped FMI calls, ...)."""
         if self._kernel is None and self._phases is not None:
             self._kernel = False
-            if self.compiled:
+            if not self.compiled:
+                self.python_reason = "the Python exchange was asked for"
+            else:
                 from .kernel import library
-                from .kernel.plan import KernelPlan
+                from .kernel.plan import KernelPlan, python_reason
 
-                self._kernel = KernelPlan.make(library(), self) or False
+                lib = library()
+                self.python_reason = python_reason(lib, self)
+                self._kernel = (KernelPlan.make(lib, self) if not self.python_reason else None) or False
         return self._kernel or None
 
     def jacobi_step(self, t: float, h: float) -> None:

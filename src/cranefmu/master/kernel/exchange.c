@@ -73,7 +73,21 @@ typedef struct {
     int32_t ends_wanted;
     /* error report */
     int32_t err_comp, err_status, err_what;   /* what: 1 doStep, 2 getReal, 3 setReal, 4 get discrete */
+    /* commanded inputs (commands.CommandFeed): per component that has some, one fmi2SetReal of their
+     * values (and rates) at a time; the values of all of them at that time side by side (cmd_width) */
+    int32_t n_cmd, cmd_width;
+    int32_t *cmd_comp, *cmd_count, *cmd_off;
+    unsigned int **cmd_vrs;
+    int32_t *cmd_of;             /* per component: its write, or -1 */
+    double *cmd_values;          /* the values at the step's end; a stretch: one row of cmd_width per step */
+    /* FMI input derivatives (fmi2SetRealInputDerivatives) of the groups whose destination takes them */
+    void **set_deriv;            /* per component: its fmi2SetRealInputDerivatives (NULL where none is called) */
+    int32_t *g_deriv;            /* per group: fed its slopes with fmi2SetRealInputDerivatives */
+    int32_t *w_deriv_off, *w_deriv_n, *w_groups;   /* per write of a phase: those of its groups */
+    int32_t *ones, *twos;        /* n orders 1 and 2 */
 } cf_plan;
+
+typedef int (*set_deriv_f)(void *, const unsigned int *, size_t, const int *, const double *);
 
 static double now_seconds(void)
 {
@@ -138,6 +152,37 @@ static int read_comp(cf_plan *p, int c)
     return 0;
 }
 
+/* component c's commanded inputs set to `values` (commands._write): a row of cmd_width, or NULL (none) */
+static int set_commands(cf_plan *p, int c, const double *values, int what)
+{
+    int w = values ? p->cmd_of[c] : -1;
+    if (w < 0)
+        return 0;
+    int s = ((set_real_f)p->set_real[c])(p->inst[c], p->cmd_vrs[w], (size_t)p->cmd_count[w], values + p->cmd_off[w]);
+    if (s > 1) {
+        p->err_comp = c; p->err_status = s; p->err_what = what;
+        return -1;
+    }
+    p->fresh[c] = 0;
+    return 0;
+}
+
+/* group g's slopes d1, d2 (n values each) through fmi2SetRealInputDerivatives (coupled.input_derivatives) */
+static int set_derivatives(cf_plan *p, int g, const double *d1, const double *d2)
+{
+    int c = p->g_dst[g];
+    size_t n = (size_t)p->g_n[g];
+    set_deriv_f f = (set_deriv_f)p->set_deriv[c];
+    int s = f(p->inst[c], p->g_vrs[g], n, p->ones, d1);
+    if (s <= 1)
+        s = f(p->inst[c], p->g_vrs[g], n, p->twos, d2);
+    if (s > 1) {
+        p->err_comp = c; p->err_status = s; p->err_what = 3;
+        return -1;
+    }
+    return 0;
+}
+
 /* the ring's row for the values at t (coupled.Coupling._new_point) */
 static double *new_point(cf_plan *p, double t)
 {
@@ -167,9 +212,14 @@ static double *new_point(cf_plan *p, double t)
     return p->past + (size_t)row * p->n;
 }
 
-/* every value moves at t (coupled.Coupling.exchange), extrapolation order `order` */
-static int exchange(cf_plan *p, double t, int order)
+/* every value moves at t (coupled.Coupling.exchange), extrapolation order `order`; first the commanded
+ * inputs get `cmd`, their values at t (NULL: none) */
+static int exchange(cf_plan *p, double t, int order, const double *cmd)
 {
+    if (cmd)
+        for (int w = 0; w < p->n_cmd; w++)
+            if (set_commands(p, p->cmd_comp[w], cmd, 3))
+                return -1;
     double *new = new_point(p, t);
     int count = p->ring[0];
     int k = order + 1 < count ? order + 1 : count;
@@ -223,6 +273,11 @@ static int exchange(cf_plan *p, double t, int order)
                 p->err_comp = c; p->err_status = s; p->err_what = 3;
                 return -1;
             }
+            for (int e = p->w_deriv_off[w]; e < p->w_deriv_off[w] + p->w_deriv_n[w]; e++) {
+                int g = p->w_groups[e], b = p->g_start[g] - a;
+                if (set_derivatives(p, g, d1 + b, d2 + b))
+                    return -1;
+            }
             if (p->w_stales[w])
                 p->fresh[c] = 0;
         }
@@ -234,19 +289,28 @@ static int exchange(cf_plan *p, double t, int order)
     return 0;
 }
 
-static int step_all(cf_plan *p, double t, double h)
+/* component c steps from t by h (coupled.Coupling.do_step); its commanded inputs then get `cmd`, their
+ * values at t + h (commands.CommandFeed.after_step) */
+static int do_step(cf_plan *p, int c, double t, double h, const double *cmd)
 {
-    for (int c = 0; c < p->n_comps; c++) {
-        double t0 = now_seconds();
-        p->fresh[c] = 0;
-        int s = ((do_step_f)p->do_step[c])(p->inst[c], t, h, 1);
-        p->fmu_time[c] += now_seconds() - t0;
-        p->fmu_calls[c] += 1;
-        if (s > 1) {
-            p->err_comp = c; p->err_status = s; p->err_what = 1;
-            return -1;
-        }
+    double t0 = now_seconds();
+    p->fresh[c] = 0;
+    int s = ((do_step_f)p->do_step[c])(p->inst[c], t, h, 1);
+    if (s <= 1 && set_commands(p, c, cmd, 1))
+        s = -1;
+    p->fmu_time[c] += now_seconds() - t0;
+    p->fmu_calls[c] += 1;
+    if (s > 1) {
+        p->err_comp = c; p->err_status = s; p->err_what = 1;
     }
+    return s > 1 || s < 0 ? -1 : 0;
+}
+
+static int step_all(cf_plan *p, double t, double h, const double *cmd)
+{
+    for (int c = 0; c < p->n_comps; c++)
+        if (do_step(p, c, t, h, cmd))
+            return -1;
     double hh = 0.5 * h;
     for (int j = 0; j < p->n; j++)   /* coupled.Coupling.note_ends */
         p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
@@ -300,6 +364,8 @@ static int feed_group(cf_plan *p, int g, const double *value, const double *d1, 
         p->err_comp = c; p->err_status = s; p->err_what = 3;
         return -1;
     }
+    if (p->g_deriv[g] && set_derivatives(p, g, d1, d2))
+        return -1;
     if (!p->g_keeps_fresh[g])
         p->fresh[c] = 0;
     for (int j = 0; j < n; j++) {
@@ -317,6 +383,7 @@ static int feed_group(cf_plan *p, int g, const double *value, const double *d1, 
  * their end values; then the inputs' end values, then every value moves at t + h. */
 int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
 {
+    const double *cmd = p->n_cmd ? p->cmd_values : NULL;
     double *u = p->scratch, *d1 = p->scratch + p->n, *d2 = p->scratch + 2 * (size_t)p->n;
     double *stack = p->scratch + 3 * (size_t)p->n;   /* up to 2 x n more: the scratch holds 5 x n */
     int count = p->ring[0];
@@ -358,16 +425,8 @@ int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
             if (feed_group(p, g, newest + a, d1, d2, 0))
                 return -1;
         }
-        int c = p->s_comp[q];
-        double t0 = now_seconds();
-        p->fresh[c] = 0;
-        int s = ((do_step_f)p->do_step[c])(p->inst[c], t, h, 1);
-        p->fmu_time[c] += now_seconds() - t0;
-        p->fmu_calls[c] += 1;
-        if (s > 1) {
-            p->err_comp = c; p->err_status = s; p->err_what = 1;
+        if (do_step(p, p->s_comp[q], t, h, cmd))
             return -1;
-        }
         double hh = 0.5 * h;
         for (int e = p->s_held_off[q]; e < p->s_held_off[q] + p->s_held_n[q]; e++) {
             int g = p->s_groups[e], a = p->g_start[g], n = p->g_n[g];
@@ -384,16 +443,17 @@ int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
         for (int j = 0; j < p->n; j++)
             p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
     }
-    return exchange(p, t + h, order);
+    return exchange(p, t + h, order, cmd);
 }
 
 /* One Jacobi macro step from t: every FMU steps, the inputs' end values are noted, every value moves
  * at t + h.  Returns 0, or -1 with the failure in err_*. */
 int cf_jacobi_step(cf_plan *p, double t, double h, int order)
 {
-    if (step_all(p, t, h))
+    const double *cmd = p->n_cmd ? p->cmd_values : NULL;
+    if (step_all(p, t, h, cmd))
         return -1;
-    return exchange(p, t + h, order);
+    return exchange(p, t + h, order, cmd);
 }
 
 /* `steps` Jacobi macro steps on the grid ts[0..steps] (step i from ts[i] to ts[i + 1], h = their
@@ -404,7 +464,8 @@ int cf_jacobi_steps(cf_plan *p, const double *ts, int order, int steps, double *
 {
     for (int i = 0; i < steps; i++) {
         double t = ts[i], h = ts[i + 1] - ts[i];
-        if (step_all(p, t, h) || exchange(p, ts[i + 1], order))
+        const double *cmd = p->n_cmd ? p->cmd_values + (size_t)i * p->cmd_width : NULL;
+        if (step_all(p, t, h, cmd) || exchange(p, ts[i + 1], order, cmd))
             return -1 - i;
         double *row = rows + (size_t)i * (1 + p->n_real + p->n_flags + p->n_extra_read + p->n_extra_end);
         row[0] = ts[i + 1];

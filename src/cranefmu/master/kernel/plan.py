@@ -32,7 +32,11 @@ class CPlan(ctypes.Structure):
         ("g_rates", _P), ("g_keeps_fresh", _P), ("g_gather", _P), ("g_vrs", _P),
         ("n_stages", ctypes.c_int32), ("s_comp", _P), ("s_fed_off", _P), ("s_fed_n", _P), ("s_held_off", _P),
         ("s_held_n", _P), ("s_groups", _P), ("ends_wanted", ctypes.c_int32),
-        ("err_comp", ctypes.c_int32), ("err_status", ctypes.c_int32), ("err_what", ctypes.c_int32)]
+        ("err_comp", ctypes.c_int32), ("err_status", ctypes.c_int32), ("err_what", ctypes.c_int32),
+        ("n_cmd", ctypes.c_int32), ("cmd_width", ctypes.c_int32), ("cmd_comp", _P), ("cmd_count", _P),
+        ("cmd_off", _P), ("cmd_vrs", _P), ("cmd_of", _P), ("cmd_values", _P),
+        ("set_deriv", _P), ("g_deriv", _P), ("w_deriv_off", _P), ("w_deriv_n", _P), ("w_groups", _P),
+        ("ones", _P), ("twos", _P)]
 
 
 def _address(f) -> int | None:
@@ -40,6 +44,38 @@ def _address(f) -> int | None:
     if not isinstance(f, ctypes._CFuncPtr):
         return None
     return ctypes.cast(f, ctypes.c_void_p).value
+
+
+def _derivative_functions(coupling) -> list:
+    """Per component: its fmi2SetRealInputDerivatives where some group into it is fed its slopes that
+    way (coupling.InputGroup.fmi_derivatives), else None."""
+    wanted = {g.dst for g in coupling.links if g.fmi_derivatives}
+    return [comp.fmu._functions.get("fmi2SetRealInputDerivatives") if i in wanted else None
+            for i, comp in enumerate(coupling.comps)]
+
+
+def python_reason(lib, coupling) -> str:
+    """Why the Python exchange must run for this coupling ('' where the kernel can): no kernel library,
+    the exchange not planned yet, Integer/Boolean/Enumeration connections (the kernel moves Real values
+    only), wrapped FMI calls (no C function to call), or a product size whose bits the kernel does not
+    reproduce here.  Commanded inputs and FMI input derivatives run in the kernel."""
+    from . import agrees_with_numpy, why_not
+
+    if lib is None:
+        return why_not or "no compiled exchange"
+    if coupling._phases is None:
+        return "the exchange is not planned yet (initialization)"
+    if coupling.discrete:   # held by coupled.Coupling.exchange (.discrete_links), in Python
+        return "Integer/Boolean/Enumeration connections"
+    functions = [f for comp in coupling.comps
+                 for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
+    functions += [f for f in _derivative_functions(coupling) if f is not None]
+    if any(_address(f) is None for f in functions):
+        return "wrapped FMI calls"
+    sizes = {ph.n for ph in coupling._phases} | {g.sl.stop - g.sl.start for g in coupling.links}
+    if not agrees_with_numpy(lib, sorted(sizes)):
+        return "the kernel's product differs from numpy's here"
+    return ""
 
 
 class KernelPlan:
@@ -51,23 +87,8 @@ class KernelPlan:
 
     @classmethod
     def make(cls, lib, coupling) -> KernelPlan | None:
-        """None where the Python exchange must run: commanded inputs, Integer/Boolean/Enumeration
-        connections (the kernel moves Real values only), FMI input derivatives, wrapped FMI calls, or a
-        product size whose bits the kernel does not reproduce here."""
-        from . import agrees_with_numpy
-
-        if lib is None or coupling.commands is not None or coupling._phases is None:
-            return None
-        if coupling.discrete:   # held by coupled.Coupling.exchange (.discrete_links), in Python
-            return None
-        if any(w.derivatives for ph in coupling._phases for w in ph.writes):
-            return None
-        functions = [f for comp in coupling.comps
-                     for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
-        if any(_address(f) is None for f in functions):
-            return None
-        sizes = {ph.n for ph in coupling._phases} | {g.sl.stop - g.sl.start for g in coupling.links}
-        if not agrees_with_numpy(lib, sorted(sizes)):
+        """None where the Python exchange must run (:func:`python_reason` says why)."""
+        if python_reason(lib, coupling):
             return None
         plan = cls(lib, coupling)
         plan._build()
@@ -86,7 +107,7 @@ class KernelPlan:
     def _build(self) -> None:
         c = self.c
         comps = c.comps
-        p = CPlan()
+        p = self.p = CPlan()
         i32, i64, f64 = np.int32, np.int64, np.float64
         p.n_comps = len(comps)
         p.inst = self._pointers([comp._c for comp in comps])
@@ -176,11 +197,48 @@ class KernelPlan:
         p.g_gather = self._array(g_gather, i64)
         p.g_vrs = self._pointers([ctypes.addressof(g.set_vrs) for g in links])
         self._stages = None
+        self._commands(index)
+        derivs = _derivative_functions(c)
+        p.set_deriv = self._pointers([_address(f) if f is not None else None for f in derivs])
+        p.g_deriv = self._array([int(g.fmi_derivatives) for g in links], i32)
+        group_of = {id(g): gi for gi, g in enumerate(links)}
+        w_groups, w_off = [], []
+        for w in writes:
+            w_off.append(len(w_groups))
+            w_groups += [group_of[id(g)] for g, _, _ in w.derivatives]
+        p.w_deriv_off, p.w_deriv_n = self._array(w_off, i32), self._array([len(w.derivatives) for w in writes], i32)
+        p.w_groups = self._array(w_groups, i32)
+        p.ones, p.twos = self._array(np.ones(n), i32), self._array(np.full(n, 2), i32)
         read_idx, end_idx = c.row_extra
         p.n_extra_read, p.n_extra_end = len(read_idx), len(end_idx)
         p.extra_read, p.extra_end = self._array(read_idx, i64), self._array(end_idx, i64)
         self.p = p
         self.ptr = ctypes.addressof(p)
+
+    def _commands(self, index: dict) -> None:
+        """The commanded inputs (:class:`~..commands.CommandFeed`): per component one fmi2SetReal of the
+        values :meth:`~..commands.CommandFeed.fill` puts side by side; their row for one time."""
+        p, feed = self.p, self.c.commands
+        writes = feed.writes() if feed is not None else []
+        p.n_cmd = len(writes)
+        p.cmd_comp = self._array([index[id(comp)] for comp, _, _ in writes], np.int32)
+        p.cmd_count = self._array([n for _, _, n in writes], np.int32)
+        offsets = np.cumsum([0] + [n for _, _, n in writes])
+        p.cmd_off = self._array(offsets[:-1], np.int32)
+        p.cmd_width = self.cmd_width = int(offsets[-1])
+        p.cmd_vrs = self._pointers([ctypes.addressof(vrs) for _, vrs, _ in writes])
+        of = np.full(len(self.c.comps), -1, dtype=np.int32)
+        for w, (comp, _, _) in enumerate(writes):
+            of[index[id(comp)]] = w
+        p.cmd_of = self._array(of, np.int32)
+        self.cmd_row = np.zeros(max(1, self.cmd_width))
+        self._keep.append(self.cmd_row)
+        p.cmd_values = self.cmd_row.ctypes.data
+
+    def _command_row(self, t: float) -> None:
+        """The commanded values at t into the row the kernel writes at a step's end."""
+        if self.p.n_cmd:
+            self.c.commands.fill(t, self.cmd_row)
 
     def _set_stages(self, plan) -> None:
         """The Gauss-Seidel plan (algorithms.GaussSeidel.plan: per component in stepping order, the part fed
@@ -205,6 +263,7 @@ class KernelPlan:
         if self._stages is not plan:
             self._set_stages(plan)
         self.p.ends_wanted = int(self.c.ends_wanted)
+        self._command_row(t + h)
         self._enter()
         status = self.lib.cf_gauss_seidel_step(self.ptr, t, h, order)
         self._leave()
@@ -238,6 +297,7 @@ class KernelPlan:
 
     def jacobi_step(self, t: float, h: float, order: int) -> None:
         """One Jacobi macro step (coupled.Coupling.step, then commit) in compiled code."""
+        self._command_row(t + h)
         self._enter()
         status = self.lib.cf_jacobi_step(self.ptr, t, h, order)
         self._leave()
@@ -250,8 +310,17 @@ class KernelPlan:
         outputs) into ``rows``; returns how many were done (all; a failure is raised after the rows
         before it are in ``rows``: the caller's ``done`` attribute says how many)."""
         steps = len(ts) - 1
+        values = None
+        if self.p.n_cmd:   # the commanded values at every step's end, one row each
+            values = np.empty((steps, self.cmd_width))
+            for i in range(steps):
+                self.c.commands.fill(float(ts[i + 1]), values[i])
+            self.p.cmd_values = values.ctypes.data
         self._enter()
-        done = self.lib.cf_jacobi_steps(self.ptr, ts.ctypes.data, order, steps, rows.ctypes.data)
+        try:
+            done = self.lib.cf_jacobi_steps(self.ptr, ts.ctypes.data, order, steps, rows.ctypes.data)
+        finally:
+            self.p.cmd_values = self.cmd_row.ctypes.data
         self._leave()
         if done < 0:
             self.done = -1 - done
