@@ -455,8 +455,13 @@ class Coupling:
     # --- the exchange ---------------------------------------------------------------------------
     def commit(self, t1: float) -> None:
         """The step to t1 is done: every value moves (recorded as the value at t1) and the inputs are
-        fed for the next step (extrapolated from the past, at the run's order)."""
-        self.exchange(t1)
+        fed for the next step (extrapolated from the past, at the run's order); in compiled code where
+        it can run (the same numbers)."""
+        kernel = self.kernel()
+        if kernel is None:
+            self.exchange(t1)
+        else:
+            kernel.exchange(t1, self.extrapolation)
 
     def exchange(self, t: float, order: int | None = None) -> None:
         """Move values along every connection at time t (step mode), phase by phase (:mod:`.exchange_plan`):

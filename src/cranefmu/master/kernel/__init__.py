@@ -85,6 +85,8 @@ def library() -> ctypes.CDLL | None:
     lib.cf_jacobi_steps.restype = int_
     lib.cf_gauss_seidel_step.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, int_]
     lib.cf_gauss_seidel_step.restype = int_
+    lib.cf_exchange.argtypes = [ctypes.c_void_p, ctypes.c_double, int_]
+    lib.cf_exchange.restype = int_
     _LIB = lib
     return lib
 

@@ -446,6 +446,13 @@ int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
     return exchange(p, t + h, order, cmd);
 }
 
+/* Every value moves at t (coupled.Coupling.commit after a step an algorithm took in Python: iterative,
+ * an implicit group, the start-up), the commanded inputs first.  Returns 0, or -1 (err_*). */
+int cf_exchange(cf_plan *p, double t, int order)
+{
+    return exchange(p, t, order, p->n_cmd ? p->cmd_values : NULL);
+}
+
 /* One Jacobi macro step from t: every FMU steps, the inputs' end values are noted, every value moves
  * at t + h.  Returns 0, or -1 with the failure in err_*. */
 int cf_jacobi_step(cf_plan *p, double t, double h, int order)

@@ -305,6 +305,15 @@ class KernelPlan:
             self._raise(t, h)
         self.c.stats.compiled_steps += 1
 
+    def exchange(self, t: float, order: int) -> None:
+        """Every value moves at t (coupled.Coupling.commit) in compiled code."""
+        self._command_row(t)
+        self._enter()
+        status = self.lib.cf_exchange(self.ptr, t, order)
+        self._leave()
+        if status:
+            self._raise(t, 0.0)
+
     def jacobi_steps(self, ts: np.ndarray, order: int, rows: np.ndarray) -> int:
         """Jacobi macro steps on the grid ``ts`` (len(ts) - 1 of them), each row (time, outputs, discrete
         outputs) into ``rows``; returns how many were done (all; a failure is raised after the rows
