@@ -607,6 +607,23 @@ class Coupling:
         return not any(getattr(source, "watchers", None) and source.watchers()
                        for *_, source in self.commands.bound)
 
+    def evaluate(self, t: float, h: float, u: np.ndarray, degree: int, part: Part | None = None,
+                 members: Iterable[int] | None = None, fed_through_only: bool = False) -> np.ndarray:
+        """G(u) of a strongly coupled step: :meth:`feed` ``part`` (default all) along the polynomial through
+        its last ``degree`` values and ``u``, :meth:`step` the components ``members`` (default all; the
+        inputs' end values noted when all step), then :meth:`image` of ``part``; in compiled code where
+        it can run (the same numbers)."""
+        part = part or self.whole
+        everyone = members is None
+        members = self._all if everyone else members
+        kernel = self.kernel()
+        gu = kernel.evaluate(t, h, u, degree, part, members, fed_through_only, everyone) if kernel else None
+        if gu is not None:
+            return gu
+        self.feed(t, h, u, degree, part)
+        self.step(t, h, None if everyone else members, ends=everyone)
+        return self.image(part, fed_through_only=fed_through_only)
+
     def kernel(self):
         """The compiled exchange bound to this coupling (:class:`.kernel.plan.KernelPlan`), or None where
         the Python exchange runs (:attr:`python_reason` says why: not wanted, no compiler, discrete

@@ -85,6 +85,7 @@ typedef struct {
     int32_t *g_deriv;            /* per group: fed its slopes with fmi2SetRealInputDerivatives */
     int32_t *w_deriv_off, *w_deriv_n, *w_groups;   /* per write of a phase: those of its groups */
     int32_t *ones, *twos;        /* n orders 1 and 2 */
+    int32_t *g_keeps_outputs;    /* per group: no output of its destination depends on its inputs */
 } cf_plan;
 
 typedef int (*set_deriv_f)(void *, const unsigned int *, size_t, const int *, const double *);
@@ -444,6 +445,95 @@ int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
             p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
     }
     return exchange(p, t + h, order, cmd);
+}
+
+/* G(u) of a strongly coupled step (algorithms.Iterative._evaluate, implicit_group.ImplicitGroup._evaluate):
+ * the groups `groups` (a coupled.Part: u and gu in their order) are fed the polynomial through their last
+ * `degree` values and u at t + h (coupled.Coupling.feed; `batched`: the part's rates in one product, as
+ * Part(batched=True) has them), the components `members` step from t by h (their commanded inputs then
+ * at t + h; `ends`: the inputs' end values noted where wanted), and what the groups' sources give is read
+ * into gu and passed on (coupled.Coupling.image; `through_only`: only where an output of the destination
+ * depends on it, as a hold).  Needs count >= 1 past point and degree <= 2 (the caller checks).
+ * Returns 0, or -1 (err_*). */
+int cf_evaluate(cf_plan *p, double t, double h, int degree, int batched, int through_only, int ends,
+                int n_g, const int32_t *groups, int n_m, const int32_t *members, const double *u, double *gu)
+{
+    const double *cmd = p->n_cmd ? p->cmd_values : NULL;
+    size_t nn = (size_t)p->n;
+    double *stack = p->scratch, *d1 = p->scratch + 3 * nn, *d2 = p->scratch + 4 * nn, *zero = p->scratch + 5 * nn;
+    int n = 0;
+    for (int e = 0; e < n_g; e++)
+        n += p->g_n[groups[e]];
+    for (int j = 0; j < n; j++)
+        zero[j] = 0.0;
+    int count = p->ring[0];
+    if (degree == 0) {   /* held over the step */
+        for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++)
+            if (feed_group(p, groups[e], u + off, zero, zero, batched))
+                return -1;
+    } else {
+        int k = degree < count ? degree : count;   /* coupled.Coupling._last(degree) */
+        double ts[3], w1[3], w2[3];
+        for (int i = 0; i < k; i++)
+            ts[i] = p->times[count - k + i];
+        ts[k] = t + h;
+        weights(ts, k + 1, t, w1, w2);
+        if (batched && count >= degree + 1) {   /* one product over the whole part */
+            for (int i = 0; i < k; i++) {
+                const double *row = p->past + (size_t)p->ring[1 + count - k + i] * nn;
+                for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++)
+                    for (int j = 0; j < p->g_n[groups[e]]; j++)
+                        stack[i * n + off + j] = row[p->g_start[groups[e]] + j];
+            }
+            for (int j = 0; j < n; j++)
+                stack[k * n + j] = u[j];
+            for (int j = 0; j < n; j++) {
+                d1[j] = dot_gemv(w1, stack, k + 1, n, j);
+                d2[j] = dot_gemv(w2, stack, k + 1, n, j);
+            }
+            const double *now = stack + (size_t)(k - 1) * n;
+            for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++)
+                if (feed_group(p, groups[e], now + off, d1 + off, d2 + off, 0))
+                    return -1;
+        } else {   /* group by group */
+            const double *newest = p->past + (size_t)p->ring[count] * nn;
+            for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++) {
+                int g = groups[e], a = p->g_start[g], m = p->g_n[g];
+                for (int i = 0; i < k; i++) {
+                    const double *row = p->past + (size_t)p->ring[1 + count - k + i] * nn + a;
+                    for (int j = 0; j < m; j++)
+                        stack[i * m + j] = row[j];
+                }
+                for (int j = 0; j < m; j++)
+                    stack[k * m + j] = u[off + j];
+                for (int j = 0; j < m; j++) {
+                    d1[j] = dot_gemv(w1, stack, k + 1, m, j);
+                    d2[j] = dot_gemv(w2, stack, k + 1, m, j);
+                }
+                if (feed_group(p, g, newest + a, d1, d2, 0))
+                    return -1;
+            }
+        }
+    }
+    for (int i = 0; i < n_m; i++)
+        if (do_step(p, members[i], t, h, cmd))
+            return -1;
+    if (ends && p->ends_wanted) {   /* coupled.Coupling.note_ends */
+        double hh = 0.5 * h;
+        for (int j = 0; j < p->n; j++)
+            p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
+    }
+    for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++) {
+        int g = groups[e], a = p->g_start[g], m = p->g_n[g];
+        if (read_comp(p, p->g_src[g]))
+            return -1;
+        for (int j = 0; j < m; j++)   /* coupled.Coupling.pull */
+            gu[off + j] = p->read_buf[p->g_gather[a + j]] * p->factor[a + j] + p->offset[a + j];
+        if (!through_only || !p->g_keeps_outputs[g])
+            if (feed_group(p, g, gu + off, zero, zero, through_only))
+                return -1;
+    }
+    return 0;
 }
 
 /* Every value moves at t (coupled.Coupling.commit after a step an algorithm took in Python: iterative,

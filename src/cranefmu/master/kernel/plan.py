@@ -36,7 +36,7 @@ class CPlan(ctypes.Structure):
         ("n_cmd", ctypes.c_int32), ("cmd_width", ctypes.c_int32), ("cmd_comp", _P), ("cmd_count", _P),
         ("cmd_off", _P), ("cmd_vrs", _P), ("cmd_of", _P), ("cmd_values", _P),
         ("set_deriv", _P), ("g_deriv", _P), ("w_deriv_off", _P), ("w_deriv_n", _P), ("w_groups", _P),
-        ("ones", _P), ("twos", _P)]
+        ("ones", _P), ("twos", _P), ("g_keeps_outputs", _P)]
 
 
 def _address(f) -> int | None:
@@ -84,6 +84,7 @@ class KernelPlan:
     def __init__(self, lib, coupling):
         self.lib, self.c = lib, coupling
         self._keep: list = []   # every array the C struct points into
+        self._parts: dict = {}  # (part, members) -> (part, its group indices, the members) for cf_evaluate
 
     @classmethod
     def make(cls, lib, coupling) -> KernelPlan | None:
@@ -191,6 +192,7 @@ class KernelPlan:
         p.g_set_at = self._array([g.set_at for g in links], i32)
         p.g_rates = self._array([int(g.dt_vrs is not None) for g in links], i32)
         p.g_keeps_fresh = self._array([int(g.keeps_fresh) for g in links], i32)
+        p.g_keeps_outputs = self._array([int(g.keeps_outputs) for g in links], i32)
         g_gather = np.zeros(n, i64)
         for g in links:
             g_gather[g.sl] = [c._read_at[g.src] + int(j) for j in g.src_pos]
@@ -304,6 +306,40 @@ class KernelPlan:
         if status:
             self._raise(t, h)
         self.c.stats.compiled_steps += 1
+
+    def evaluate(self, t: float, h: float, u: np.ndarray, degree: int, part, members, through_only: bool,
+                 ends: bool) -> np.ndarray | None:
+        """G(u) of a strongly coupled step in compiled code (see cf_evaluate in exchange.c): ``part`` fed
+        along the polynomial through its last ``degree`` values and ``u``, the components ``members``
+        stepped from t by h, what ``part``'s sources give then (passed on; ``through_only``: only where
+        fed through, held).  None (nothing done) where the kernel does not take it: no past point, a
+        degree above 2, or a batched product size whose bits it does not reproduce here."""
+        from . import agrees_with_numpy
+
+        c = self.c
+        if not c._rows or degree > 2:
+            return None
+        key = (id(part), tuple(members))
+        arrays = self._parts.get(key)
+        if arrays is None:
+            if part._batched and not agrees_with_numpy(self.lib, [part.n]):
+                return None
+            arrays = (part, np.array([gi for gi, _ in part._groups], dtype=np.int32),
+                      np.array(list(members), dtype=np.int32))
+            self._parts[key] = arrays
+        _, groups, steps = arrays
+        u = np.ascontiguousarray(u, dtype=float)
+        gu = np.empty(part.n)
+        self.p.ends_wanted = int(c.ends_wanted)
+        self._command_row(t + h)
+        self._enter()
+        status = self.lib.cf_evaluate(self.ptr, t, h, degree, int(part._batched), int(through_only), int(ends),
+                                      len(groups), groups.ctypes.data, len(steps), steps.ctypes.data,
+                                      u.ctypes.data, gu.ctypes.data)
+        self._leave()
+        if status:
+            self._raise(t, h)
+        return gu
 
     def exchange(self, t: float, order: int) -> None:
         """Every value moves at t (coupled.Coupling.commit) in compiled code."""
