@@ -11,12 +11,14 @@ commands and observers as ``run`` gives them), stepped ``steps`` macro steps one
 - ``path``: *compiled stretches* (compiled, and the next step of the loop as a run takes it was a stretch of
   steps in one kernel call: a fixed-step Jacobi run whose observers all take rows after the fact and whose
   commands are known ahead), *compiled, a call a step* (compiled, one call per macro step: Gauss-Seidel, or
-  an observer that acts on each row such as an event trigger or the instability alarm), or *Python* with why: the
-  coupling's ``python_reason`` (no compiler, discrete connections, wrapped calls, ...) or the algorithm
-  whose steps have no compiled form (iterative, an implicit group, adaptive step control);
-- ``before (7697f7f)``: the path the same run took before commanded inputs and FMI input derivatives
-  ran in the kernel: at 7697f7f ``KernelPlan.make`` refused a coupling with commands or with inputs fed
-  through fmi2SetRealInputDerivatives (the shipped scenes have none of the latter), else the same.
+  an observer that acts on each row such as an event trigger or the instability alarm), *Python steps,
+  compiled G(u) and exchange* (an algorithm that decides in Python, iterative or an implicit group, whose
+  evaluations and closing exchange are kernel calls: ``kernel_calls`` > 0 with no compiled step), or
+  *Python* with why: the coupling's ``python_reason`` (no compiler, discrete connections, wrapped calls,
+  ...) or the algorithm whose steps have no compiled form;
+- ``before (7697f7f)``: the path the same run took at 7697f7f, by that commit's rules: ``KernelPlan.make``
+  refused a coupling with commands or with inputs fed through fmi2SetRealInputDerivatives (the shipped
+  scenes have none of the latter), and only Jacobi and Gauss-Seidel steps called the kernel.
 
 Prints and saves benchmarks/results/exchange_paths.md.  Not a timing.
 """
@@ -124,10 +126,14 @@ def classify(spec, steps: int) -> dict:
             path = "compiled stretches" if stretched else "compiled, a call a step"
             why = ("every observer takes rows after the fact" if stretched else
                    _per_step_reason(march) if more else f"the run ended after {done} steps")
+        elif calls:
+            path = "Python steps, compiled G(u) and exchange"
+            why = _algorithm_reason(ex)
         else:
             path = "Python"
             why = _algorithm_reason(ex) if kernel is not None else (c.python_reason or _algorithm_reason(ex))
-        before = "Python: commanded inputs" if commands and compiled else path
+        before = ("Python: commanded inputs" if commands and compiled else
+                  "Python" if path.startswith("Python steps") else path)
         return dict(path=path, why=why + ("; commanded inputs" if commands else ""), before=before,
                     compiled=f"{compiled}/{done}", algorithm=label)
     finally:
