@@ -207,3 +207,22 @@ def test_implicit_group_in_compiled_code_bit_for_bit(lib, monkeypatch, extrapola
     steps = compiled.stats.steps
     assert steps == python.stats.steps >= 50 and compiled.stats.iterations == python.stats.iterations
     assert python.stats.kernel_calls == 0 and compiled.stats.kernel_calls > 2 * steps
+
+
+@pytest.mark.parametrize("scene, settings", [
+    ("hook_sway", dict(algorithm="jacobi", extrapolation=1, implicit=["hook"], step_size=2e-3)),
+    ("hook_sway", dict(algorithm="iterative", extrapolation=2, step_size=2e-3))])
+def test_commands_with_strongly_coupled_steps_bit_for_bit(lib, built, monkeypatch, scene, settings):
+    """hook_sway's boom tip commanded as a trolley travel (boom.x_travel and its rate, breakpoints between
+    steps) with the hook bond implicit, or every value iterated: each evaluation of G(u) in the kernel sets the
+    commanded values at t + h after each stepped FMU as the Python path does; the rows are Python's."""
+    from cranefmu.experiments.profiles import moves
+    from cranefmu.master.commands import Command
+
+    travel = moves(0.0, [{"start": 0.0301, "to": 0.2, "speed": 0.5, "accel_time": 0.1}])
+    commands = [Command("boom.x_travel", travel), Command("boom.vx_travel", travel.derivative())]
+    python, compiled = _both(monkeypatch, scene, stop_time=0.3, commands=commands, **settings)
+    assert _equal(python.result, compiled.result)
+    assert python.stats.kernel_calls == 0 and compiled.stats.kernel_calls > 2 * compiled.stats.steps
+    x = compiled.result["boom.x_tip"]
+    assert x[-1] - x[0] == pytest.approx(travel.at(0.3)[0], abs=1e-12) and travel.at(0.3)[0] > 0.05
