@@ -72,9 +72,7 @@ def _algorithm_reason(ex) -> str:
     from cranefmu.master.algorithms import GaussSeidel, Jacobi, PlainJacobi
 
     s, algorithm = ex.settings, _main(ex._march.algorithm)
-    if isinstance(algorithm, PlainJacobi):
-        return "algorithm jacobi-plain (libcosim's read-once exchange) has no compiled form"
-    if type(algorithm) in (Jacobi, GaussSeidel):
+    if type(algorithm) in (Jacobi, GaussSeidel, PlainJacobi):
         return ""
     implicit = list(getattr(s, "implicit", ()) or ())
     if implicit and s.algorithm == "jacobi":
@@ -86,7 +84,7 @@ def _per_step_reason(march) -> str:
     """Why the compiled steps of ``march`` take one kernel call each."""
     from cranefmu.master.algorithms import Jacobi
 
-    if type(_main(march.algorithm)) is not Jacobi:
+    if type(_main(march.algorithm)) is not Jacobi:   # Gauss-Seidel, jacobi-plain
         return f"{type(_main(march.algorithm)).__name__}: one call a step"
     if not march.direct:
         return "the step control judges each step"

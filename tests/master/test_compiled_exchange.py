@@ -226,3 +226,16 @@ def test_commands_with_strongly_coupled_steps_bit_for_bit(lib, built, monkeypatc
     assert python.stats.kernel_calls == 0 and compiled.stats.kernel_calls > 2 * compiled.stats.steps
     x = compiled.result["boom.x_tip"]
     assert x[-1] - x[0] == pytest.approx(travel.at(0.3)[0], abs=1e-12) and travel.at(0.3)[0] > 0.05
+
+
+@pytest.mark.parametrize("scene, stop", [("oscillator", 0.5), ("truck_telescope", 0.1)])
+def test_plain_jacobi_bit_for_bit(lib, monkeypatch, oscillator_ssp, scene, stop):
+    """libcosim's fixed-step Jacobi (every output read once right after the step, held over the next one)
+    in compiled code, one call a step: the rows are Python's."""
+    python, compiled = _both(monkeypatch, oscillator_ssp if scene == "oscillator" else scene, algorithm="jacobi-plain",
+                             extrapolation=0, step_size=1e-3, stop_time=stop,
+                             **({"parameters": {"mass.x0": 0.1}} if scene == "oscillator" else {}))
+    steps = round(stop / 1e-3)
+    assert _equal(python.result, compiled.result) and compiled.stats.steps == steps
+    assert (python.stats.compiled_steps, compiled.stats.compiled_steps, compiled.stats.kernel_calls) == (0, steps, steps)
+    assert max(np.ptp(compiled.result[n]) for n in compiled.result.dtype.names[1:]) > 1e-3

@@ -88,6 +88,8 @@ class PlainJacobi(Jacobi):
 
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
         c = self.coupling
+        if c.plain_step(t, h):   # compiled, the same numbers
+            return h, 1
         c.step(t, h)
         c.commit_as_read(t + h)
         return h, 1

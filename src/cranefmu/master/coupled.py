@@ -585,6 +585,15 @@ class Coupling:
         kernel.gauss_seidel_step(plan, t, h, self.extrapolation)
         return True
 
+    def plain_step(self, t: float, h: float) -> bool:
+        """libcosim's fixed-step Jacobi step (:class:`~.algorithms.PlainJacobi`: :meth:`step`, then
+        :meth:`commit_as_read`) in compiled code; False (nothing done) where the compiled exchange does not run."""
+        kernel = self.kernel()
+        if kernel is None:
+            return False
+        kernel.plain_step(t, h)
+        return True
+
     def jacobi_stretch(self, ts: np.ndarray):
         """Jacobi steps on the grid ``ts`` in one compiled call: (rows, steps done, failure or None), or
         None where the compiled exchange does not run."""

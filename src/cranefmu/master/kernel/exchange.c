@@ -536,6 +536,42 @@ int cf_evaluate(cf_plan *p, double t, double h, int degree, int batched, int thr
     return 0;
 }
 
+/* One step of libcosim's fixed-step Jacobi from t (algorithms.PlainJacobi.step): every FMU steps, then
+ * (coupled.Coupling.commit_as_read) the commanded inputs are set, every output is read once and held by
+ * its input over the next step, the values recorded at t + h; every read then counts as fresh (the row
+ * shows what was read right after the step).  Returns 0, or -1 (err_*). */
+int cf_plain_step(cf_plan *p, double t, double h)
+{
+    const double *cmd = p->n_cmd ? p->cmd_values : NULL;
+    double *zero = p->scratch + 5 * (size_t)p->n;
+    if (step_all(p, t, h, cmd))
+        return -1;
+    if (cmd)
+        for (int w = 0; w < p->n_cmd; w++)
+            if (set_commands(p, p->cmd_comp[w], cmd, 3))
+                return -1;
+    for (int c = 0; c < p->n_comps; c++)
+        if (read_comp(p, c))
+            return -1;
+    double *new = new_point(p, t + h);
+    for (int j = 0; j < p->n; j++)
+        zero[j] = 0.0;
+    for (int g = 0; g < p->n_groups; g++) {
+        int a = p->g_start[g], n = p->g_n[g];
+        for (int j = 0; j < n; j++)   /* coupled.Coupling.pull */
+            new[a + j] = p->read_buf[p->g_gather[a + j]] * p->factor[a + j] + p->offset[a + j];
+        if (feed_group(p, g, new + a, zero, zero, 1))
+            return -1;
+    }
+    for (int c = 0; c < p->n_comps; c++)
+        p->fresh[c] = 1;
+    for (int j = 0; j < p->n; j++) {   /* np.maximum: a NaN wins */
+        double v = fabs(new[j]), s = p->scale[j];
+        p->scale[j] = (v != v || s != s) ? (v != v ? v : s) : (v > s ? v : s);
+    }
+    return 0;
+}
+
 /* Every value moves at t (coupled.Coupling.commit after a step an algorithm took in Python: iterative,
  * an implicit group, the start-up), the commanded inputs first.  Returns 0, or -1 (err_*). */
 int cf_exchange(cf_plan *p, double t, int order)

@@ -341,6 +341,16 @@ class KernelPlan:
             self._raise(t, h)
         return gu
 
+    def plain_step(self, t: float, h: float) -> None:
+        """One step of libcosim's fixed-step Jacobi (algorithms.PlainJacobi.step) in compiled code."""
+        self._command_row(t + h)
+        self._enter()
+        status = self.lib.cf_plain_step(self.ptr, t, h)
+        self._leave()
+        if status:
+            self._raise(t, h)
+        self.c.stats.compiled_steps += 1
+
     def exchange(self, t: float, order: int) -> None:
         """Every value moves at t (coupled.Coupling.commit) in compiled code."""
         self._command_row(t)
