@@ -17,6 +17,7 @@ typedef int (*do_step_f)(void *, double, double, int);
 typedef int (*get_real_f)(void *, const unsigned int *, size_t, double *);
 typedef int (*set_real_f)(void *, const unsigned int *, size_t, const double *);
 typedef int (*get_int_f)(void *, const unsigned int *, size_t, int *);
+typedef int (*set_int_f)(void *, const unsigned int *, size_t, const int *);
 
 typedef struct {
     /* components */
@@ -86,6 +87,13 @@ typedef struct {
     int32_t *w_deriv_off, *w_deriv_n, *w_groups;   /* per write of a phase: those of its groups */
     int32_t *ones, *twos;        /* n orders 1 and 2 */
     int32_t *g_keeps_outputs;    /* per group: no output of its destination depends on its inputs */
+    /* Integer/Boolean/Enumeration connections (discrete_links.DiscreteLinks): per transfer (a source, a
+     * destination, one type) one fmi2GetInteger/Boolean and one fmi2SetInteger/Boolean */
+    int32_t n_transfers;
+    int32_t *t_src, *t_dst, *t_bool, *t_n;
+    unsigned int **t_src_vrs, **t_dst_vrs;
+    int **t_values;
+    void **d_get, **d_set;       /* per transfer: the source's getter, the destination's setter */
 } cf_plan;
 
 typedef int (*set_deriv_f)(void *, const unsigned int *, size_t, const int *, const double *);
@@ -184,6 +192,33 @@ static int set_derivatives(cf_plan *p, int g, const double *d1, const double *d2
     return 0;
 }
 
+/* every discrete destination input gets its source's current value, all read, then all set
+ * (discrete_links.DiscreteLinks.move) */
+static int move_discrete(cf_plan *p)
+{
+    for (int q = 0; q < p->n_transfers; q++) {
+        int c = p->t_src[q], n = p->t_n[q];
+        int s = ((get_int_f)p->d_get[q])(p->inst[c], p->t_src_vrs[q], (size_t)n, p->t_values[q]);
+        if (s > 1) {
+            p->err_comp = c; p->err_status = s; p->err_what = 6;
+            return -1;
+        }
+        if (p->t_bool[q])   /* fmi2True is 1, whatever non-zero value the source returns */
+            for (int k = 0; k < n; k++)
+                p->t_values[q][k] = p->t_values[q][k] ? 1 : 0;
+    }
+    for (int q = 0; q < p->n_transfers; q++) {
+        int c = p->t_dst[q];
+        int s = ((set_int_f)p->d_set[q])(p->inst[c], p->t_dst_vrs[q], (size_t)p->t_n[q], p->t_values[q]);
+        if (s > 1) {
+            p->err_comp = c; p->err_status = s; p->err_what = 7;
+            return -1;
+        }
+        p->fresh[c] = 0;   /* an output may depend on them */
+    }
+    return 0;
+}
+
 /* the ring's row for the values at t (coupled.Coupling._new_point) */
 static double *new_point(cf_plan *p, double t)
 {
@@ -221,6 +256,8 @@ static int exchange(cf_plan *p, double t, int order, const double *cmd)
         for (int w = 0; w < p->n_cmd; w++)
             if (set_commands(p, p->cmd_comp[w], cmd, 3))
                 return -1;
+    if (p->n_transfers && move_discrete(p))
+        return -1;
     double *new = new_point(p, t);
     int count = p->ring[0];
     int k = order + 1 < count ? order + 1 : count;
@@ -550,6 +587,8 @@ int cf_plain_step(cf_plan *p, double t, double h)
         for (int w = 0; w < p->n_cmd; w++)
             if (set_commands(p, p->cmd_comp[w], cmd, 3))
                 return -1;
+    if (p->n_transfers && move_discrete(p))
+        return -1;
     for (int c = 0; c < p->n_comps; c++)
         if (read_comp(p, c))
             return -1;

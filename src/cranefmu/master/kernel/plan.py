@@ -36,7 +36,9 @@ class CPlan(ctypes.Structure):
         ("n_cmd", ctypes.c_int32), ("cmd_width", ctypes.c_int32), ("cmd_comp", _P), ("cmd_count", _P),
         ("cmd_off", _P), ("cmd_vrs", _P), ("cmd_of", _P), ("cmd_values", _P),
         ("set_deriv", _P), ("g_deriv", _P), ("w_deriv_off", _P), ("w_deriv_n", _P), ("w_groups", _P),
-        ("ones", _P), ("twos", _P), ("g_keeps_outputs", _P)]
+        ("ones", _P), ("twos", _P), ("g_keeps_outputs", _P),
+        ("n_transfers", ctypes.c_int32), ("t_src", _P), ("t_dst", _P), ("t_bool", _P), ("t_n", _P),
+        ("t_src_vrs", _P), ("t_dst_vrs", _P), ("t_values", _P), ("d_get", _P), ("d_set", _P)]
 
 
 def _address(f) -> int | None:
@@ -54,21 +56,27 @@ def _derivative_functions(coupling) -> list:
             for i, comp in enumerate(coupling.comps)]
 
 
+def _discrete_functions(t) -> tuple:
+    """(the source's getter, the destination's setter) of a discrete_links transfer."""
+    if t.boolean:
+        return t.src._get_boolean, t.dst._set_boolean
+    return t.src._get_integer, t.dst._set_integer
+
+
 def python_reason(lib, coupling) -> str:
     """Why the Python exchange must run for this coupling ('' where the kernel can): no kernel library,
-    the exchange not planned yet, Integer/Boolean/Enumeration connections (the kernel moves Real values
-    only), wrapped FMI calls (no C function to call), or a product size whose bits the kernel does not
-    reproduce here.  Commanded inputs and FMI input derivatives run in the kernel."""
+    the exchange not planned yet, wrapped FMI calls (no C function to call), or a product size whose
+    bits the kernel does not reproduce here.  Commanded inputs, FMI input derivatives and Integer/Boolean/
+    Enumeration connections run in the kernel."""
     from . import agrees_with_numpy, why_not
 
     if lib is None:
         return why_not or "no compiled exchange"
     if coupling._phases is None:
         return "the exchange is not planned yet (initialization)"
-    if coupling.discrete:   # held by coupled.Coupling.exchange (.discrete_links), in Python
-        return "Integer/Boolean/Enumeration connections"
     functions = [f for comp in coupling.comps
                  for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
+    functions += [f for t in coupling.discrete.transfers for f in _discrete_functions(t)]
     functions += [f for f in _derivative_functions(coupling) if f is not None]
     if any(_address(f) is None for f in functions):
         return "wrapped FMI calls"
@@ -200,6 +208,17 @@ class KernelPlan:
         p.g_vrs = self._pointers([ctypes.addressof(g.set_vrs) for g in links])
         self._stages = None
         self._commands(index)
+        transfers = c.discrete.transfers
+        p.n_transfers = len(transfers)
+        p.t_src = self._array([index[id(t.src)] for t in transfers], i32)
+        p.t_dst = self._array([index[id(t.dst)] for t in transfers], i32)
+        p.t_bool = self._array([int(t.boolean) for t in transfers], i32)
+        p.t_n = self._array([t.n for t in transfers], i32)
+        p.t_src_vrs = self._pointers([ctypes.addressof(t.src_vrs) for t in transfers])
+        p.t_dst_vrs = self._pointers([ctypes.addressof(t.dst_vrs) for t in transfers])
+        p.t_values = self._pointers([ctypes.addressof(t.values) for t in transfers])
+        p.d_get = self._pointers([_address(_discrete_functions(t)[0]) for t in transfers])
+        p.d_set = self._pointers([_address(_discrete_functions(t)[1]) for t in transfers])
         derivs = _derivative_functions(c)
         p.set_deriv = self._pointers([_address(f) if f is not None else None for f in derivs])
         p.g_deriv = self._array([int(g.fmi_derivatives) for g in links], i32)
@@ -389,7 +408,8 @@ class KernelPlan:
         """The error the Python path raises for the failure the kernel reported."""
         p = self.p
         comp = self.c.comps[p.err_comp]
-        what = {1: "fmi2DoStep", 2: "fmi2GetReal", 3: "fmi2SetReal", 4: "fmi2GetInteger"}[p.err_what]
+        what = {1: "fmi2DoStep", 2: "fmi2GetReal", 3: "fmi2SetReal", 4: "fmi2GetInteger", 6: "fmi2GetInteger",
+                7: "fmi2SetInteger"}[p.err_what]
         try:
             comp._failed(what, p.err_status)
         except Exception:
@@ -397,5 +417,6 @@ class KernelPlan:
                 raise SimulationError(f"component {comp.name} failed in the step from t = {t:.9g} s (H = {h:.3g} s): "
                                       f"{comp.last_error()}. Try a smaller --step, --adaptive, or --algorithm "
                                       "iterative.") from None
-            doing = {2: "reading its outputs", 3: "setting its inputs", 4: "reading its discrete outputs"}[p.err_what]
+            doing = {2: "reading its outputs", 3: "setting its inputs", 4: "reading its discrete outputs",
+                     6: "reading its discrete outputs", 7: "setting its discrete inputs"}[p.err_what]
             raise self.c.refused(comp, doing) from None
