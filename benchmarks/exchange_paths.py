@@ -14,7 +14,7 @@ commands and observers as ``run`` gives them), stepped ``steps`` macro steps one
   an observer that acts on each row such as an event trigger or the instability alarm), *Python steps,
   compiled G(u) and exchange* (an algorithm that decides in Python, iterative or an implicit group, whose
   evaluations and closing exchange are kernel calls: ``kernel_calls`` > 0 with no compiled step), or
-  *Python* with why: the coupling's ``python_reason`` (no compiler, discrete connections, wrapped calls,
+  *Python* with why: the coupling's ``python_reason`` (no compiler, wrapped calls,
   ...) or the algorithm whose steps have no compiled form;
 - ``before (7697f7f)``: the path the same run took at 7697f7f, by that commit's rules: ``KernelPlan.make``
   refused a coupling with commands or with inputs fed through fmi2SetRealInputDerivatives (the shipped
