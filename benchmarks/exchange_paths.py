@@ -20,7 +20,7 @@ commands and observers as ``run`` gives them), stepped ``steps`` macro steps one
   refused a coupling with commands or with inputs fed through fmi2SetRealInputDerivatives (the shipped
   scenes have none of the latter), and only Jacobi and Gauss-Seidel steps called the kernel.
 
-Prints and saves benchmarks/results/exchange_paths.md.  Not a timing.
+Prints and saves benchmarks/results/exchange_paths.md (``--fmus KIND``: exchange_paths_KIND.md).  Not a timing.
 """
 from __future__ import annotations
 
@@ -161,8 +161,9 @@ def main() -> None:
         lines.append(line)
         print(line, flush=True)
     a.out.mkdir(parents=True, exist_ok=True)
-    (a.out / "exchange_paths.md").write_text("\n".join(lines) + "\n")
-    print(f"saved {a.out / 'exchange_paths.md'}", file=sys.stderr)
+    name = "exchange_paths.md" if not a.fmus else f"exchange_paths_{a.fmus}.md"
+    (a.out / name).write_text("\n".join(lines) + "\n")
+    print(f"saved {a.out / name}", file=sys.stderr)
 
 
 if __name__ == "__main__":
