@@ -28,15 +28,17 @@ def flags_fmu(tmp_path_factory):
     return build(tmp_path_factory.mktemp("flags") / "Flags.fmu")
 
 
-def driven_rows(fmu, tmp_path, connections, steps=8, h=0.1):
+def driven_rows(fmu, tmp_path, connections, steps=8, h=0.1, compiled=True):
     """Per step k the source a's unconnected inputs get new values (Real sin(k), Enumeration 10 + 3 k,
-    Boolean k odd), then one Jacobi step (Coupling.jacobi_step: every FMU steps, then the exchange);
-    returns (the Real outputs per row, the discrete outputs per row by name, whether the kernel ran)."""
+    Boolean k odd), then one Jacobi step (Coupling.jacobi_step: every FMU steps, then the exchange;
+    ``compiled``: in the kernel where it can run, else in Python); returns (the Real outputs per row, the
+    discrete outputs per row by name, whether the kernel ran)."""
     from foreign_ssp import write_ssp
 
     ssp = write_ssp(tmp_path / f"two_{len(connections)}.ssp", {"a": fmu, "b": fmu}, connections)
     workdir, scene = extracted_scene(ssp)
     c = Coupling(scene, workdir, 0)
+    c.compiled = compiled
     try:
         initialize(c, 0.0, {}, 1e-10)
         a = c.by_name["a"]
@@ -57,7 +59,11 @@ def driven_rows(fmu, tmp_path, connections, steps=8, h=0.1):
 
 def test_discrete_values_are_held_from_exchange_to_exchange_and_reals_do_not_change(flags_fmu, tmp_path):
     reals, rows, compiled = driven_rows(flags_fmu, tmp_path, REAL + DISCRETE)
-    assert not compiled   # the compiled exchange moves Real values only: a run with discrete ones is Python
+    from cranefmu.master import kernel
+
+    assert compiled == (kernel.library() is not None)   # the kernel moves the discrete values too
+    python_reals, python_rows, ran = driven_rows(flags_fmu, tmp_path, REAL + DISCRETE, compiled=False)
+    assert not ran and python_rows == rows and np.array_equal(python_reals.view(np.int64), reals.view(np.int64))
     for k, row in enumerate(rows):
         # each exchange: b's input gets a's value after the step (b's output is its input, set at once)
         assert row["b.Integer_output"] == row["a.Enumeration_output"] == 10 + 3 * k

@@ -39,7 +39,12 @@ def test_python_says_why():
     refused = "commanded inputs (the kernel does not feed commands)"
     assert exchange_label(_stats(10, 0, 0, refused), JACOBI) == f"Python: {refused}"
     assert exchange_label(_stats(10, 0, 0), SimpleNamespace(name="iterative")) == (
-        "Python: the iterative algorithm has no compiled exchange; the kernel covers jacobi and gauss-seidel steps")
+        "Python: the iterative algorithm has no compiled exchange; the kernel covers jacobi, gauss-seidel and "
+        "jacobi-plain steps")
+    # the iterative algorithm's steps in Python, its evaluations of G(u) and exchanges in the kernel
+    assert exchange_label(_stats(10, 0, 25), SimpleNamespace(name="iterative")) == (
+        "Python steps of the iterative algorithm (10 macro steps); their 25 evaluations and exchanges in the "
+        "compiled kernel")
     assert exchange_label(_stats(0, 0, 0), JACOBI) == "none (no macro step was taken)"
 
 
@@ -53,11 +58,11 @@ def lib():
 
 def test_a_native_jacobi_run_says_compiled_and_an_iterative_one_python(built, lib):
     jacobi = run("elastic_pendulum", stop_time=0.1, progress=False)   # stored: jacobi, extrapolation 2, 5 ms
-    assert jacobi.stats.exchange == ("compiled kernel: 18 of 20 macro steps, in 1 kernel calls; Python: the other "
+    assert jacobi.stats.exchange == ("compiled kernel: 18 of 20 macro steps, in 11 kernel calls; Python: the other "
                                      "2, the iterative start-up of extrapolation order 2")
     iterative = run("elastic_pendulum", stop_time=0.05, algorithm="iterative", progress=False)
-    assert iterative.stats.compiled_steps == 0
-    assert iterative.stats.exchange.startswith("Python: the iterative algorithm has no compiled exchange")
+    assert iterative.stats.compiled_steps == 0 and iterative.stats.kernel_calls > 0
+    assert iterative.stats.exchange.startswith("Python steps of the iterative algorithm (50 macro steps); their ")
 
 
 def test_the_python_exchange_asked_for_is_said(built, monkeypatch):
@@ -69,14 +74,14 @@ def test_the_python_exchange_asked_for_is_said(built, monkeypatch):
 def test_run_and_info_print_it(built, lib):
     done = cranefmu("run", "elastic_pendulum", "--stop-time", "0.05", "--no-progress")
     assert done.returncode == 0, done.stderr
-    assert ("  exchange: compiled kernel: 8 of 10 macro steps, in 1 kernel calls; Python: the other 2, the "
+    assert ("  exchange: compiled kernel: 8 of 10 macro steps, in 11 kernel calls; Python: the other 2, the "
             "iterative start-up of extrapolation order 2") in done.stdout.splitlines()
     done = cranefmu("info", "elastic_pendulum")
     assert done.returncode == 0, done.stderr
     lines = done.stdout.splitlines()
     at = lines.index("  exchange at the stored settings (a probe run of the first steps; cranefmu run says it for "
                      "every run):")
-    assert lines[at + 1] == ("    default (5 steps): compiled kernel: 3 of 5 macro steps, in 1 kernel calls; Python: "
+    assert lines[at + 1] == ("    default (5 steps): compiled kernel: 3 of 5 macro steps, in 11 kernel calls; Python: "
                              "the other 2, the iterative start-up of extrapolation order 2")
 
 

@@ -112,6 +112,11 @@ class _StallingCoupling:
     def image(self, part=None, fed_through_only=False):
         return self.out
 
+    def evaluate(self, t, h, u, degree, part=None, members=None, fed_through_only=False):
+        self.feed(t, h, u, degree, part)
+        self.step(t, h, members)
+        return self.image(part, fed_through_only)
+
     def commit(self, t):
         self.value = self.out
 

@@ -74,6 +74,21 @@ class CommandFeed:
         for write in self._writes:
             _write(write, t)
 
+    def writes(self) -> list[tuple]:
+        """The fmi2SetReal calls of one time, one per component that has commanded inputs, in the order
+        :meth:`feed` makes them: (component, ctypes value references, count); the values are
+        :meth:`fill`'s, side by side in that order (the compiled exchange, :mod:`.kernel.plan`)."""
+        return [(comp, vrs, n) for comp, vrs, _, n, _ in self._writes]
+
+    def fill(self, t: float, out) -> None:
+        """Every commanded value at t (value, then rate and curvature where offered; write by write as
+        :meth:`writes` lists them) into ``out`` (numbers as :meth:`feed` sets them)."""
+        at = 0
+        for *_, sources in self._writes:
+            for count, source in sources:
+                out[at:at + count] = [float(x) for x in source.at(t)][:count]
+                at += count
+
     def after_step(self, comp, t: float) -> None:
         """Set the commanded inputs of ``comp``, just stepped to t, to their values at t: an output read
         before the next exchange (an implicit group's or an iteration's image, Gauss-Seidel's pass-on)

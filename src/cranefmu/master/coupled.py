@@ -131,6 +131,7 @@ class Coupling:
         self.can_rollback = all(c.can_get_state for c in self.comps)
         self.commands = None   # a .commands.CommandFeed: commanded inputs set at every exchange, before the reads
         self.compiled = True   # use the compiled exchange where it can run (:mod:`.kernel`); False: Python only
+        self.python_reason = ""   # why the Python exchange runs ('' where the compiled one does, or not decided yet)
         # more values a stretch's rows carry after the outputs: positions in the read buffer and in input_end
         self.row_extra: tuple[list[int], list[int]] = ([], [])
         self._prepare_buffers()
@@ -454,8 +455,13 @@ class Coupling:
     # --- the exchange ---------------------------------------------------------------------------
     def commit(self, t1: float) -> None:
         """The step to t1 is done: every value moves (recorded as the value at t1) and the inputs are
-        fed for the next step (extrapolated from the past, at the run's order)."""
-        self.exchange(t1)
+        fed for the next step (extrapolated from the past, at the run's order); in compiled code where
+        it can run (the same numbers)."""
+        kernel = self.kernel()
+        if kernel is None:
+            self.exchange(t1)
+        else:
+            kernel.exchange(t1, self.extrapolation)
 
     def exchange(self, t: float, order: int | None = None) -> None:
         """Move values along every connection at time t (step mode), phase by phase (:mod:`.exchange_plan`):
@@ -579,11 +585,20 @@ class Coupling:
         kernel.gauss_seidel_step(plan, t, h, self.extrapolation)
         return True
 
+    def plain_step(self, t: float, h: float) -> bool:
+        """libcosim's fixed-step Jacobi step (:class:`~.algorithms.PlainJacobi`: :meth:`step`, then
+        :meth:`commit_as_read`) in compiled code; False (nothing done) where the compiled exchange does not run."""
+        kernel = self.kernel()
+        if kernel is None:
+            return False
+        kernel.plain_step(t, h)
+        return True
+
     def jacobi_stretch(self, ts: np.ndarray):
         """Jacobi steps on the grid ``ts`` in one compiled call: (rows, steps done, failure or None), or
         None where the compiled exchange does not run."""
         kernel = self.kernel()
-        if kernel is None or len(ts) < 2:
+        if kernel is None or len(ts) < 2 or not self._commands_known_ahead():
             return None
         rows = np.empty((len(ts) - 1, 1 + len(self.columns) + sum(len(x) for x in self.row_extra)))
         try:
@@ -592,22 +607,48 @@ class Coupling:
             return rows, kernel.done, err
         return rows, done, None
 
+    def _commands_known_ahead(self) -> bool:
+        """Every command source's values over a stretch are known before it is stepped: none follows an
+        event on the run's rows (a source with ``watchers()``, :mod:`cranefmu.experiments.events`, learns
+        its event time from each row as the observers see it)."""
+        if self.commands is None:
+            return True
+        return not any(getattr(source, "watchers", None) and source.watchers()
+                       for *_, source in self.commands.bound)
+
+    def evaluate(self, t: float, h: float, u: np.ndarray, degree: int, part: Part | None = None,
+                 members: Iterable[int] | None = None, fed_through_only: bool = False) -> np.ndarray:
+        """G(u) of a strongly coupled step: :meth:`feed` ``part`` (default all) along the polynomial through
+        its last ``degree`` values and ``u``, :meth:`step` the components ``members`` (default all; the
+        inputs' end values noted when all step), then :meth:`image` of ``part``; in compiled code where
+        it can run (the same numbers)."""
+        part = part or self.whole
+        everyone = members is None
+        members = self._all if everyone else members
+        kernel = self.kernel()
+        gu = kernel.evaluate(t, h, u, degree, part, members, fed_through_only, everyone) if kernel else None
+        if gu is not None:
+            return gu
+        self.feed(t, h, u, degree, part)
+        self.step(t, h, None if everyone else members, ends=everyone)
+        return self.image(part, fed_through_only=fed_through_only)
+
     def kernel(self):
         """The compiled exchange bound to this coupling (:class:`.kernel.plan.KernelPlan`), or None where
-        the Python exchange runs (not wanted, no compiler, commands, FMI input derivatives, discrete
-        connections, ...)."""
+        the Python exchange runs (:attr:`python_reason` says why: not wanted, no compiler, discrete
+        connections, wrapped FMI calls, ...)."""
         if self._kernel is None and self._phases is not None:
             self._kernel = False
             if not self.compiled:
-                self.stats.python_exchange = "the compiled exchange was switched off for this run (compiled = False)"
+                self.python_reason = "the compiled exchange was switched off for this run (compiled = False)"
             else:
-                from . import kernel as compiled
-                from .kernel.plan import KernelPlan
+                from .kernel import library
+                from .kernel.plan import KernelPlan, python_reason
 
-                lib = compiled.library()
-                why = KernelPlan.refusal(lib, self) if lib is not None else compiled.why_not
-                self._kernel = KernelPlan.make(lib, self) if not why else False
-                self.stats.python_exchange = why
+                lib = library()
+                self.python_reason = python_reason(lib, self)
+                self._kernel = (KernelPlan.make(lib, self) if not self.python_reason else None) or False
+            self.stats.python_exchange = self.python_reason
         return self._kernel or None
 
     def jacobi_step(self, t: float, h: float) -> None:

@@ -4,8 +4,8 @@ At every exchange (and in each iteration of the initialization) each destination
 source output's current value: every source is read first (one fmi2GetInteger or fmi2GetBoolean per
 component and type), then every destination is set (one fmi2SetInteger or fmi2SetBoolean per
 component and type).  No extrapolation, no rates, no conversion.  The Real exchange
-(:mod:`.coupled`, :mod:`.kernel`) never sees these connections; a run that has some takes the
-Python exchange.  Types must match (FMI 2.0 sec. 2.2.7; SSP 1.0 sec. 5.3.3): Integer -> Integer,
+(:mod:`.coupled`) never sees these connections; the compiled exchange (:mod:`.kernel`) moves them the
+same way, from the transfers here.  Types must match (FMI 2.0 sec. 2.2.7; SSP 1.0 sec. 5.3.3): Integer -> Integer,
 Boolean -> Boolean, Enumeration -> Enumeration or Integer.
 """
 from __future__ import annotations

@@ -2,12 +2,13 @@
 
 Read from what the run counted (:class:`.system.RunStats`: ``compiled_steps`` of ``steps``, and
 ``python_exchange``, the kernel's refusal), so the label says what happened, not what was planned.
-The kernel covers the exchange of Jacobi and Gauss-Seidel steps; the other algorithms' steps and the
-iterative start-up of an extrapolating scheme (its first ``extrapolation`` steps) run in Python.
+The kernel takes whole Jacobi, Gauss-Seidel and plain-Jacobi steps; the iterative and implicit-group
+algorithms (and the iterative start-up of an extrapolating scheme, its first ``extrapolation`` steps) take
+their steps in Python and each evaluation of G(u) and each closing exchange in one kernel call.
 """
 from __future__ import annotations
 
-COVERED = ("jacobi", "gauss-seidel")   # algorithms whose steps the kernel takes
+COVERED = ("jacobi", "gauss-seidel", "jacobi-plain")   # algorithms whose whole steps the kernel takes
 
 
 def exchange_label(stats, algorithm) -> str:
@@ -19,9 +20,12 @@ def exchange_label(stats, algorithm) -> str:
     taken = f"{steps} macro steps" + (f" ({stats.rejections} rejected)" if stats.rejections else "")
     if steps == 0:
         return "none (no macro step was taken)"
+    if compiled == 0 and stats.kernel_calls and not stats.python_exchange:
+        return (f"Python steps of the {name} algorithm ({taken}); their {stats.kernel_calls} evaluations and "
+                f"exchanges in the compiled kernel")
     if compiled == 0:
         why = stats.python_exchange or (f"the {name} algorithm has no compiled exchange; the kernel covers "
-                                        f"{' and '.join(COVERED)} steps")
+                                        f"{', '.join(COVERED[:-1])} and {COVERED[-1]} steps")
         return f"Python: {why}"
     if compiled >= steps:
         return f"compiled kernel: all {taken}, in {stats.kernel_calls} kernel calls"

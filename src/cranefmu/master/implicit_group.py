@@ -105,10 +105,8 @@ class ImplicitGroup(Algorithm):
         """G(u): the group's FMUs step from the snapshot's state with the internal inputs following
         ``u``; the internal values they give at t + h (passed on only where an output of the
         destination depends on them directly: the others are fed anew before the next use)."""
-        c = self.coupling
-        c.feed(t, h, u, self.degree, self.part)
-        c.step(t, h, self.members, ends=False)
-        return c.image(self.part, fed_through_only=True)
+        # feed, step the members (ends=False), image; compiled where it can be
+        return self.coupling.evaluate(t, h, u, self.degree, self.part, self.members, fed_through_only=True)
 
     def step(self, t: float, h: float, snapshot=None) -> tuple[float, int]:
         c = self.coupling

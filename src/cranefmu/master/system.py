@@ -22,8 +22,10 @@ class RunStats:
     bond_energy: dict[str, float] = field(default_factory=dict)  # ECCO residual total per power bond [J]
     bond_carried: dict[str, float] = field(default_factory=dict)  # energy through each bond [J] (sum max|P| h)
     stopped: str = ""                # why a stop condition ended the run early ('' = ran to the end)
-    compiled_steps: int = 0          # macro steps whose exchange ran in compiled code (master/kernel)
-    kernel_calls: int = 0            # calls into it (fewer than those steps where stretches ran in one call)
+    compiled_steps: int = 0          # Jacobi, Gauss-Seidel and plain-Jacobi macro steps taken in compiled code (master/kernel)
+    # calls into it: a stretch of steps is one; so is each evaluation of G(u) and each closing exchange of a
+    # step an iterative or implicit-group algorithm took from Python (none counts as a compiled step)
+    kernel_calls: int = 0
     python_exchange: str = ""        # why the compiled kernel refused this run's exchange ('' if it did not)
     exchange: str = ""               # which exchange ran, and why Python where it did (.exchange_label)
 

@@ -87,6 +87,13 @@ def library() -> ctypes.CDLL | None:
     lib.cf_jacobi_steps.restype = int_
     lib.cf_gauss_seidel_step.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, int_]
     lib.cf_gauss_seidel_step.restype = int_
+    lib.cf_exchange.argtypes = [ctypes.c_void_p, ctypes.c_double, int_]
+    lib.cf_exchange.restype = int_
+    lib.cf_plain_step.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double]
+    lib.cf_plain_step.restype = int_
+    lib.cf_evaluate.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, int_, int_, int_, int_,
+                                int_, ctypes.c_void_p, int_, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
+    lib.cf_evaluate.restype = int_
     _LIB = lib
     return lib
 

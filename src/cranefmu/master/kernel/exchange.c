@@ -17,6 +17,7 @@ typedef int (*do_step_f)(void *, double, double, int);
 typedef int (*get_real_f)(void *, const unsigned int *, size_t, double *);
 typedef int (*set_real_f)(void *, const unsigned int *, size_t, const double *);
 typedef int (*get_int_f)(void *, const unsigned int *, size_t, int *);
+typedef int (*set_int_f)(void *, const unsigned int *, size_t, const int *);
 
 typedef struct {
     /* components */
@@ -73,7 +74,29 @@ typedef struct {
     int32_t ends_wanted;
     /* error report */
     int32_t err_comp, err_status, err_what;   /* what: 1 doStep, 2 getReal, 3 setReal, 4 get discrete */
+    /* commanded inputs (commands.CommandFeed): per component that has some, one fmi2SetReal of their
+     * values (and rates) at a time; the values of all of them at that time side by side (cmd_width) */
+    int32_t n_cmd, cmd_width;
+    int32_t *cmd_comp, *cmd_count, *cmd_off;
+    unsigned int **cmd_vrs;
+    int32_t *cmd_of;             /* per component: its write, or -1 */
+    double *cmd_values;          /* the values at the step's end; a stretch: one row of cmd_width per step */
+    /* FMI input derivatives (fmi2SetRealInputDerivatives) of the groups whose destination takes them */
+    void **set_deriv;            /* per component: its fmi2SetRealInputDerivatives (NULL where none is called) */
+    int32_t *g_deriv;            /* per group: fed its slopes with fmi2SetRealInputDerivatives */
+    int32_t *w_deriv_off, *w_deriv_n, *w_groups;   /* per write of a phase: those of its groups */
+    int32_t *ones, *twos;        /* n orders 1 and 2 */
+    int32_t *g_keeps_outputs;    /* per group: no output of its destination depends on its inputs */
+    /* Integer/Boolean/Enumeration connections (discrete_links.DiscreteLinks): per transfer (a source, a
+     * destination, one type) one fmi2GetInteger/Boolean and one fmi2SetInteger/Boolean */
+    int32_t n_transfers;
+    int32_t *t_src, *t_dst, *t_bool, *t_n;
+    unsigned int **t_src_vrs, **t_dst_vrs;
+    int **t_values;
+    void **d_get, **d_set;       /* per transfer: the source's getter, the destination's setter */
 } cf_plan;
+
+typedef int (*set_deriv_f)(void *, const unsigned int *, size_t, const int *, const double *);
 
 static double now_seconds(void)
 {
@@ -138,6 +161,64 @@ static int read_comp(cf_plan *p, int c)
     return 0;
 }
 
+/* component c's commanded inputs set to `values` (commands._write): a row of cmd_width, or NULL (none) */
+static int set_commands(cf_plan *p, int c, const double *values, int what)
+{
+    int w = values ? p->cmd_of[c] : -1;
+    if (w < 0)
+        return 0;
+    int s = ((set_real_f)p->set_real[c])(p->inst[c], p->cmd_vrs[w], (size_t)p->cmd_count[w], values + p->cmd_off[w]);
+    if (s > 1) {
+        p->err_comp = c; p->err_status = s; p->err_what = what;
+        return -1;
+    }
+    p->fresh[c] = 0;
+    return 0;
+}
+
+/* group g's slopes d1, d2 (n values each) through fmi2SetRealInputDerivatives (coupled.input_derivatives) */
+static int set_derivatives(cf_plan *p, int g, const double *d1, const double *d2)
+{
+    int c = p->g_dst[g];
+    size_t n = (size_t)p->g_n[g];
+    set_deriv_f f = (set_deriv_f)p->set_deriv[c];
+    int s = f(p->inst[c], p->g_vrs[g], n, p->ones, d1);
+    if (s <= 1)
+        s = f(p->inst[c], p->g_vrs[g], n, p->twos, d2);
+    if (s > 1) {
+        p->err_comp = c; p->err_status = s; p->err_what = 3;
+        return -1;
+    }
+    return 0;
+}
+
+/* every discrete destination input gets its source's current value, all read, then all set
+ * (discrete_links.DiscreteLinks.move) */
+static int move_discrete(cf_plan *p)
+{
+    for (int q = 0; q < p->n_transfers; q++) {
+        int c = p->t_src[q], n = p->t_n[q];
+        int s = ((get_int_f)p->d_get[q])(p->inst[c], p->t_src_vrs[q], (size_t)n, p->t_values[q]);
+        if (s > 1) {
+            p->err_comp = c; p->err_status = s; p->err_what = 6;
+            return -1;
+        }
+        if (p->t_bool[q])   /* fmi2True is 1, whatever non-zero value the source returns */
+            for (int k = 0; k < n; k++)
+                p->t_values[q][k] = p->t_values[q][k] ? 1 : 0;
+    }
+    for (int q = 0; q < p->n_transfers; q++) {
+        int c = p->t_dst[q];
+        int s = ((set_int_f)p->d_set[q])(p->inst[c], p->t_dst_vrs[q], (size_t)p->t_n[q], p->t_values[q]);
+        if (s > 1) {
+            p->err_comp = c; p->err_status = s; p->err_what = 7;
+            return -1;
+        }
+        p->fresh[c] = 0;   /* an output may depend on them */
+    }
+    return 0;
+}
+
 /* the ring's row for the values at t (coupled.Coupling._new_point) */
 static double *new_point(cf_plan *p, double t)
 {
@@ -167,9 +248,16 @@ static double *new_point(cf_plan *p, double t)
     return p->past + (size_t)row * p->n;
 }
 
-/* every value moves at t (coupled.Coupling.exchange), extrapolation order `order` */
-static int exchange(cf_plan *p, double t, int order)
+/* every value moves at t (coupled.Coupling.exchange), extrapolation order `order`; first the commanded
+ * inputs get `cmd`, their values at t (NULL: none) */
+static int exchange(cf_plan *p, double t, int order, const double *cmd)
 {
+    if (cmd)
+        for (int w = 0; w < p->n_cmd; w++)
+            if (set_commands(p, p->cmd_comp[w], cmd, 3))
+                return -1;
+    if (p->n_transfers && move_discrete(p))
+        return -1;
     double *new = new_point(p, t);
     int count = p->ring[0];
     int k = order + 1 < count ? order + 1 : count;
@@ -223,6 +311,11 @@ static int exchange(cf_plan *p, double t, int order)
                 p->err_comp = c; p->err_status = s; p->err_what = 3;
                 return -1;
             }
+            for (int e = p->w_deriv_off[w]; e < p->w_deriv_off[w] + p->w_deriv_n[w]; e++) {
+                int g = p->w_groups[e], b = p->g_start[g] - a;
+                if (set_derivatives(p, g, d1 + b, d2 + b))
+                    return -1;
+            }
             if (p->w_stales[w])
                 p->fresh[c] = 0;
         }
@@ -234,19 +327,28 @@ static int exchange(cf_plan *p, double t, int order)
     return 0;
 }
 
-static int step_all(cf_plan *p, double t, double h)
+/* component c steps from t by h (coupled.Coupling.do_step); its commanded inputs then get `cmd`, their
+ * values at t + h (commands.CommandFeed.after_step) */
+static int do_step(cf_plan *p, int c, double t, double h, const double *cmd)
 {
-    for (int c = 0; c < p->n_comps; c++) {
-        double t0 = now_seconds();
-        p->fresh[c] = 0;
-        int s = ((do_step_f)p->do_step[c])(p->inst[c], t, h, 1);
-        p->fmu_time[c] += now_seconds() - t0;
-        p->fmu_calls[c] += 1;
-        if (s > 1) {
-            p->err_comp = c; p->err_status = s; p->err_what = 1;
-            return -1;
-        }
+    double t0 = now_seconds();
+    p->fresh[c] = 0;
+    int s = ((do_step_f)p->do_step[c])(p->inst[c], t, h, 1);
+    if (s <= 1 && set_commands(p, c, cmd, 1))
+        s = -1;
+    p->fmu_time[c] += now_seconds() - t0;
+    p->fmu_calls[c] += 1;
+    if (s > 1) {
+        p->err_comp = c; p->err_status = s; p->err_what = 1;
     }
+    return s > 1 || s < 0 ? -1 : 0;
+}
+
+static int step_all(cf_plan *p, double t, double h, const double *cmd)
+{
+    for (int c = 0; c < p->n_comps; c++)
+        if (do_step(p, c, t, h, cmd))
+            return -1;
     double hh = 0.5 * h;
     for (int j = 0; j < p->n; j++)   /* coupled.Coupling.note_ends */
         p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
@@ -300,6 +402,8 @@ static int feed_group(cf_plan *p, int g, const double *value, const double *d1, 
         p->err_comp = c; p->err_status = s; p->err_what = 3;
         return -1;
     }
+    if (p->g_deriv[g] && set_derivatives(p, g, d1, d2))
+        return -1;
     if (!p->g_keeps_fresh[g])
         p->fresh[c] = 0;
     for (int j = 0; j < n; j++) {
@@ -317,6 +421,7 @@ static int feed_group(cf_plan *p, int g, const double *value, const double *d1, 
  * their end values; then the inputs' end values, then every value moves at t + h. */
 int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
 {
+    const double *cmd = p->n_cmd ? p->cmd_values : NULL;
     double *u = p->scratch, *d1 = p->scratch + p->n, *d2 = p->scratch + 2 * (size_t)p->n;
     double *stack = p->scratch + 3 * (size_t)p->n;   /* up to 2 x n more: the scratch holds 5 x n */
     int count = p->ring[0];
@@ -358,16 +463,8 @@ int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
             if (feed_group(p, g, newest + a, d1, d2, 0))
                 return -1;
         }
-        int c = p->s_comp[q];
-        double t0 = now_seconds();
-        p->fresh[c] = 0;
-        int s = ((do_step_f)p->do_step[c])(p->inst[c], t, h, 1);
-        p->fmu_time[c] += now_seconds() - t0;
-        p->fmu_calls[c] += 1;
-        if (s > 1) {
-            p->err_comp = c; p->err_status = s; p->err_what = 1;
+        if (do_step(p, p->s_comp[q], t, h, cmd))
             return -1;
-        }
         double hh = 0.5 * h;
         for (int e = p->s_held_off[q]; e < p->s_held_off[q] + p->s_held_n[q]; e++) {
             int g = p->s_groups[e], a = p->g_start[g], n = p->g_n[g];
@@ -384,16 +481,151 @@ int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
         for (int j = 0; j < p->n; j++)
             p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
     }
-    return exchange(p, t + h, order);
+    return exchange(p, t + h, order, cmd);
+}
+
+/* G(u) of a strongly coupled step (algorithms.Iterative._evaluate, implicit_group.ImplicitGroup._evaluate):
+ * the groups `groups` (a coupled.Part: u and gu in their order) are fed the polynomial through their last
+ * `degree` values and u at t + h (coupled.Coupling.feed; `batched`: the part's rates in one product, as
+ * Part(batched=True) has them), the components `members` step from t by h (their commanded inputs then
+ * at t + h; `ends`: the inputs' end values noted where wanted), and what the groups' sources give is read
+ * into gu and passed on (coupled.Coupling.image; `through_only`: only where an output of the destination
+ * depends on it, as a hold).  Needs count >= 1 past point and degree <= 2 (the caller checks).
+ * Returns 0, or -1 (err_*). */
+int cf_evaluate(cf_plan *p, double t, double h, int degree, int batched, int through_only, int ends,
+                int n_g, const int32_t *groups, int n_m, const int32_t *members, const double *u, double *gu)
+{
+    const double *cmd = p->n_cmd ? p->cmd_values : NULL;
+    size_t nn = (size_t)p->n;
+    double *stack = p->scratch, *d1 = p->scratch + 3 * nn, *d2 = p->scratch + 4 * nn, *zero = p->scratch + 5 * nn;
+    int n = 0;
+    for (int e = 0; e < n_g; e++)
+        n += p->g_n[groups[e]];
+    for (int j = 0; j < n; j++)
+        zero[j] = 0.0;
+    int count = p->ring[0];
+    if (degree == 0) {   /* held over the step */
+        for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++)
+            if (feed_group(p, groups[e], u + off, zero, zero, batched))
+                return -1;
+    } else {
+        int k = degree < count ? degree : count;   /* coupled.Coupling._last(degree) */
+        double ts[3], w1[3], w2[3];
+        for (int i = 0; i < k; i++)
+            ts[i] = p->times[count - k + i];
+        ts[k] = t + h;
+        weights(ts, k + 1, t, w1, w2);
+        if (batched && count >= degree + 1) {   /* one product over the whole part */
+            for (int i = 0; i < k; i++) {
+                const double *row = p->past + (size_t)p->ring[1 + count - k + i] * nn;
+                for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++)
+                    for (int j = 0; j < p->g_n[groups[e]]; j++)
+                        stack[i * n + off + j] = row[p->g_start[groups[e]] + j];
+            }
+            for (int j = 0; j < n; j++)
+                stack[k * n + j] = u[j];
+            for (int j = 0; j < n; j++) {
+                d1[j] = dot_gemv(w1, stack, k + 1, n, j);
+                d2[j] = dot_gemv(w2, stack, k + 1, n, j);
+            }
+            const double *now = stack + (size_t)(k - 1) * n;
+            for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++)
+                if (feed_group(p, groups[e], now + off, d1 + off, d2 + off, 0))
+                    return -1;
+        } else {   /* group by group */
+            const double *newest = p->past + (size_t)p->ring[count] * nn;
+            for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++) {
+                int g = groups[e], a = p->g_start[g], m = p->g_n[g];
+                for (int i = 0; i < k; i++) {
+                    const double *row = p->past + (size_t)p->ring[1 + count - k + i] * nn + a;
+                    for (int j = 0; j < m; j++)
+                        stack[i * m + j] = row[j];
+                }
+                for (int j = 0; j < m; j++)
+                    stack[k * m + j] = u[off + j];
+                for (int j = 0; j < m; j++) {
+                    d1[j] = dot_gemv(w1, stack, k + 1, m, j);
+                    d2[j] = dot_gemv(w2, stack, k + 1, m, j);
+                }
+                if (feed_group(p, g, newest + a, d1, d2, 0))
+                    return -1;
+            }
+        }
+    }
+    for (int i = 0; i < n_m; i++)
+        if (do_step(p, members[i], t, h, cmd))
+            return -1;
+    if (ends && p->ends_wanted) {   /* coupled.Coupling.note_ends */
+        double hh = 0.5 * h;
+        for (int j = 0; j < p->n; j++)
+            p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
+    }
+    for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++) {
+        int g = groups[e], a = p->g_start[g], m = p->g_n[g];
+        if (read_comp(p, p->g_src[g]))
+            return -1;
+        for (int j = 0; j < m; j++)   /* coupled.Coupling.pull */
+            gu[off + j] = p->read_buf[p->g_gather[a + j]] * p->factor[a + j] + p->offset[a + j];
+        if (!through_only || !p->g_keeps_outputs[g])
+            if (feed_group(p, g, gu + off, zero, zero, through_only))
+                return -1;
+    }
+    return 0;
+}
+
+/* One step of libcosim's fixed-step Jacobi from t (algorithms.PlainJacobi.step): every FMU steps, then
+ * (coupled.Coupling.commit_as_read) the commanded inputs are set, every output is read once and held by
+ * its input over the next step, the values recorded at t + h; every read then counts as fresh (the row
+ * shows what was read right after the step).  Returns 0, or -1 (err_*). */
+int cf_plain_step(cf_plan *p, double t, double h)
+{
+    const double *cmd = p->n_cmd ? p->cmd_values : NULL;
+    double *zero = p->scratch + 5 * (size_t)p->n;
+    if (step_all(p, t, h, cmd))
+        return -1;
+    if (cmd)
+        for (int w = 0; w < p->n_cmd; w++)
+            if (set_commands(p, p->cmd_comp[w], cmd, 3))
+                return -1;
+    if (p->n_transfers && move_discrete(p))
+        return -1;
+    for (int c = 0; c < p->n_comps; c++)
+        if (read_comp(p, c))
+            return -1;
+    double *new = new_point(p, t + h);
+    for (int j = 0; j < p->n; j++)
+        zero[j] = 0.0;
+    for (int g = 0; g < p->n_groups; g++) {
+        int a = p->g_start[g], n = p->g_n[g];
+        for (int j = 0; j < n; j++)   /* coupled.Coupling.pull */
+            new[a + j] = p->read_buf[p->g_gather[a + j]] * p->factor[a + j] + p->offset[a + j];
+        if (feed_group(p, g, new + a, zero, zero, 1))
+            return -1;
+    }
+    for (int c = 0; c < p->n_comps; c++)
+        p->fresh[c] = 1;
+    for (int j = 0; j < p->n; j++) {   /* np.maximum: a NaN wins */
+        double v = fabs(new[j]), s = p->scale[j];
+        p->scale[j] = (v != v || s != s) ? (v != v ? v : s) : (v > s ? v : s);
+    }
+    return 0;
+}
+
+/* Every value moves at t (coupled.Coupling.commit after a step an algorithm took in Python: iterative,
+ * an implicit group, the start-up), the commanded inputs first.  Returns 0, or -1 (err_*). */
+int cf_exchange(cf_plan *p, double t, int order)
+{
+    return exchange(p, t, order, p->n_cmd ? p->cmd_values : NULL);
 }
 
 /* One Jacobi macro step from t: every FMU steps, the inputs' end values are noted, every value moves
  * at t + h.  Returns 0, or -1 with the failure in err_*. */
 int cf_jacobi_step(cf_plan *p, double t, double h, int order)
 {
-    if (step_all(p, t, h))
+    const double *cmd = p->n_cmd ? p->cmd_values : NULL;
+    if (step_all(p, t, h, cmd))
         return -1;
-    return exchange(p, t + h, order);
+    return exchange(p, t + h, order, cmd);
 }
 
 /* `steps` Jacobi macro steps on the grid ts[0..steps] (step i from ts[i] to ts[i + 1], h = their
@@ -404,7 +636,8 @@ int cf_jacobi_steps(cf_plan *p, const double *ts, int order, int steps, double *
 {
     for (int i = 0; i < steps; i++) {
         double t = ts[i], h = ts[i + 1] - ts[i];
-        if (step_all(p, t, h) || exchange(p, ts[i + 1], order))
+        const double *cmd = p->n_cmd ? p->cmd_values + (size_t)i * p->cmd_width : NULL;
+        if (step_all(p, t, h, cmd) || exchange(p, ts[i + 1], order, cmd))
             return -1 - i;
         double *row = rows + (size_t)i * (1 + p->n_real + p->n_flags + p->n_extra_read + p->n_extra_end);
         row[0] = ts[i + 1];

@@ -32,7 +32,13 @@ class CPlan(ctypes.Structure):
         ("g_rates", _P), ("g_keeps_fresh", _P), ("g_gather", _P), ("g_vrs", _P),
         ("n_stages", ctypes.c_int32), ("s_comp", _P), ("s_fed_off", _P), ("s_fed_n", _P), ("s_held_off", _P),
         ("s_held_n", _P), ("s_groups", _P), ("ends_wanted", ctypes.c_int32),
-        ("err_comp", ctypes.c_int32), ("err_status", ctypes.c_int32), ("err_what", ctypes.c_int32)]
+        ("err_comp", ctypes.c_int32), ("err_status", ctypes.c_int32), ("err_what", ctypes.c_int32),
+        ("n_cmd", ctypes.c_int32), ("cmd_width", ctypes.c_int32), ("cmd_comp", _P), ("cmd_count", _P),
+        ("cmd_off", _P), ("cmd_vrs", _P), ("cmd_of", _P), ("cmd_values", _P),
+        ("set_deriv", _P), ("g_deriv", _P), ("w_deriv_off", _P), ("w_deriv_n", _P), ("w_groups", _P),
+        ("ones", _P), ("twos", _P), ("g_keeps_outputs", _P),
+        ("n_transfers", ctypes.c_int32), ("t_src", _P), ("t_dst", _P), ("t_bool", _P), ("t_n", _P),
+        ("t_src_vrs", _P), ("t_dst_vrs", _P), ("t_values", _P), ("d_get", _P), ("d_set", _P)]
 
 
 def _address(f) -> int | None:
@@ -42,48 +48,60 @@ def _address(f) -> int | None:
     return ctypes.cast(f, ctypes.c_void_p).value
 
 
+def _derivative_functions(coupling) -> list:
+    """Per component: its fmi2SetRealInputDerivatives where some group into it is fed its slopes that
+    way (coupling.InputGroup.fmi_derivatives), else None."""
+    wanted = {g.dst for g in coupling.links if g.fmi_derivatives}
+    return [comp.fmu._functions.get("fmi2SetRealInputDerivatives") if i in wanted else None
+            for i, comp in enumerate(coupling.comps)]
+
+
+def _discrete_functions(t) -> tuple:
+    """(the source's getter, the destination's setter) of a discrete_links transfer."""
+    if t.boolean:
+        return t.src._get_boolean, t.dst._set_boolean
+    return t.src._get_integer, t.dst._set_integer
+
+
+def python_reason(lib, coupling) -> str:
+    """Why the Python exchange must run for this coupling ('' where the kernel can): no kernel library,
+    the exchange not planned yet, wrapped FMI calls (no C function to call), or a product size whose
+    bits the kernel does not reproduce here.  Commanded inputs, FMI input derivatives and Integer/Boolean/
+    Enumeration connections run in the kernel."""
+    from . import agrees_with_numpy, why_not
+
+    if lib is None:
+        return why_not or "no compiled exchange"
+    if coupling._phases is None:
+        return "the exchange is not planned yet (initialization)"
+    functions = [f for comp in coupling.comps
+                 for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
+    functions += [f for t in coupling.discrete.transfers for f in _discrete_functions(t)]
+    functions += [f for f in _derivative_functions(coupling) if f is not None]
+    if any(_address(f) is None for f in functions):
+        return "wrapped FMI calls"
+    sizes = {ph.n for ph in coupling._phases} | {g.sl.stop - g.sl.start for g in coupling.links}
+    if not agrees_with_numpy(lib, sorted(sizes)):
+        return "the kernel's product differs from numpy's here"
+    return ""
+
+
 class KernelPlan:
     """The compiled kernel bound to one coupling; :meth:`make` returns None where it cannot run it."""
 
     def __init__(self, lib, coupling):
         self.lib, self.c = lib, coupling
         self._keep: list = []   # every array the C struct points into
+        self._parts: dict = {}  # (part, members) -> (part, its group indices, the members) for cf_evaluate
 
     @classmethod
     def make(cls, lib, coupling) -> KernelPlan | None:
-        """None where the Python exchange must run (:meth:`refusal` says why)."""
-        if cls.refusal(lib, coupling):
+        """None where the Python exchange must run (:func:`python_reason` says why)."""
+        if python_reason(lib, coupling):
             return None
         plan = cls(lib, coupling)
         plan._build()
         return plan
-
-    @staticmethod
-    def refusal(lib, coupling) -> str:
-        """Why the Python exchange must run this coupling ('' where the kernel can): commanded inputs,
-        Integer/Boolean/Enumeration connections (the kernel moves Real values only), FMI input derivatives,
-        wrapped FMI calls, or a product size whose bits the kernel does not reproduce here.  Each reason is
-        one phrase, shown by ``cranefmu run`` and ``info`` (:mod:`..exchange_label`)."""
-        from . import agrees_with_numpy
-
-        if lib is None:
-            return "no compiled kernel"
-        if coupling._phases is None:
-            return "the exchange is not planned yet"
-        if coupling.commands is not None:
-            return "commanded inputs (the kernel does not feed commands)"
-        if coupling.discrete:   # held by coupled.Coupling.exchange (.discrete_links), in Python
-            return "Integer, Boolean or Enumeration connections (the kernel moves Real values only)"
-        if any(w.derivatives for ph in coupling._phases for w in ph.writes):
-            return "inputs fed through fmi2SetRealInputDerivatives (the kernel does not set derivatives)"
-        functions = [f for comp in coupling.comps
-                     for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
-        if any(_address(f) is None for f in functions):
-            return "FMI calls wrapped in Python (a component's functions are not the FMU's own)"
-        sizes = {ph.n for ph in coupling._phases} | {g.sl.stop - g.sl.start for g in coupling.links}
-        if not agrees_with_numpy(lib, sorted(sizes)):
-            return "the kernel's extrapolation product does not give numpy's bits with this BLAS"
-        return ""
 
     def _array(self, values, dtype) -> int:
         a = np.ascontiguousarray(np.array(values, dtype=dtype))
@@ -98,7 +116,7 @@ class KernelPlan:
     def _build(self) -> None:
         c = self.c
         comps = c.comps
-        p = CPlan()
+        p = self.p = CPlan()
         i32, i64, f64 = np.int32, np.int64, np.float64
         p.n_comps = len(comps)
         p.inst = self._pointers([comp._c for comp in comps])
@@ -182,17 +200,66 @@ class KernelPlan:
         p.g_set_at = self._array([g.set_at for g in links], i32)
         p.g_rates = self._array([int(g.dt_vrs is not None) for g in links], i32)
         p.g_keeps_fresh = self._array([int(g.keeps_fresh) for g in links], i32)
+        p.g_keeps_outputs = self._array([int(g.keeps_outputs) for g in links], i32)
         g_gather = np.zeros(n, i64)
         for g in links:
             g_gather[g.sl] = [c._read_at[g.src] + int(j) for j in g.src_pos]
         p.g_gather = self._array(g_gather, i64)
         p.g_vrs = self._pointers([ctypes.addressof(g.set_vrs) for g in links])
         self._stages = None
+        self._commands(index)
+        transfers = c.discrete.transfers
+        p.n_transfers = len(transfers)
+        p.t_src = self._array([index[id(t.src)] for t in transfers], i32)
+        p.t_dst = self._array([index[id(t.dst)] for t in transfers], i32)
+        p.t_bool = self._array([int(t.boolean) for t in transfers], i32)
+        p.t_n = self._array([t.n for t in transfers], i32)
+        p.t_src_vrs = self._pointers([ctypes.addressof(t.src_vrs) for t in transfers])
+        p.t_dst_vrs = self._pointers([ctypes.addressof(t.dst_vrs) for t in transfers])
+        p.t_values = self._pointers([ctypes.addressof(t.values) for t in transfers])
+        p.d_get = self._pointers([_address(_discrete_functions(t)[0]) for t in transfers])
+        p.d_set = self._pointers([_address(_discrete_functions(t)[1]) for t in transfers])
+        derivs = _derivative_functions(c)
+        p.set_deriv = self._pointers([_address(f) if f is not None else None for f in derivs])
+        p.g_deriv = self._array([int(g.fmi_derivatives) for g in links], i32)
+        group_of = {id(g): gi for gi, g in enumerate(links)}
+        w_groups, w_off = [], []
+        for w in writes:
+            w_off.append(len(w_groups))
+            w_groups += [group_of[id(g)] for g, _, _ in w.derivatives]
+        p.w_deriv_off, p.w_deriv_n = self._array(w_off, i32), self._array([len(w.derivatives) for w in writes], i32)
+        p.w_groups = self._array(w_groups, i32)
+        p.ones, p.twos = self._array(np.ones(n), i32), self._array(np.full(n, 2), i32)
         read_idx, end_idx = c.row_extra
         p.n_extra_read, p.n_extra_end = len(read_idx), len(end_idx)
         p.extra_read, p.extra_end = self._array(read_idx, i64), self._array(end_idx, i64)
         self.p = p
         self.ptr = ctypes.addressof(p)
+
+    def _commands(self, index: dict) -> None:
+        """The commanded inputs (:class:`~..commands.CommandFeed`): per component one fmi2SetReal of the
+        values :meth:`~..commands.CommandFeed.fill` puts side by side; their row for one time."""
+        p, feed = self.p, self.c.commands
+        writes = feed.writes() if feed is not None else []
+        p.n_cmd = len(writes)
+        p.cmd_comp = self._array([index[id(comp)] for comp, _, _ in writes], np.int32)
+        p.cmd_count = self._array([n for _, _, n in writes], np.int32)
+        offsets = np.cumsum([0] + [n for _, _, n in writes])
+        p.cmd_off = self._array(offsets[:-1], np.int32)
+        p.cmd_width = self.cmd_width = int(offsets[-1])
+        p.cmd_vrs = self._pointers([ctypes.addressof(vrs) for _, vrs, _ in writes])
+        of = np.full(len(self.c.comps), -1, dtype=np.int32)
+        for w, (comp, _, _) in enumerate(writes):
+            of[index[id(comp)]] = w
+        p.cmd_of = self._array(of, np.int32)
+        self.cmd_row = np.zeros(max(1, self.cmd_width))
+        self._keep.append(self.cmd_row)
+        p.cmd_values = self.cmd_row.ctypes.data
+
+    def _command_row(self, t: float) -> None:
+        """The commanded values at t into the row the kernel writes at a step's end."""
+        if self.p.n_cmd:
+            self.c.commands.fill(t, self.cmd_row)
 
     def _set_stages(self, plan) -> None:
         """The Gauss-Seidel plan (algorithms.GaussSeidel.plan: per component in stepping order, the part fed
@@ -217,6 +284,7 @@ class KernelPlan:
         if self._stages is not plan:
             self._set_stages(plan)
         self.p.ends_wanted = int(self.c.ends_wanted)
+        self._command_row(t + h)
         self._enter()
         status = self.lib.cf_gauss_seidel_step(self.ptr, t, h, order)
         self._leave()
@@ -250,6 +318,7 @@ class KernelPlan:
 
     def jacobi_step(self, t: float, h: float, order: int) -> None:
         """One Jacobi macro step (coupled.Coupling.step, then commit) in compiled code."""
+        self._command_row(t + h)
         self._enter()
         status = self.lib.cf_jacobi_step(self.ptr, t, h, order)
         self._leave()
@@ -257,13 +326,75 @@ class KernelPlan:
             self._raise(t, h)
         self.c.stats.compiled_steps += 1
 
+    def evaluate(self, t: float, h: float, u: np.ndarray, degree: int, part, members, through_only: bool,
+                 ends: bool) -> np.ndarray | None:
+        """G(u) of a strongly coupled step in compiled code (see cf_evaluate in exchange.c): ``part`` fed
+        along the polynomial through its last ``degree`` values and ``u``, the components ``members``
+        stepped from t by h, what ``part``'s sources give then (passed on; ``through_only``: only where
+        fed through, held).  None (nothing done) where the kernel does not take it: no past point, a
+        degree above 2, or a batched product size whose bits it does not reproduce here."""
+        from . import agrees_with_numpy
+
+        c = self.c
+        if not c._rows or degree > 2:
+            return None
+        key = (id(part), tuple(members))
+        arrays = self._parts.get(key)
+        if arrays is None:
+            if part._batched and not agrees_with_numpy(self.lib, [part.n]):
+                return None
+            arrays = (part, np.array([gi for gi, _ in part._groups], dtype=np.int32),
+                      np.array(list(members), dtype=np.int32))
+            self._parts[key] = arrays
+        _, groups, steps = arrays
+        u = np.ascontiguousarray(u, dtype=float)
+        gu = np.empty(part.n)
+        self.p.ends_wanted = int(c.ends_wanted)
+        self._command_row(t + h)
+        self._enter()
+        status = self.lib.cf_evaluate(self.ptr, t, h, degree, int(part._batched), int(through_only), int(ends),
+                                      len(groups), groups.ctypes.data, len(steps), steps.ctypes.data,
+                                      u.ctypes.data, gu.ctypes.data)
+        self._leave()
+        if status:
+            self._raise(t, h)
+        return gu
+
+    def plain_step(self, t: float, h: float) -> None:
+        """One step of libcosim's fixed-step Jacobi (algorithms.PlainJacobi.step) in compiled code."""
+        self._command_row(t + h)
+        self._enter()
+        status = self.lib.cf_plain_step(self.ptr, t, h)
+        self._leave()
+        if status:
+            self._raise(t, h)
+        self.c.stats.compiled_steps += 1
+
+    def exchange(self, t: float, order: int) -> None:
+        """Every value moves at t (coupled.Coupling.commit) in compiled code."""
+        self._command_row(t)
+        self._enter()
+        status = self.lib.cf_exchange(self.ptr, t, order)
+        self._leave()
+        if status:
+            self._raise(t, 0.0)
+
     def jacobi_steps(self, ts: np.ndarray, order: int, rows: np.ndarray) -> int:
         """Jacobi macro steps on the grid ``ts`` (len(ts) - 1 of them), each row (time, outputs, discrete
         outputs) into ``rows``; returns how many were done (all; a failure is raised after the rows
         before it are in ``rows``: the caller's ``done`` attribute says how many)."""
         steps = len(ts) - 1
+        values = None
+        if self.p.n_cmd:   # the commanded values at every step's end, one row each
+            values = np.empty((steps, self.cmd_width))
+            for i in range(steps):
+                self.c.commands.fill(float(ts[i + 1]), values[i])
+            self.p.cmd_values = values.ctypes.data
         self._enter()
-        done = self.lib.cf_jacobi_steps(self.ptr, ts.ctypes.data, order, steps, rows.ctypes.data)
+        try:
+            done = self.lib.cf_jacobi_steps(self.ptr, ts.ctypes.data, order, steps, rows.ctypes.data)
+        finally:
+            self.p.cmd_values = self.cmd_row.ctypes.data
         self._leave()
         if done < 0:
             self.done = -1 - done
@@ -277,7 +408,8 @@ class KernelPlan:
         """The error the Python path raises for the failure the kernel reported."""
         p = self.p
         comp = self.c.comps[p.err_comp]
-        what = {1: "fmi2DoStep", 2: "fmi2GetReal", 3: "fmi2SetReal", 4: "fmi2GetInteger"}[p.err_what]
+        what = {1: "fmi2DoStep", 2: "fmi2GetReal", 3: "fmi2SetReal", 4: "fmi2GetInteger", 6: "fmi2GetInteger",
+                7: "fmi2SetInteger"}[p.err_what]
         try:
             comp._failed(what, p.err_status)
         except Exception:
@@ -285,5 +417,6 @@ class KernelPlan:
                 raise SimulationError(f"component {comp.name} failed in the step from t = {t:.9g} s (H = {h:.3g} s): "
                                       f"{comp.last_error()}. Try a smaller --step, --adaptive, or --algorithm "
                                       "iterative.") from None
-            doing = {2: "reading its outputs", 3: "setting its inputs", 4: "reading its discrete outputs"}[p.err_what]
+            doing = {2: "reading its outputs", 3: "setting its inputs", 4: "reading its discrete outputs",
+                     6: "reading its discrete outputs", 7: "setting its discrete inputs"}[p.err_what]
             raise self.c.refused(comp, doing) from None
