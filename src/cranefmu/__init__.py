@@ -5,12 +5,13 @@ statistics, a :class:`RunResult`), :class:`Execution` (a run the caller steps; :
 :class:`Command` and :class:`Source` plug into it, :class:`RunInterrupted` ends it on a signal), :func:`resolve` (the :class:`RunSpec` a run would take: every setting and where it came
 from; ``run(spec)`` runs it), :func:`build` (build FMUs and scenes), :func:`sweep` (a study of many runs on Dask).
 Scene names resolve through :mod:`cranefmu.scene_catalog`, registered with the master here so the
-master imports nothing of it.
+master imports nothing of it; so are the parameters that follow others (:mod:`cranefmu.derived`).
 """
 from __future__ import annotations
 
 from pathlib import Path
 
+from .master.parameter_rules import register_parameter_rules as _register_parameter_rules
 from .master.scene_names import register_scene_resolver as _register_scene_resolver
 
 from .version import __version__
@@ -27,6 +28,21 @@ def _resolve_scene_name(name: str, fmus: str | None = None) -> Path:
 
 
 _register_scene_resolver(_resolve_scene_name)
+
+
+def _derive(scene: str, base, given) -> dict:
+    from .derived import derive   # on first use, as the scene resolver
+
+    return derive(scene, base, given)
+
+
+def _followed(scene: str, given, values) -> dict:
+    from .derived import followed
+
+    return followed(scene, given, values)
+
+
+_register_parameter_rules(_derive, _followed)
 
 
 def fmu_path(name: str, fmus: str | None = None) -> Path:

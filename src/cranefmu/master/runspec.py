@@ -62,11 +62,11 @@ class RunSpec:
         if self.set_aside:
             lines.append(f"not taken from the scene (measured for {self.stored_for}, this run is "
                          f"{self.settings.algorithm}): " + ", ".join(f"{k} = {v!r}" for k, v in self.set_aside.items()))
-        from ..derived import followed
+        from .parameter_rules import followed
 
         moved = followed(self.scene, self.parameters, {f"{c}.{v}": x for (c, v), x in self.overrides.items()})
         if moved:
-            lines.append("following the parameters changed (cranefmu.derived): "
+            lines.append("following the parameters changed: "
                          + ", ".join(f"{k} = {v:.6g}" for k, v in moved.items()))
         return lines
 
@@ -153,9 +153,9 @@ def choose(given: dict, stored: dict, scene_stop_time: float | None) -> tuple[di
 
 def _overrides(scene, parameter_set: str | None, parameters: dict) -> dict[tuple[str, str], object]:
     """The parameter set's values with ``parameters`` over them, and the parameters that follow a changed one
-    (:func:`cranefmu.derived.derive`: refused in one line where both are given and disagree), keyed
+    (:func:`.parameter_rules.derive`, the crane layer's rules: refused in one line where both are given and disagree), keyed
     (component, variable)."""
-    from ..derived import derive
+    from .parameter_rules import derive
 
     values: dict[str, object] = scene.model_values(parameter_set)
     values.update(derive(scene.name, values, parameters))
