@@ -17,10 +17,20 @@ if HELPERS not in sys.path:
 
 @pytest.fixture(scope="session")
 def built():
-    """Build every stale FMU and SSP; returns the checkout's fmus/ directory."""
+    """Build every stale FMU and SSP; returns the checkout's fmus/ directory.  Under pytest-xdist each
+    worker asks: an exclusive lock on a file beside fmus/ makes the first build and the others find
+    nothing stale."""
+    import fcntl
+
     from cranefmu import build as b
 
-    b.build(verbose=False)
+    b.FMU_DIR.mkdir(parents=True, exist_ok=True)
+    with open(b.FMU_DIR.parent / ".pytest_build.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            b.build(verbose=False)
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
     return b.FMU_DIR
 
 
