@@ -152,3 +152,30 @@ def test_a_study_with_a_failed_point_lists_it_and_exits_1(tmp_path, monkeypatch,
         signal.signal(signal.SIGINT, handler)
     assert "study speed: 1 failed point(s); first: point 3" in capsys.readouterr().err
     assert "**1 failed point(s)**" in (tmp_path / "failing.md").read_text()
+
+
+def test_dynamic_factor_names_its_extrapolation_not_the_scenes_stored_one(tmp_path, monkeypatch):
+    """The study's steps were chosen with plain Jacobi (x0); the scene's stored x1 (measured at 2 ms) made the
+    tight lift at 0.104 m/s trip the instability alarm at 2.5e-4 s, a failed point on the regenerated page."""
+    from types import SimpleNamespace
+
+    from cranefmu import sweep as sweep_package
+    from cranefmu.studies import dynamic_factor
+
+    seen = []
+
+    def fake_sweep(scene, vary, metrics, path, **settings):
+        seen.append(settings)
+        omegas = [float(x) for x in vary[0].split("=")[1].split(",")]
+        slacks = [float(x) for x in vary[1].split("=")[1].split(",")]
+        design = [{"key": f"{o}-{s}", "drive.Omega_s": o, "rope.start_slack": s, "status": "ok", "error": "",
+                   "dynamic_factor": 1.2 + s, "lift_off_time": 0.5, "wall_time": 0.1} for o in omegas for s in slacks]
+        return SimpleNamespace(path=path, design=design, ran=len(design), skipped=0)
+
+    monkeypatch.setattr(sweep_package, "sweep", fake_sweep)
+    ctx = Context(tmp_path, "smoke", say=lambda s: None)
+    ctx._client = object()
+    monkeypatch.setattr(ctx, "stale_rows", lambda: (0, False))   # no run tables behind the fake sweep
+    dynamic_factor.run(ctx)
+    assert [s["extrapolation"] for s in seen] == [0, 0]
+    assert "Co-simulation (Jacobi, extrapolation 0;" in (tmp_path / "dynamic_factor.md").read_text()
