@@ -179,3 +179,23 @@ def test_dynamic_factor_names_its_extrapolation_not_the_scenes_stored_one(tmp_pa
     dynamic_factor.run(ctx)
     assert [s["extrapolation"] for s in seen] == [0, 0]
     assert "Co-simulation (Jacobi, extrapolation 0;" in (tmp_path / "dynamic_factor.md").read_text()
+
+
+def test_convergence_page_shows_the_modal_check_its_recommendation_rests_on():
+    """A run within the range target whose listed mode is off is not recommended: the page says why (before,
+    it said 'the cheapest run within 0.01' and showed hook_sway's 4 ms run, 0.0058 of range, unrecommended)."""
+    from cranefmu.converge import ConvergenceRun, Study
+    from cranefmu.modal import ModalCheck, ModeError
+    from cranefmu.studies import convergence
+
+    coarse = ConvergenceRun(4e-3, None, rel_err={"pendulum.theta": 0.0058}, steps=1250, wall_time=0.5, simulated=5.0)
+    fine = ConvergenceRun(2e-3, None, rel_err={"pendulum.theta": 0.0015}, steps=2500, wall_time=0.5, simulated=5.0)
+    off = ModalCheck([ModeError("sway", 1.0, 0.0110, 1.0, 0.0100, 1.0, 0.01)])      # damping 10 % off: > 5 %
+    good = ModalCheck([ModeError("sway", 1.001, 0.0101, 1.0, 0.0100, 1.0, 0.01)])   # 0.1 %, 1 %
+    s = Study("hook_sway", ("pendulum.theta",), "jacobi", 1, "monolith", 0.01, 5.0, [coarse, fine],
+              modes={coarse.label: off, fine.label: good})
+    rows = [line for line in convergence.page([s]) if line.startswith("| hook_sway")]
+    assert rows[0].endswith("| f 0 %, zeta 10 % **outside** | 0.50 | 10.0 |  |")
+    assert rows[1].endswith("| f 0.1 %, zeta 1 % | 0.50 | 10.0 | yes |")
+    assert convergence.modes_columns(off) == {"modes_freq_err": 0.0, "modes_damp_err": pytest.approx(0.1),
+                                              "modes_meet": False}
