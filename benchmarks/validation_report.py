@@ -1,8 +1,11 @@
 """Validation report: run the scenes of the three papers and compare them with the papers.
 
-    .venv/bin/python benchmarks/validation_report.py [--quick]
+    .venv/bin/python benchmarks/validation_report.py [--quick] [--docs DIR]
 
-Writes docs/validation.md and docs/figures/*.png.  Most numbers come from the monolithic solve of the
+Writes docs/validation.md and docs/figures/*.png (``--docs DIR``: DIR/validation.md and DIR/figures/, to
+check a regeneration without touching the checkout); the hand-written part after the generated one is
+docs/validation_discussion.md, appended whole.  The seeds' figures come from ``cranefmu.seed_figures``
+(the one table every generated page quotes).  Most numbers come from the monolithic solve of the
 scene's own physics models (``cranefmu.reference.solve``, Radau, rtol 1e-6): the same equations the
 co-simulation runs, without the coupling error (tests/scenes/test_reference.py shows the co-simulation
 converging to it).  The boom-angle study of the truck crane is run by co-simulation (parameter sets
@@ -26,6 +29,8 @@ import numpy as np  # noqa: E402
 from cranefmu.errors import CraneFmuError  # noqa: E402
 from cranefmu.physics.boucwen import BoucWenParams  # noqa: E402
 from cranefmu.reference import solve  # noqa: E402
+from cranefmu.seed_figures import (HOOK_SPEED, PHASE_N2, ROPE_STRETCH_PRINTED, STATIC_REACTIONS,  # noqa: E402
+                                   STATIC_SETTLEMENTS, SWAY_BY_SPEED, TABLE7_TESTS, table7)
 from cranefmu.scenes import (hook_sway_metrics, hook_sway_parameters, overhead_lift_metrics,  # noqa: E402
                              payload_sway, static_outrigger_loads, truck_telescope_metrics,
                              truck_telescope_parameters)
@@ -35,12 +40,11 @@ DOCS = ROOT / "docs"
 FIG = DOCS / "figures"
 RTOL = 1e-6
 G = 9.81
-HOOK_SPEED = 0.208          # seed 001 Table 6: V_p [m/s], HD1 (no creep speed): v_h = v_h,max
 EN_CLASSES = {"HC1": (0.17, 1.05), "HC2": (0.34, 1.10), "HC3": (0.51, 1.15), "HC4": (0.68, 1.20)}
 COSIM_STEP = 5e-5         # Bouc-Wen loose: the co-simulation converges only below 1e-4 s (docs)
 TRUCK_STEP = 1e-2         # truck_telescope, Jacobi x1: 4.6e-4 of range over 30 s (benchmarks/results/speed_accuracy.md)
+N2_PAPER, N1_PAPER = STATIC_REACTIONS["N2_rear"], STATIC_REACTIONS["N1_front"]   # seed 000, 2.5 t [N]
 ANGLE_SETS = ((30.0, "luff30"), (45.0, "luff45"), (60.0, "default"))
-MEASURED = {"tight": (1.31, 1.29, 1.32), "loose": (1.55, 1.45, 1.55)}   # seed 001 Table 7
 PIN = 2.0                 # hook_sway parameter set pin_damper: c_pin [N m s/rad]
 
 
@@ -162,12 +166,13 @@ def overhead_lift(quick: bool) -> list[str]:
           "| rope model | start | dynamic factor | lift-off [s] | measured (Table 7) | model - measured |",
           "| --- | --- | --- | --- | --- | --- |"]
     for (rope, case), m in results.items():
-        meas = float(np.mean(MEASURED[case]))
+        meas = table7(case)
+        paper = f"{meas:.3f} ({', '.join(map(str, TABLE7_TESTS[case]))})"   # the mean, then the three tests
         if "error" in m:
-            md.append(f"| {rope} | {case} | failed: {m['error'][:160]} | | {meas:.3f} | |")
+            md.append(f"| {rope} | {case} | failed: {m['error'][:160]} | | {paper} | |")
             continue
         md.append(f"| {rope} | {case} ({m['engine']}) | {m['dynamic_factor']:.3f} | {m['lift_off_time']:.3f} | "
-                  f"{meas:.3f} ({', '.join(map(str, MEASURED[case]))}) | "
+                  f"{paper} | "
                   f"{100 * (m['dynamic_factor'] / meas - 1):+.1f} % |")
     md += ["", "| EN 13001-2 class | beta2 | phi2,min | phi2 |", "| --- | --- | --- | --- |"]
     for k, (beta, pmin) in EN_CLASSES.items():
@@ -190,17 +195,18 @@ def truck(quick: bool) -> list[str]:
     md += ["Static state at t = 0 (2.5 t hook load, see ssp/truck_telescope/default.ssv for the 2.5 t / 3.5 t "
            "reading):", "",
            "| quantity | model | seed 000 | difference |", "| --- | --- | --- | --- |",
-           f"| rear outrigger N2 (boom side) | {n2[0] / 1e3:.2f} kN | 104.13 kN | {100 * (n2[0] / 104130 - 1):+.2f} % |",
-           f"| front outrigger N1 | {n1[0] / 1e3:.2f} kN | 77.8 kN | {100 * (n1[0] / 77800 - 1):+.2f} % |",
-           f"| settlement rear q2 | {r['chassis.q2'][0] * 1e3:.3f} mm | 2.57 mm | |",
-           f"| settlement front q1 | {r['chassis.q1'][0] * 1e3:.3f} mm | 1.92 mm | |",
+           f"| rear outrigger N2 (boom side) | {n2[0] / 1e3:.2f} kN | {N2_PAPER / 1e3:g} kN | "
+           f"{100 * (n2[0] / N2_PAPER - 1):+.2f} % |",
+           f"| front outrigger N1 | {n1[0] / 1e3:.2f} kN | {N1_PAPER / 1e3:g} kN | {100 * (n1[0] / N1_PAPER - 1):+.2f} % |",
+           f"| settlement rear q2 | {r['chassis.q2'][0] * 1e3:.3f} mm | {STATIC_SETTLEMENTS['q2_rear'] * 1e3:g} mm | |",
+           f"| settlement front q1 | {r['chassis.q1'][0] * 1e3:.3f} mm | {STATIC_SETTLEMENTS['q1_front'] * 1e3:g} mm | |",
            f"| rope static elongation | {r['rope.elongation'][0] * 1e3:.3f} mm | {x_s0(2500.0) * 1e3:.3f} mm "
-           f"(x_s0 = P (l5 + s0 / n_p) / E F at 2.5 t; printed 9.03 mm, the formula gives "
+           f"(x_s0 = P (l5 + s0 / n_p) / E F at 2.5 t; printed {ROPE_STRETCH_PRINTED * 1e3:g} mm, the formula gives "
            f"{x_s0(3500.0) * 1e3:.2f} mm at 3.5 t) | {100 * (r['rope.elongation'][0] / x_s0(2500.0) - 1):+.2f} % |", ""]
     n35 = static_outrigger_loads(10.5, 60.0, 3500.0)
     md += ["Which load belongs to which mass (statics, `cranefmu.scenes.static_outrigger_loads`, boom 10.5 m at 60 deg): "
            f"2.5 t gives N2 = {static_outrigger_loads(10.5, 60.0, 2500.0)[1] / 1e3:.2f} kN (boom side) and "
-           f"N1 = {static_outrigger_loads(10.5, 60.0, 2500.0)[0] / 1e3:.2f} kN, the printed 104.13 / 77.8 kN; the 3.5 t "
+           f"N1 = {static_outrigger_loads(10.5, 60.0, 2500.0)[0] / 1e3:.2f} kN, the printed {N2_PAPER / 1e3:g} / {N1_PAPER / 1e3:g} kN; the 3.5 t "
            f"the text simulates gives N2 = {n35[1] / 1e3:.2f} kN and N1 = {n35[0] / 1e3:.2f} kN.", "",
            "Static tipping boom length (front outrigger unloaded; segments 3 and 4 extended with the tip):", "",
            "| load | 30 deg | 45 deg | 60 deg |", "| --- | --- | --- | --- |"]
@@ -208,8 +214,9 @@ def truck(quick: bool) -> list[str]:
         md.append(f"| {load / 1e3:g} t | " + " | ".join(f"{static_tipping_length(a, load):.2f} m" for a in (30.0, 45.0, 60.0))
                   + " |")
     md += [""]
-    phases = (("0-3 s (accelerating)", 0.0, 3.0, (68.3, 93.6)), ("3-17 s (steady)", 3.0, 17.0, None),
-              ("17-20 s (decelerating)", 17.0, 20.0, (141.5, 152.4)), ("after 20 s (at rest)", 20.0, t[-1], (130.6, 147.2)))
+    phases = (("0-3 s (accelerating)", 0.0, 3.0, PHASE_N2["accelerating"]), ("3-17 s (steady)", 3.0, 17.0, None),
+              ("17-20 s (decelerating)", 17.0, 20.0, PHASE_N2["decelerating"]),
+              ("after 20 s (at rest)", 20.0, t[-1], PHASE_N2["at rest"]))
     md += ["Outrigger reactions by phase (kN):", "",
            "| phase | N2 rear min..max | seed 000 N2 | N1 front min..max |", "| --- | --- | --- | --- |"]
     for label, a, b, paper in phases:
@@ -217,7 +224,7 @@ def truck(quick: bool) -> list[str]:
         md.append(f"| {label} | {n2[sel].min() / 1e3:.1f} .. {n2[sel].max() / 1e3:.1f} | "
                   f"{f'{paper[0]} .. {paper[1]}' if paper else '-'} | {n1[sel].min() / 1e3:.1f} .. {n1[sel].max() / 1e3:.1f} |")
     md += ["", f"Sway: largest {m['max_sway_deg']:.3f} deg, free swing after telescoping {m['sway_after_deg']:.3f} deg "
-           "(seed 000 Fig. 3b: about 1.5 deg).  Rope elongation "
+           f"(seed 000 Fig. 3b: about {SWAY_BY_SPEED[0.35]:g} deg).  Rope elongation "
            f"{m['elongation_min'] * 1e3:.2f} .. {m['elongation_max'] * 1e3:.2f} mm.", "",
            figure("truck_reactions", "truck_telescope: outrigger reactions", [(t, n1 / 1e3, "N1 front"), (t, n2 / 1e3, "N2 rear")], "reaction [kN]"),
            figure("truck_settlements", "truck_telescope: settlements", [(t, r["chassis.q1"] * 1e3, "q1 front"), (t, r["chassis.q2"] * 1e3, "q2 rear")], "settlement [mm]"),
@@ -227,7 +234,7 @@ def truck(quick: bool) -> list[str]:
     md += ["### Sway against telescoping speed", "", "| V10 = V20 [m/s] | end of telescoping [s] | largest sway [deg] | "
            "free swing after [deg] | seed 000 [deg] |", "| --- | --- | --- | --- | --- |"]
     speed_rows, curves = [], []
-    for v, paper in ((0.2, 0.6), (0.35, 1.5), (0.55, 3.0)):
+    for v, paper in SWAY_BY_SPEED.items():
         p = truck_telescope_parameters(speed=v)
         stop = p["drive.duration"] + extra
         rr = r if v == 0.35 else run("truck_telescope", stop, 2001, "default", p)
@@ -436,10 +443,26 @@ def _commit() -> str:
     return f"{head}{' with local changes' if dirty else ''}"
 
 
+DISCUSSION = DOCS / "validation_discussion.md"   # hand-written: why the model and the papers differ (kept whole)
+
+
+def assemble(generated: list[str], discussion: Path = DISCUSSION) -> str:
+    """The page: the generated lines, then the hand-written ``discussion`` file whole (every section of
+    docs/validation.md that no script computes lives there, so a regeneration keeps it)."""
+    text = list(generated)
+    if discussion.is_file():
+        text += ["", discussion.read_text()]
+    return "\n".join(text)
+
+
 def main(argv: list[str] | None = None) -> int:
+    global DOCS, FIG
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="short runs (smoke test)")
+    ap.add_argument("--docs", type=Path, default=DOCS, metavar="DIR",
+                    help="write DIR/validation.md and DIR/figures/ (default: the checkout's docs/)")
     args = ap.parse_args(argv)
+    DOCS, FIG = args.docs, args.docs / "figures"
     FIG.mkdir(parents=True, exist_ok=True)
     commit = _commit()   # before this run rewrites docs/
     t0 = time.perf_counter()
@@ -453,10 +476,7 @@ def main(argv: list[str] | None = None) -> int:
             f"beside it), and so is any case the monolith cannot solve (marked).  Commit {commit}, run time "
             f"{time.perf_counter() - t0:.0f} s.", "",
             *ol, *tr, *hk]
-    notes = DOCS / "validation_discussion.md"   # hand-written: why the model and the papers differ
-    if notes.is_file():
-        text += ["", notes.read_text()]
-    (DOCS / "validation.md").write_text("\n".join(text))
+    (DOCS / "validation.md").write_text(assemble(text))
     print(f"wrote {DOCS / 'validation.md'}")
     return 0
 

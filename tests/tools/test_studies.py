@@ -152,3 +152,50 @@ def test_a_study_with_a_failed_point_lists_it_and_exits_1(tmp_path, monkeypatch,
         signal.signal(signal.SIGINT, handler)
     assert "study speed: 1 failed point(s); first: point 3" in capsys.readouterr().err
     assert "**1 failed point(s)**" in (tmp_path / "failing.md").read_text()
+
+
+def test_dynamic_factor_names_its_extrapolation_not_the_scenes_stored_one(tmp_path, monkeypatch):
+    """The study's steps were chosen with plain Jacobi (x0); the scene's stored x1 (measured at 2 ms) made the
+    tight lift at 0.104 m/s trip the instability alarm at 2.5e-4 s, a failed point on the regenerated page."""
+    from types import SimpleNamespace
+
+    from cranefmu import sweep as sweep_package
+    from cranefmu.studies import dynamic_factor
+
+    seen = []
+
+    def fake_sweep(scene, vary, metrics, path, **settings):
+        seen.append(settings)
+        omegas = [float(x) for x in vary[0].split("=")[1].split(",")]
+        slacks = [float(x) for x in vary[1].split("=")[1].split(",")]
+        design = [{"key": f"{o}-{s}", "drive.Omega_s": o, "rope.start_slack": s, "status": "ok", "error": "",
+                   "dynamic_factor": 1.2 + s, "lift_off_time": 0.5, "wall_time": 0.1} for o in omegas for s in slacks]
+        return SimpleNamespace(path=path, design=design, ran=len(design), skipped=0)
+
+    monkeypatch.setattr(sweep_package, "sweep", fake_sweep)
+    ctx = Context(tmp_path, "smoke", say=lambda s: None)
+    ctx._client = object()
+    monkeypatch.setattr(ctx, "stale_rows", lambda: (0, False))   # no run tables behind the fake sweep
+    dynamic_factor.run(ctx)
+    assert [s["extrapolation"] for s in seen] == [0, 0]
+    assert "Co-simulation (Jacobi, extrapolation 0;" in (tmp_path / "dynamic_factor.md").read_text()
+
+
+def test_convergence_page_shows_the_modal_check_its_recommendation_rests_on():
+    """A run within the range target whose listed mode is off is not recommended: the page says why (before,
+    it said 'the cheapest run within 0.01' and showed hook_sway's 4 ms run, 0.0058 of range, unrecommended)."""
+    from cranefmu.converge import ConvergenceRun, Study
+    from cranefmu.modal import ModalCheck, ModeError
+    from cranefmu.studies import convergence
+
+    coarse = ConvergenceRun(4e-3, None, rel_err={"pendulum.theta": 0.0058}, steps=1250, wall_time=0.5, simulated=5.0)
+    fine = ConvergenceRun(2e-3, None, rel_err={"pendulum.theta": 0.0015}, steps=2500, wall_time=0.5, simulated=5.0)
+    off = ModalCheck([ModeError("sway", 1.0, 0.0110, 1.0, 0.0100, 1.0, 0.01)])      # damping 10 % off: > 5 %
+    good = ModalCheck([ModeError("sway", 1.001, 0.0101, 1.0, 0.0100, 1.0, 0.01)])   # 0.1 %, 1 %
+    s = Study("hook_sway", ("pendulum.theta",), "jacobi", 1, "monolith", 0.01, 5.0, [coarse, fine],
+              modes={coarse.label: off, fine.label: good})
+    rows = [line for line in convergence.page([s]) if line.startswith("| hook_sway")]
+    assert rows[0].endswith("| f 0 %, zeta 10 % **outside** | 0.50 | 10.0 |  |")
+    assert rows[1].endswith("| f 0.1 %, zeta 1 % | 0.50 | 10.0 | yes |")
+    assert convergence.modes_columns(off) == {"modes_freq_err": 0.0, "modes_damp_err": pytest.approx(0.1),
+                                              "modes_meet": False}

@@ -14,10 +14,10 @@ def run_studies(names: list[str], output: str, size: str, workers: int | None = 
     """Run the studies ``names`` (sharing one cluster) into ``output``; {name: its failed points}.
     ``prune``: drop the rows of their run tables that they did not read (an earlier request)."""
     failures: dict[str, list[str]] = {}
-    shared = ctx = Context(output, size, workers, scheduler, say)
+    shared = ctx = Context(output, size, workers, scheduler, say)   # its commit is taken before any study writes
     try:
         for name in names:
-            ctx = Context(output, size, workers, scheduler, say, prune)
+            ctx = Context(output, size, workers, scheduler, say, prune, made=shared.made)
             ctx._client, ctx._cluster = shared._client, shared._cluster
             t0 = clock.perf_counter()
             module(name).run(ctx)
