@@ -28,7 +28,6 @@ from pathlib import Path
 from . import cache
 from . import host_steps as host_steps_module
 from .errors import CraneFmuError, SceneError
-from .compose.ssd import add_parameters  # the ssv:Parameter writer, shared with the scene sources
 from .sources import (CHECKOUT, FMU_SOURCES, IN_CHECKOUT, PACKAGE_DIR, SSP_SOURCES, bundle_sources, fmu_scripts,
                       scene_dirs, scene_files, source_digest)
 
@@ -154,6 +153,14 @@ def _ensure_binaries(fmu: Path, model_identifier: str) -> None:
         for lib in [*src.rglob("*.so"), *src.rglob("*.dll"), *src.rglob("*.dylib")]:
             zf.write(lib, f"binaries/{lib.parent.name}/{model_identifier}{lib.suffix}")
 
+
+
+def add_parameters(*args, **kw):
+    """:func:`cranefmu.compose.ssd.add_parameters` (the ssv:Parameter writer, shared with the scene sources),
+    imported when an SSP is written: a run's build check stays without the compose package."""
+    from .compose.ssd import add_parameters as write
+
+    return write(*args, **kw)
 
 
 def _compose():
