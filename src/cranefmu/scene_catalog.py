@@ -57,8 +57,9 @@ def _errors(r: dict) -> str:
 
 def fidelity_lines(name: str) -> list[str]:
     """``cranefmu info`` lines: the chosen setting with its measured errors, then the ladder (ordered by the
-    walls scene_defaults.py measured on its window with the pythonfmu FMUs; those walls are not shown: a
-    speed ``info`` quotes is of the whole natural length, :mod:`cranefmu.speed_table`)."""
+    cost scene_defaults.py measured: CPU with the native FMUs over the natural length, or in an older
+    measurement the walls of its window with the pythonfmu FMUs; the costs are not shown: a speed ``info``
+    quotes is :mod:`cranefmu.speed_table`'s)."""
     data = fidelity(name)
     if not data:
         return []
@@ -67,10 +68,24 @@ def fidelity_lines(name: str) -> list[str]:
              f"    chosen: {best['label']}: {_errors(best)}" if best else
              "    chosen: none measured meets every limit (the scene keeps its stored setting; the modes it "
              "does not keep: cranefmu.modal.NOT_KEPT, docs/scenes_catalog.md)",
-             "    fidelity ladder, fastest -> most faithful (ordered by the walls of that measurement, pythonfmu FMUs; "
+             f"    fidelity ladder, fastest -> most faithful (ordered by the {_basis(data)} of that measurement; "
              "passes: range <= 0.5 %, half the 1 % target; every listed "
-             "mode within 0.5 % frequency and 5 % damping ratio; no bond residual above 10 % of its energy):"]
-    return lines + [f"      {r['label']}: {_errors(r)}" for r in data["ladder"]]
+             "mode within 0.5 % frequency and 5 % damping ratio; no bond residual above 10 % of its energy"
+             + (f"; the scene's question over {data['natural']:g} s as the monolith answers it" if data.get("natural")
+                else "") + "):"]
+    return lines + [f"      {r['label']}: {_errors(r)}" + _question(r) for r in data["ladder"]]
+
+
+def _basis(data: dict) -> str:
+    """What ordered a measurement's ladder: its CPU (native FMUs, ...) or, measured before, its walls."""
+    return data["cost"] if data.get("cost") else "walls, pythonfmu FMUs"
+
+
+def _question(r: dict) -> str:
+    """', question: <name> <err> of <limit>' for a rung measured with the scene's question, else ''."""
+    if not r.get("question"):
+        return ""
+    return f"; {r['question']} off by {100 * r['question_err']:.2g} % (limit {100 * r['question_limit']:.2g} %)"
 
 
 def mode_lines(name: str) -> list[str]:

@@ -80,8 +80,8 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
     "reference_speed.py": (["--quick", "--methods", "Radau"], ["benchmarks/results/reference_speed.md"]),
     "report_size.py": (["--smoke"], ["benchmarks/results/report_size_smoke.md"]),
     "result_table.py": ([], []),   # a library of the physics benchmarks: importing it is its smoke run
-    "scene_defaults.py": (["--scenes", "elastic_pendulum", "--stop", "0.2", "--steps", H, "--output",
-                           "{tmp}/defaults.md"], ["{tmp}/defaults.md"]),
+    "scene_defaults.py": (["--scenes", "elastic_pendulum", "--stop", "0.2", "--natural", "0.4", "--steps", H,
+                           "--output", "{tmp}/defaults.md"], ["{tmp}/defaults.md"]),
     "speed_accuracy.py": (["--quick", "--scenes", "elastic_pendulum", "--stop-time", "0.2", "--steps", H,
                            "--algorithms", "jacobi", "--extrapolations", "0", "--no-target", "--no-libcosim",
                            "--repeats", "1", "--output", "{tmp}/speed"], ["{tmp}/speed/speed_accuracy.md"]),

@@ -199,3 +199,17 @@ def test_convergence_page_shows_the_modal_check_its_recommendation_rests_on():
     assert rows[1].endswith("| f 0.1 %, zeta 1 % | 0.50 | 10.0 | yes |")
     assert convergence.modes_columns(off) == {"modes_freq_err": 0.0, "modes_damp_err": pytest.approx(0.1),
                                               "modes_meet": False}
+
+
+def test_the_speed_studys_monolith_is_on_the_macro_step_grid_when_the_step_does_not_divide_the_stop(built):
+    """hook_sway's stored 3 ms does not divide its 10 s: the monolith was sampled at linspace's 3.0003 ms, no time
+    but 0 lay on the 3 ms grid the accuracy reads, and `cranefmu study speed` ended in reference.solve's
+    StopIteration (a solve to t = 0)."""
+    import numpy as np
+
+    from cranefmu.studies.speed import on_grid
+    from cranefmu.studies.timing import _monolith
+
+    got = _monolith("elastic_pendulum", 0.05, 0.003)
+    assert len(got["time"]) == 17 and got["time"][-1] == 16 * 0.003
+    assert np.array_equal(on_grid(got, 0.003, 0.05)["time"], got["time"])
