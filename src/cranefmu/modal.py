@@ -421,6 +421,14 @@ def specs(scene: str) -> tuple[ModeSpec, ...]:
     return MODES.get(scene, ())
 
 
+def probe(scene: str, mode: str) -> dict:
+    """The probe (parameter changes) of listed mode ``mode`` of ``scene``, from its analysis.toml."""
+    for spec in specs(scene):
+        if spec.name == mode:
+            return dict(spec.probe)
+    raise SettingsError(f"mode {mode!r} of {scene} is not listed: one of {', '.join(s.name for s in specs(scene))}")
+
+
 def scene_values(scene: str, parameter_set: str | None = None, parameters: dict | None = None) -> dict:
     """The scene's 'comp.var' parameter values in force (sources, the set, then ``parameters`` with the
     parameters that follow them, :func:`cranefmu.derived.derive`)."""
