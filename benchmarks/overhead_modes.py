@@ -41,7 +41,7 @@ def main(argv: list[str] | None = None) -> int:
             f"- date: {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, commit {commit}, load {os.getloadavg()[0]:.1f} "
             "(shared 2 cores)",
             f"- command: `{' '.join(['nice .venv/bin/python benchmarks/overhead_modes.py', *(argv or sys.argv[1:])])}`",
-            f"- probe: {modal.OVERHEAD_PROBE}; limits: frequency {modal.FREQ_LIMIT:.1%}, damping ratio "
+            f"- probe: {modal.specs('overhead_lift')[0].probe}; limits: frequency {modal.FREQ_LIMIT:.1%}, damping ratio "
             f"{modal.DAMP_LIMIT:.0%}", "", "```"]
     print("\n".join(head), flush=True)
     refs = modal.References("overhead_lift", None, None)

@@ -17,12 +17,16 @@ mode (:data:`MODES`, the scene catalog's table) is checked by its own numbers:
 - a mode that the scene's own run does not excite gets a probe (:attr:`ModeSpec.probe`: parameter
   changes that start it as a free vibration, e.g. an axial velocity of the load at rest).
 
+A scene lists its modes in its own folder (``[[modes]]`` of ``ssp/<scene>/analysis.toml``: column, probe,
+span, and the closed form by its name in :data:`CLOSED_FORMS`); this module holds only the code.
+
 Limits of a stored setting (issue 24): FREQ_LIMIT 0.5 % and DAMP_LIMIT 5 %.
 """
 from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -307,99 +311,122 @@ def luffing_cylinder(values: dict) -> tuple[float, float]:
             boom.cylinder_damping * lever ** 2 / (2 * math.sqrt(stiffness * inertia)))
 
 
-def truck_mode(index: int, scene: str = "truck_telescope") -> Callable[[dict], tuple[float, float]]:
-    """The ``index``-th (lowest first) mode of the truck crane ``scene`` linearised about its rest
-    (:func:`linearised_modes` without the probe's kick)."""
-    return lambda values: linearised_modes(scene, {k: v for k, v in values.items() if k not in TRUCK_KICK})[index]
+def linearised(scene: str, values: dict, at_rest_without: tuple[str, ...] = ()) -> list[tuple[float, float]]:
+    """The modes of ``scene`` linearised about its rest (:func:`linearised_modes`), without the probe's kick
+    (the 'comp.var' names ``at_rest_without``)."""
+    return linearised_modes(scene, {k: v for k, v in values.items() if k not in at_rest_without})
 
 
-# the truck crane's probes: telescope and winch held (boom 10.5 m), the load at rest below the tip, sent up at
-# 5 cm/s (rope axial and chassis modes; they decay within 2 s), or released at 0.05 rad (the swing)
-TRUCK_HELD = {"boom.boom_length_end": 10.5, "drive.payout_speed": 0.0}
-TRUCK_KICK = ("pendulum.vy0", "pendulum.theta0")
-TRUCK_AXIAL = {**TRUCK_HELD, "pendulum.vy0": 0.05}
-TRUCK_SWING = {**TRUCK_HELD, "pendulum.theta0": 0.05}
-TRUCK_FORMULA = ("linearised monolith (chassis heave and tilt on the pads' soil springs with the boom carried, "
-                 "rope c = E A/(run + L/n), load): eigenvalues of its Jacobian at rest")
-
-# truck_slewing's probes: the slew held over the rear (slew_angle 0; telescope and winch are held in the scene
-# itself), kicked as the truck's.  Its linearised modes there, lowest first: 0: the swing in the boom's plane
-# (theta; 0.1652 Hz, coupled to the chassis' pitch), 1: the lateral swing (phi; the pure pendulum), 2: the load on
-# the rope (5.02 Hz), 3: heave and pitch on the front pads (9.67 Hz), 4: roll (11.81 Hz; the symmetric probe
-# does not excite it: not listed), 5: heave and pitch on the rear pads (14.31 Hz)
-SLEW_HELD = {"boom.slew_angle": 0.0}
-SLEW_AXIAL = {**SLEW_HELD, "pendulum.vy0": 0.05}
-SLEW_SWING = {**SLEW_HELD, "pendulum.theta0": 0.05}
-SLEW_FORMULA = ("linearised monolith (chassis heave, pitch and roll on the four pads' soil springs with the boom "
-                "carried, rope c = E A/(run + L/n), 3-D load), slew held over the rear: eigenvalues of its Jacobian")
+def double_pendulum(values: dict) -> list[tuple[float, float]]:
+    """The two sway modes of :func:`hook_payload` as (f [Hz], zeta = 0), lowest first."""
+    f_low, f_high, zeta = hook_payload(values)
+    return [(f_low, zeta), (f_high, zeta)]
 
 
-# the overhead crane's probe: the drum held (kinematic drive at zero speed, so the drivetrain is out), the
-# load hung at rest 3 m above the ground on the taut rope and sent up at 5 cm/s
-OVERHEAD_PROBE = {"drive.mode": "kinematic", "drive.payout_speed": 0.0, "pendulum.start": "position",
-                  "pendulum.y0": 3.0, "pendulum.vy0": 0.05, "rope.start_slack": 0.0}
-OVERHEAD_FORMULA = ("chain girder m1 (c1, b1) -> drum m3 (c3) -> hook (rope c = n E A/L_u, b = 2 zeta_rope "
-                    "sqrt(c m_eff)) -> load (c_sling), hoist stopped: eigenvalues of [[0, I], [-M^-1 K, -M^-1 B]]")
+# the closed forms a scene's analysis.toml names for a listed mode (``closed_form = ...``): a function of the
+# scene's parameter values giving (f, zeta), or a list of them from which ``pick`` takes one (lowest first)
+CLOSED_FORMS: dict[str, Callable] = {"rope_axial": rope_axial, "pendulum_swing": pendulum_swing,
+                                     "double_pendulum": double_pendulum, "overhead_hoist": overhead_hoist,
+                                     "linearised": linearised}
+MODE_KEYS = ("name", "column", "formula", "closed_form", "pick", "at_rest_without", "span", "probe", "n_fit", "start")
 
 
-MODES: dict[str, tuple[ModeSpec, ...]] = {
-    "elastic_pendulum": (
-        ModeSpec("elastic_pendulum", "rope axial", "rope.tension",
-                 "f = sqrt(c/M)/(2 pi), c = n E A/L; zeta = zeta_rope sqrt(m_eff/M), m_eff = M/2 + rho A L",
-                 rope_axial, span=3.0, probe={"pendulum.theta0": 0.0, "pendulum.vy0": 0.05}),
-        ModeSpec("elastic_pendulum", "swing", "pendulum.theta",
-                 "f = sqrt(g/(L + M g/c))/(2 pi)/(1 + theta0^2/16); zeta = 0", pendulum_swing, span=8.0),
-    ),
-    "hook_sway": (
-        ModeSpec("hook_sway", "payload sway (low)", "pendulum.theta_payload",
-                 "double pendulum, lower root of det(K - w^2 M) = 0; zeta = 0",
-                 lambda v: (hook_payload(v)[0], 0.0), span=8.0, n_fit=2),
-        ModeSpec("hook_sway", "hook-payload sway (high)", "pendulum.theta_payload",
-                 "double pendulum, upper root of det(K - w^2 M) = 0; zeta = 0",
-                 lambda v: (hook_payload(v)[1], 0.0), span=8.0, n_fit=2),
-        ModeSpec("hook_sway", "rope axial", "rope.tension",
-                 "f = sqrt(c/M)/(2 pi), M = hook + payload, c = n E A/L; zeta = zeta_rope sqrt(m_eff/M)",
-                 rope_axial, span=2.0, probe={"pendulum.theta_payload0": 0.0, "pendulum.phi_payload0": 0.0,
-                                              "pendulum.vy0": 0.05}),
-    ),
-    "overhead_lift": (
-        ModeSpec("overhead_lift", "hoist, girder and load in phase", "rope.tension", OVERHEAD_FORMULA,
-                 lambda v: overhead_hoist(v)[0], span=2.0, probe=OVERHEAD_PROBE, n_fit=2),
-        ModeSpec("overhead_lift", "hoist, girder against load", "rope.tension", OVERHEAD_FORMULA,
-                 lambda v: overhead_hoist(v)[1], span=2.0, probe=OVERHEAD_PROBE, n_fit=2),
-    ),
-    "truck_telescope": (
-        ModeSpec("truck_telescope", "swing", "pendulum.theta", TRUCK_FORMULA, truck_mode(0), span=20.0,
-                 probe=TRUCK_SWING),
-        ModeSpec("truck_telescope", "load on the rope (axial)", "rope.tension", TRUCK_FORMULA, truck_mode(1),
-                 span=3.0, probe=TRUCK_AXIAL, n_fit=3),
-        ModeSpec("truck_telescope", "chassis on the front pads", "chassis.N_front", TRUCK_FORMULA, truck_mode(2),
-                 span=3.0, probe=TRUCK_AXIAL, n_fit=3),
-        ModeSpec("truck_telescope", "chassis on the rear pads", "chassis.N_rear", TRUCK_FORMULA, truck_mode(3),
-                 span=3.0, probe=TRUCK_AXIAL, n_fit=3),
-    ),
-    "truck_slewing": (
-        ModeSpec("truck_slewing", "swing (boom plane)", "pendulum.theta", SLEW_FORMULA, truck_mode(0, "truck_slewing"),
-                 span=20.0, probe=SLEW_SWING),
-        ModeSpec("truck_slewing", "load on the rope (axial)", "rope.tension", SLEW_FORMULA,
-                 truck_mode(2, "truck_slewing"), span=3.0, probe=SLEW_AXIAL, n_fit=3),
-        ModeSpec("truck_slewing", "chassis on the front pads", "chassis.N1", SLEW_FORMULA,
-                 truck_mode(3, "truck_slewing"), span=3.0, probe=SLEW_AXIAL, n_fit=3),
-        ModeSpec("truck_slewing", "chassis on the rear pads", "chassis.N3", SLEW_FORMULA,
-                 truck_mode(5, "truck_slewing"), span=3.0, probe=SLEW_AXIAL, n_fit=3),
-    ),
-}
+@dataclass(frozen=True)
+class ClosedForm:
+    """The closed form ``name`` of :data:`CLOSED_FORMS` for one listed mode of ``scene``: called with the
+    scene's parameter values, gives (f [Hz], zeta)."""
+
+    name: str
+    scene: str
+    pick: int | None = None
+    at_rest_without: tuple[str, ...] = ()
+
+    def __call__(self, values: dict) -> tuple[float, float]:
+        fn = CLOSED_FORMS[self.name]
+        out = fn(self.scene, values, self.at_rest_without) if self.name == "linearised" else fn(values)
+        return out if self.pick is None else out[self.pick]
 
 
-# listed modes that the scene's stored setting is measured NOT to keep (benchmarks/results/scene_defaults.md;
-# docs/scenes_catalog.md says why and what would): none since the truck's chassis takes the boom's forces
-# interpolated over the step (benchmarks/results/truck_modes.md) and the truck stores jacobi x2 at 5 ms
-NOT_KEPT: dict[str, tuple[str, ...]] = {}
+def mode_spec(scene: str, entry: dict, where: str = "analysis.toml") -> ModeSpec:
+    """The :class:`ModeSpec` of one ``[[modes]]`` entry of scene ``scene``'s analysis.toml."""
+    unknown = sorted(set(entry) - set(MODE_KEYS))
+    if unknown:
+        raise SettingsError(f"{where}: mode key {unknown[0]!r} is not allowed: one of {', '.join(MODE_KEYS)}")
+    name = entry.get("closed_form")
+    if name not in CLOSED_FORMS:
+        raise SettingsError(f"{where}: closed_form = {name!r} of mode {entry.get('name')!r} is not allowed: one of "
+                            f"{', '.join(CLOSED_FORMS)}")
+    closed = ClosedForm(name, scene, entry.get("pick"), tuple(entry.get("at_rest_without", ())))
+    return ModeSpec(scene, entry["name"], entry["column"], entry["formula"], closed, float(entry["span"]),
+                    dict(entry.get("probe", {})), int(entry.get("n_fit", 1)), float(entry.get("start", 0.0)))
+
+
+class SceneModes(Mapping):
+    """scene name -> its listed modes, read from the ``[[modes]]`` of ``ssp/<scene>/analysis.toml`` on first use
+    (the scenes that list any)."""
+
+    def __init__(self) -> None:
+        self._loaded: dict[str, tuple[ModeSpec, ...]] | None = None
+
+    def _modes(self) -> dict[str, tuple[ModeSpec, ...]]:
+        if self._loaded is None:
+            from .scenes import ANALYSIS, read_analysis
+            from .sources import scene_dirs
+
+            self._loaded = {}
+            for d in scene_dirs():
+                entries = read_analysis(d).get("modes", ())
+                if entries:
+                    self._loaded[d.name] = tuple(mode_spec(d.name, e, str(d / ANALYSIS)) for e in entries)
+        return self._loaded
+
+    def __getitem__(self, scene: str) -> tuple[ModeSpec, ...]:
+        return self._modes()[scene]
+
+    def __iter__(self):
+        return iter(self._modes())
+
+    def __len__(self) -> int:
+        return len(self._modes())
+
+
+MODES: Mapping[str, tuple[ModeSpec, ...]] = SceneModes()
+
+
+class NotKept(Mapping):
+    """scene name -> the listed modes its stored setting is measured NOT to keep (``not_kept`` in its
+    analysis.toml; benchmarks/results/scene_defaults.md; the catalog says why)."""
+
+    def _table(self) -> dict[str, tuple[str, ...]]:
+        from .scenes import read_analysis
+        from .sources import scene_dirs
+
+        return {d.name: tuple(kept) for d in scene_dirs() if (kept := read_analysis(d).get("not_kept"))}
+
+    def __getitem__(self, scene: str) -> tuple[str, ...]:
+        return self._table()[scene]
+
+    def __iter__(self):
+        return iter(self._table())
+
+    def __len__(self) -> int:
+        return len(self._table())
+
+
+NOT_KEPT: Mapping[str, tuple[str, ...]] = NotKept()
 
 
 def specs(scene: str) -> tuple[ModeSpec, ...]:
     """The listed modes of ``scene`` (empty where none is catalogued yet)."""
     return MODES.get(scene, ())
+
+
+def probe(scene: str, mode: str) -> dict:
+    """The probe (parameter changes) of listed mode ``mode`` of ``scene``, from its analysis.toml."""
+    for spec in specs(scene):
+        if spec.name == mode:
+            return dict(spec.probe)
+    raise SettingsError(f"mode {mode!r} of {scene} is not listed: one of {', '.join(s.name for s in specs(scene))}")
 
 
 def scene_values(scene: str, parameter_set: str | None = None, parameters: dict | None = None) -> dict:

@@ -67,7 +67,7 @@ def fidelity_lines(name: str) -> list[str]:
     lines = [f"  measured ({data['span']:g} s; {data['measured']}):",
              f"    chosen: {best['label']}: {_errors(best)}" if best else
              "    chosen: none measured meets every limit (the scene keeps its stored setting; the modes it "
-             "does not keep: cranefmu.modal.NOT_KEPT, docs/scenes_catalog.md)",
+             "does not keep: not_kept in its analysis.toml, docs/scenes_catalog.md)",
              f"    fidelity ladder, fastest -> most faithful (ordered by the {_basis(data)} of that measurement; "
              "passes: range <= 0.5 %, half the 1 % target; every listed "
              "mode within 0.5 % frequency and 5 % damping ratio; no bond residual above 10 % of its energy"
@@ -94,7 +94,7 @@ def mode_lines(name: str) -> list[str]:
 
     specs = modal.specs(name)
     if not specs:
-        return ["  listed modes: none catalogued yet (cranefmu.modal.MODES)"]
+        return ["  listed modes: none catalogued yet ([[modes]] of its analysis.toml)"]
     values = modal.scene_values(name)
     lines = ["  listed modes (closed form at the default parameters; the check is against the monolith):"]
     for spec in specs:

@@ -1,15 +1,24 @@
 """The named scenes: what each answers, what it contains, which outputs summarise and plot it.
 
+Each scene states these in its own folder, ``ssp/<scene>/analysis.toml`` (beside the scene.toml it is built
+from; docs/composition.md): :data:`SCENES` is read from there.  This module holds only code: the measures
+(:data:`MEASURES`) a scene names there and the parameter sets computed from the seeds' data.
+
 A result is anything indexable by column name with a ``time`` column: the master's structured
 array or :func:`cranefmu.reference.solve`'s dict.
 """
 from __future__ import annotations
 
 import math
+import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Callable
 
 import numpy as np
+
+from .errors import SceneError
 
 G = 9.81
 
@@ -23,81 +32,82 @@ class SceneInfo:
     fidelity: dict[str, str] = field(default_factory=dict)   # 'comp.switch' -> what the values change
     paper: str = ""
     plots: tuple[tuple[str, tuple[str, ...]], ...] = ()      # (figure title, columns)
+    measure: str | None = None                     # its summary numbers: a key of MEASURES
 
 
-SCENES = {
-    "elastic_pendulum": SceneInfo(
-        "elastic_pendulum",
-        "a load on an elastic rope under a fixed point, released from 5 deg: swing and axial vibration",
-        (("rope", "Rope", "Kelvin-Voigt rope, fixed top"), ("pendulum", "Pendulum", "point mass, 2-D")),
-        ("pendulum.theta", "rope.tension"),
-        {"rope.model": "kelvin_voigt | bouc_wen", "pendulum.dimension": "2 (working plane) | 3"},
-        plots=(("Rope tension", ("rope.tension",)), ("Sway angle", ("pendulum.theta",))),
-    ),
-    "overhead_lift": SceneInfo(
-        "overhead_lift",
-        "dynamic factor of lifting a grounded 1800 kg load with tight or loose rope (seed 001 Table 7, EN 13001-2)",
-        (("drive", "Drive", "asynchronous motor + torsional drivetrain + twin drum (mode motor)"),
-         ("rope", "Rope", "4-line reeving, Kelvin-Voigt or Bouc-Wen"),
-         ("girder", "Girder", "girder + elastic drum bearing, vertical only"),
-         ("pendulum", "Pendulum", "1-D: hook 30 kg + load 1800 kg on the hook spring c_2, ground contact")),
-        ("rope.tension", "pendulum.y_payload", "drive.motor_speed"),
-        {"rope.model": "kelvin_voigt | bouc_wen (seed 001 eq. 1-3)", "drive.mode": "motor | kinematic",
-         "girder.bearing": "elastic | rigid", "pendulum.payload": "elastic (hook spring c_2) | rigid"},
-        "seed 001 (Haniszewski): Tables 4-7",
-        (("Rope tension", ("rope.tension",)), ("Ground reaction", ("pendulum.N_ground",)),
-         ("Load and hook height", ("pendulum.y_payload", "pendulum.y")),
-         ("Motor torque", ("drive.motor_torque",)), ("Motor speed", ("drive.motor_speed",)),
-         ("Girder and drum deflection", ("girder.girder_deflection", "girder.deflection"))),
-    ),
-    "truck_telescope": SceneInfo(
-        "truck_telescope",
-        "sway, rope elongation, settlements and outrigger loads while the truck crane telescopes 10.5 -> 22.4 m "
-        "at 60 deg with the load height held (seed 000 Fig. 3-10)",
-        (("drive", "Drive", "kinematic payout keeping the load height"),
-         ("rope", "Rope", "Kelvin-Voigt, 2 lines, rope run along the boom folded into E"),
-         ("boom", "Boom", "telescoping trapezoid law, rigid luffing cylinder, moves with the chassis"),
-         ("chassis", "Chassis", "body + platform on two elastic outriggers, unilateral soil contact"),
-         ("pendulum", "Pendulum", "2-D point mass (hook + load)")),
-        ("pendulum.theta", "rope.elongation", "chassis.N_front", "chassis.N_rear"),
-        {"boom.cylinder": "prescribed | spring_damper", "rope.model": "kelvin_voigt | bouc_wen",
-         "pendulum.dimension": "2 | 3"},
-        "seed 000 (truck crane 55713-1K): Tables 1-2, telescoping law, Fig. 3-10",
-        (("Rope tension", ("rope.tension",)), ("Rope elongation", ("rope.elongation",)),
-         ("Sway angle", ("pendulum.theta",)), ("Outrigger reactions", ("chassis.N_front", "chassis.N_rear")),
-         ("Settlements", ("chassis.q1", "chassis.q2")), ("Boom length", ("boom.boom_length",))),
-    ),
-    "truck_slewing": SceneInfo(
-        "truck_slewing",
-        "pad reactions and load sway while the truck crane on four outriggers slews its loaded boom 90 deg from "
-        "over the rear to over the side (seed 000's crane, 3-D)",
-        (("drive", "Drive", "kinematic, holding the rope"),
-         ("rope", "Rope", "Kelvin-Voigt, 2 lines, rope run along the boom folded into E"),
-         ("boom", "SlewingBoom", "seed 000 boom, rigid luffing cylinder, slewing trapezoid law, tip in 3-D"),
-         ("chassis", "Chassis4", "body + platform on four elastic pads, 3-D (heave, pitch, roll), unilateral"),
-         ("pendulum", "Pendulum", "3-D point mass (hook + load)")),
-        ("pendulum.theta", "chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4"),
-        {"rope.model": "kelvin_voigt | bouc_wen"},
-        "seed 000 (truck crane 55713-1K): Tables 1-2; slewing and the four pads beyond the seed",
-        (("Pad reactions", ("chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4")),
-         ("Settlements", ("chassis.q1", "chassis.q2", "chassis.q3", "chassis.q4")),
-         ("Sway angle", ("pendulum.theta", "pendulum.phi")), ("Slewing angle", ("boom.slew_angle_out",)),
-         ("Rope tension", ("rope.tension",))),
-    ),
-    "hook_sway": SceneInfo(
-        "hook_sway",
-        "payload sway below a hook of its own mass and length, released from an offset (seed 002)",
-        (("boom", "Boom", "kinematic tip at rest (no telescoping, no chassis)"),
-         ("rope", "Rope", "Kelvin-Voigt link tip -> hook: seed 002's hook length L_h"),
-         ("pendulum", "Pendulum", "3-D: hook (mass = seed 002's m_h) + payload on a rigid link L_sling = L_p")),
-        ("pendulum.theta_payload", "pendulum.phi_payload", "pendulum.theta"),
-        {"pendulum.payload": "rigid | elastic", "pendulum.dimension": "3 | 2"},
-        "seed 002 (hydraulic floor crane hook): eq. 54, Fig. 3-7",
-        (("Payload sway", ("pendulum.theta_payload", "pendulum.phi_payload")),
-         ("Hook sway", ("pendulum.theta", "pendulum.phi")), ("Rope tension", ("rope.tension",)),
-         ("Sling force", ("pendulum.sling_force",))),
-    ),
-}
+ANALYSIS = "analysis.toml"   # a scene's question, key outputs, plots, listed modes: beside its scene.toml
+
+
+class SceneFolders(Mapping):
+    """scene name -> :class:`SceneInfo`, read from ``ssp/<scene>/analysis.toml`` (the roles' FMUs from its
+    scene.toml) on first use: every scene folder that holds an analysis.toml."""
+
+    def __init__(self) -> None:
+        self._loaded: dict[str, SceneInfo] | None = None
+
+    def _scenes(self) -> dict[str, SceneInfo]:
+        if self._loaded is None:
+            from .sources import scene_dirs
+
+            self._loaded = {d.name: scene_info(d) for d in scene_dirs() if (d / ANALYSIS).is_file()}
+        return self._loaded
+
+    def __getitem__(self, name: str) -> SceneInfo:
+        return self._scenes()[name]
+
+    def __iter__(self):
+        return iter(self._scenes())
+
+    def __len__(self) -> int:
+        return len(self._scenes())
+
+
+def read_analysis(folder: Path) -> dict:
+    """The parsed ``analysis.toml`` of scene folder ``folder`` (empty when it has none)."""
+    path = Path(folder) / ANALYSIS
+    if not path.is_file():
+        return {}
+    with open(path, "rb") as f:
+        try:
+            return tomllib.load(f)
+        except tomllib.TOMLDecodeError as err:
+            raise SceneError(f"{path}: {err}") from None
+
+
+def scene_info(folder: Path) -> SceneInfo:
+    """The :class:`SceneInfo` of scene folder ``folder``: its analysis.toml, each role's FMU from scene.toml."""
+    folder = Path(folder)
+    data = read_analysis(folder)
+    unknown = sorted(set(data) - set(ANALYSIS_KEYS))
+    if unknown:
+        raise SceneError(f"{folder / ANALYSIS}: key {unknown[0]!r} is not allowed: one of {', '.join(ANALYSIS_KEYS)}")
+    measure = data.get("measure")
+    if measure is not None and measure not in MEASURES:
+        raise SceneError(f"{folder / ANALYSIS}: measure = {measure!r} is not allowed: one of {', '.join(MEASURES)}")
+    fmus = _component_fmus(folder)
+    roles = data.get("roles", {})
+    missing = [c for c in roles if c not in fmus]
+    if missing:
+        raise SceneError(f"{folder / ANALYSIS}: role of {missing[0]!r}, which is no component of the scene: one of "
+                         f"{', '.join(fmus)}")
+    return SceneInfo(folder.name, data.get("question", ""),
+                     tuple((c, fmus[c], role) for c, role in roles.items()),
+                     tuple(data.get("key_outputs", ())), dict(data.get("fidelity", {})), data.get("paper", ""),
+                     tuple((p["title"], tuple(p["columns"])) for p in data.get("plots", ())), measure)
+
+
+def _component_fmus(folder: Path) -> dict[str, str]:
+    """instance -> FMU name (``Rope`` for fmus/Rope.fmu) from the scene's scene.toml."""
+    path = folder / "scene.toml"
+    if not path.is_file():
+        return {}
+    with open(path, "rb") as f:
+        comps = tomllib.load(f).get("components", {})
+    return {name: (c if isinstance(c, str) else c.get("fmu", "")) for name, c in comps.items()}
+
+
+ANALYSIS_KEYS = ("question", "paper", "key_outputs", "measure", "roles", "fidelity", "plots", "modes", "not_kept")
+SCENES: Mapping[str, SceneInfo] = SceneFolders()
 
 
 def plot_groups(scene_name: str, columns) -> list[tuple[str, list[str]]]:
@@ -212,10 +222,90 @@ def elastic_pendulum_metrics(r) -> dict[str, float]:
             "tension_max": float(tension.max())}
 
 
-METRICS: dict[str, Callable[[object], dict[str, float]]] = {
-    "elastic_pendulum": elastic_pendulum_metrics, "overhead_lift": overhead_lift_metrics,
-    "truck_telescope": truck_telescope_metrics, "hook_sway": hook_sway_metrics,
-    "truck_slewing": truck_slewing_metrics}
+def _dynamic_factor_lines(m: dict) -> list[tuple[str, str]]:
+    return [("dynamic factor", f"{m['dynamic_factor']:.4f} (max tension {m['max_tension']:.6g} N / "
+                               f"weight {m['weight']:.6g} N)"),
+            ("lift-off time", f"{m['lift_off_time']:.4g} s" if math.isfinite(m["lift_off_time"])
+             else "the load did not leave the ground")]
+
+
+def _telescoping_lines(m: dict) -> list[tuple[str, str]]:
+    after = f"after telescoping: {m['sway_after_deg']:.3f} deg" if math.isfinite(m["sway_after_deg"]) \
+        else "still telescoping when the run ended"
+    return [("max sway", f"{m['max_sway_deg']:.3f} deg ({after})"),
+            ("rope elongation", f"{m['elongation_min'] * 1e3:.3f} .. {m['elongation_max'] * 1e3:.3f} mm"),
+            ("settlements q1, q2", f"{m['q1_min'] * 1e3:.3f} .. {m['q1_max'] * 1e3:.3f} mm, "
+                                   f"{m['q2_min'] * 1e3:.3f} .. {m['q2_max'] * 1e3:.3f} mm"),
+            ("outrigger N_front", f"{m['N_front_min'] / 1e3:.2f} .. {m['N_front_max'] / 1e3:.2f} kN"),
+            ("outrigger N_rear", f"{m['N_rear_min'] / 1e3:.2f} .. {m['N_rear_max'] / 1e3:.2f} kN"),
+            ("tipping", f"yes: an outrigger lifted off at t = {m['tipping_time']:.3f} s, boom "
+                        f"{m['tipping_boom_length']:.3f} m (the run means nothing after it)"
+             if m["tipping"] else "no")]
+
+
+def _pad_reaction_lines(m: dict) -> list[tuple[str, str]]:
+    return [("max sway", f"{m['max_sway_deg']:.3f} deg"),
+            ("pad reactions", f"{m['N_min'] / 1e3:.2f} .. {m['N_max'] / 1e3:.2f} kN"),
+            ("pads lifted", f"at most {m['pads_lifted_max']:g}, the first at t = {m['lift_time']:.3f} s"
+             if m["pads_lifted_max"] else "none"),
+            ("tipping", f"yes: a second pad lifted off at t = {m['tipping_time']:.3f} s" if m["tipping"]
+             else "no")]
+
+
+def _payload_sway_lines(m: dict) -> list[tuple[str, str]]:
+    return [("payload sway", f"first 2 s {m['sway_first_deg']:.3f} deg, last 2 s {m['sway_last_deg']:.3f} deg "
+                             f"(ratio {m['sway_ratio']:.3f}); smallest swing {m['min_peak_ratio']:.3f} of "
+                             f"the first" + (f", below half at {m['half_time']:.2f} s"
+                                             if math.isfinite(m["half_time"]) else ""))]
+
+
+@dataclass(frozen=True)
+class Measure:
+    """A scene's summary numbers: ``compute(result)`` -> {name: value}, the ``columns`` it reads and
+    ``lines(numbers)`` -> (label, text) for the summary (none: the numbers are not summarised)."""
+
+    compute: Callable[[object], dict[str, float]]
+    columns: tuple[str, ...]
+    lines: Callable[[dict], list[tuple[str, str]]] | None = None
+
+
+# the measures a scene's analysis.toml names (``measure = ...``)
+MEASURES: dict[str, Measure] = {
+    "dynamic_factor": Measure(overhead_lift_metrics, ("rope.tension", "pendulum.N_ground"), _dynamic_factor_lines),
+    "telescoping": Measure(truck_telescope_metrics,
+                           ("pendulum.theta", "boom.boom_length", "rope.elongation", "chassis.q1", "chassis.q2",
+                            "chassis.N_front", "chassis.N_rear"), _telescoping_lines),
+    "payload_sway": Measure(hook_sway_metrics, ("pendulum.x_payload", "pendulum.y_payload", "pendulum.z_payload",
+                                                "boom.x_tip", "boom.y_tip", "boom.z_tip"), _payload_sway_lines),
+    "swing_and_tension": Measure(elastic_pendulum_metrics, ("pendulum.theta", "rope.tension")),
+    "pad_reactions": Measure(truck_slewing_metrics,
+                             ("pendulum.x", "pendulum.y", "pendulum.z", "boom.x_tip", "boom.y_tip", "boom.z_tip",
+                              "chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4"), _pad_reaction_lines),
+}
+
+
+def _measure(name: str) -> Measure | None:
+    info = SCENES.get(name)
+    return MEASURES[info.measure] if info is not None and info.measure else None
+
+
+class SceneMetrics(Mapping):
+    """scene name -> its metrics function (the scenes whose analysis.toml names a measure)."""
+
+    def __getitem__(self, name: str) -> Callable[[object], dict[str, float]]:
+        measure = _measure(name)
+        if measure is None:
+            raise KeyError(name)
+        return measure.compute
+
+    def __iter__(self):
+        return (name for name, info in SCENES.items() if info.measure)
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
+
+
+METRICS: Mapping[str, Callable[[object], dict[str, float]]] = SceneMetrics()
 
 
 def metrics(name: str, result) -> dict[str, float]:
@@ -228,35 +318,9 @@ def summary(name: str, result) -> list[tuple[str, str]]:
     """(label, value text) lines describing a run: the scene's metrics, then the range of each key output."""
     lines: list[tuple[str, str]] = []
     m = metrics(name, result) if all(k in _names(result) for k in _metric_columns(name)) else {}
-    if name == "overhead_lift" and m:
-        lines += [("dynamic factor", f"{m['dynamic_factor']:.4f} (max tension {m['max_tension']:.6g} N / "
-                                     f"weight {m['weight']:.6g} N)"),
-                  ("lift-off time", f"{m['lift_off_time']:.4g} s" if math.isfinite(m["lift_off_time"])
-                   else "the load did not leave the ground")]
-    elif name == "truck_telescope" and m:
-        after = f"after telescoping: {m['sway_after_deg']:.3f} deg" if math.isfinite(m["sway_after_deg"]) \
-            else "still telescoping when the run ended"
-        lines += [("max sway", f"{m['max_sway_deg']:.3f} deg ({after})"),
-                  ("rope elongation", f"{m['elongation_min'] * 1e3:.3f} .. {m['elongation_max'] * 1e3:.3f} mm"),
-                  ("settlements q1, q2", f"{m['q1_min'] * 1e3:.3f} .. {m['q1_max'] * 1e3:.3f} mm, "
-                                         f"{m['q2_min'] * 1e3:.3f} .. {m['q2_max'] * 1e3:.3f} mm"),
-                  ("outrigger N_front", f"{m['N_front_min'] / 1e3:.2f} .. {m['N_front_max'] / 1e3:.2f} kN"),
-                  ("outrigger N_rear", f"{m['N_rear_min'] / 1e3:.2f} .. {m['N_rear_max'] / 1e3:.2f} kN"),
-                  ("tipping", f"yes: an outrigger lifted off at t = {m['tipping_time']:.3f} s, boom "
-                              f"{m['tipping_boom_length']:.3f} m (the run means nothing after it)"
-                   if m["tipping"] else "no")]
-    elif name == "truck_slewing" and m:
-        lines += [("max sway", f"{m['max_sway_deg']:.3f} deg"),
-                  ("pad reactions", f"{m['N_min'] / 1e3:.2f} .. {m['N_max'] / 1e3:.2f} kN"),
-                  ("pads lifted", f"at most {m['pads_lifted_max']:g}, the first at t = {m['lift_time']:.3f} s"
-                   if m["pads_lifted_max"] else "none"),
-                  ("tipping", f"yes: a second pad lifted off at t = {m['tipping_time']:.3f} s" if m["tipping"]
-                   else "no")]
-    elif name == "hook_sway" and m:
-        lines += [("payload sway", f"first 2 s {m['sway_first_deg']:.3f} deg, last 2 s {m['sway_last_deg']:.3f} deg "
-                                   f"(ratio {m['sway_ratio']:.3f}); smallest swing {m['min_peak_ratio']:.3f} of "
-                                   f"the first" + (f", below half at {m['half_time']:.2f} s"
-                                                   if math.isfinite(m["half_time"]) else ""))]
+    measure = _measure(name)
+    if m and measure is not None and measure.lines is not None:
+        lines += measure.lines(m)
     info = SCENES.get(name)
     names = _names(result)
     keys = info.key_outputs if info else tuple(n for n in names if n != "time")[:6]
@@ -274,14 +338,8 @@ def summary_columns(name: str) -> tuple[str, ...]:
 
 
 def _metric_columns(name: str) -> tuple[str, ...]:
-    return {"overhead_lift": ("rope.tension", "pendulum.N_ground"),
-            "truck_telescope": ("pendulum.theta", "boom.boom_length", "rope.elongation", "chassis.q1", "chassis.q2",
-                                "chassis.N_front", "chassis.N_rear"),
-            "hook_sway": ("pendulum.x_payload", "pendulum.y_payload", "pendulum.z_payload", "boom.x_tip",
-                          "boom.y_tip", "boom.z_tip"),
-            "elastic_pendulum": ("pendulum.theta", "rope.tension"),
-            "truck_slewing": ("pendulum.x", "pendulum.y", "pendulum.z", "boom.x_tip", "boom.y_tip", "boom.z_tip",
-                              "chassis.N1", "chassis.N2", "chassis.N3", "chassis.N4")}.get(name, ())
+    measure = _measure(name)
+    return measure.columns if measure is not None else ()
 
 
 # --- parameter sets computed from the seeds' data ----------------------------------------------------

@@ -7,6 +7,10 @@ import pytest
 from cranefmu import modal
 from reference_cache import References, solve   # one solve per argument set in the session
 
+# the probes of ssp/<scene>/analysis.toml: the overhead crane's held hoist, the truck's axial kick
+OVERHEAD_PROBE = modal.probe("overhead_lift", "hoist, girder and load in phase")
+TRUCK_AXIAL = modal.probe("truck_telescope", "load on the rope (axial)")
+
 
 def monolith_mode(scene, name, probe=None, grid=2e-3):
     spec = next(s for s in modal.specs(scene) if s.name == name)
@@ -85,7 +89,7 @@ def test_overhead_hoist_modes_are_the_four_mass_chain(index, name):
     """Hoist stopped, load hanging 3 m up: girder (m1 = 17/35 of 5000 kg), drum, hook and load on the rope
     and the sling; the monolith's two low modes (4.30 Hz, 9.38 Hz) are the linear chain's to 1e-4."""
     mode, f, zeta = monolith_mode("overhead_lift", name)
-    assert (f, zeta) == modal.overhead_hoist({**modal.scene_values("overhead_lift"), **modal.OVERHEAD_PROBE})[index]
+    assert (f, zeta) == modal.overhead_hoist({**modal.scene_values("overhead_lift"), **OVERHEAD_PROBE})[index]
     assert mode.frequency == pytest.approx(f, rel=1e-4)
     assert mode.damping == pytest.approx(zeta, rel=1e-3)
 
@@ -94,7 +98,7 @@ def test_the_overhead_chain_is_the_linearised_monolith():
     """The four-mass chain (a formula) and the monolith's Jacobian at rest (every model's own equations)
     give the same two hoist modes to 1e-5 (the chord is the static one: the rope pulls the drum down by the
     load's weight; taken upward, it was 8 mm short and the upper mode 2.7e-4 low)."""
-    values = {**modal.scene_values("overhead_lift"), **modal.OVERHEAD_PROBE}
+    values = {**modal.scene_values("overhead_lift"), **OVERHEAD_PROBE}
     chain, mono = modal.overhead_hoist(values)[:2], modal.linearised_modes("overhead_lift", values)[:2]
     for (f, z), (f_m, z_m) in zip(chain, mono):
         assert f == pytest.approx(f_m, rel=1e-5) and z == pytest.approx(z_m, rel=1e-5)
@@ -123,7 +127,7 @@ def test_overhead_drivetrain_torsion_is_the_chain_and_overdamped():
     ratio is 0.0025 s omega > 1 (1.35, 2.12, 3.55) and the braked monolith oscillates in exactly the four modes of
     the drum held kinematically (hoist and girder), the hoist's shifted by under 0.5 % by the drivetrain."""
     values = modal.scene_values("overhead_lift")
-    braked = {**values, **modal.OVERHEAD_PROBE, "drive.mode": "motor", "drive.start_time": 100.0}
+    braked = {**values, **OVERHEAD_PROBE, "drive.mode": "motor", "drive.start_time": 100.0}
     chain = modal.drivetrain_torsion(values)
     undamped = modal.linearised_modes("overhead_lift", {**braked, "drive.b_1n": 0.0, "drive.b_2n": 0.0,
                                                         "drive.b_3n": 0.0})
@@ -131,7 +135,7 @@ def test_overhead_drivetrain_torsion_is_the_chain_and_overdamped():
         assert min(abs(f_m - f) for f_m, _ in undamped) <= rel * f
     for f, zeta in chain:
         assert zeta == pytest.approx(0.0025 * 2 * np.pi * f, rel=1e-2) and zeta > 1.0
-    held = modal.linearised_modes("overhead_lift", {**values, **modal.OVERHEAD_PROBE})
+    held = modal.linearised_modes("overhead_lift", {**values, **OVERHEAD_PROBE})
     damped = modal.linearised_modes("overhead_lift", braked)
     assert len(damped) == len(held) == 4
     for (f, _), (f_held, _) in zip(damped, held):
@@ -146,12 +150,12 @@ def test_the_truck_implicit_group_interpolates_the_boom_loads_on_the_chassis(bui
     and chassis modes' damping within 2 %."""
     from cranefmu.master.run import run
 
-    specs = [s for s in modal.specs("truck_telescope") if s.probe == modal.TRUCK_AXIAL]
-    ref = solve("truck_telescope", 3.0, np.linspace(0.0, 3.0, 1501), parameters=modal.TRUCK_AXIAL)
+    specs = [s for s in modal.specs("truck_telescope") if s.probe == TRUCK_AXIAL]
+    ref = solve("truck_telescope", 3.0, np.linspace(0.0, 3.0, 1501), parameters=TRUCK_AXIAL)
     res = run("truck_telescope", stop_time=3.0, step_size=0.01, algorithm="jacobi", extrapolation=1,
               implicit=["foot_heave", "foot_tilt", "tip", "hook", "drum"], coupling_tolerance=1e-3,
-              parameters=modal.TRUCK_AXIAL, progress=False)
-    values = {**modal.scene_values("truck_telescope"), **modal.TRUCK_AXIAL}
+              parameters=TRUCK_AXIAL, progress=False)
+    values = {**modal.scene_values("truck_telescope"), **TRUCK_AXIAL}
     errors = {s.name: modal.compare(s, res.result, ref, values) for s in specs}
     assert set(errors) == {"load on the rope (axial)", "chassis on the front pads", "chassis on the rear pads"}
     for e in errors.values():
