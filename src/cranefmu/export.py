@@ -1,4 +1,4 @@
-"""``cranefmu export``: one variant of a scene (a parameter set, ``--set`` changes) as a self-contained .ssp.
+"""One variant of a scene (a parameter set, ``--set`` changes) as a self-contained .ssp.
 
 Hosts that cannot choose a parameter set (libcosim reads only the SSD's bindings; ecos applies the bound
 set; fmpy's ``simulate_ssp`` applies what it is handed) get the variant as the scene's only set: its
@@ -8,7 +8,6 @@ parameters in force (:mod:`cranefmu.settled_start`), so the host starts at rest 
 """
 from __future__ import annotations
 
-import argparse
 import tempfile
 from pathlib import Path
 
@@ -157,33 +156,3 @@ def _variable_type(fmu: Path, comp: str, var: str) -> str:
     if v.causality not in ("parameter", "input"):
         raise ParameterSetError(f"{comp}.{var} is a {v.causality} and cannot be set (only parameters and inputs)")
     return "Integer" if v.type == "Enumeration" else v.type
-
-
-def add_parser(sub) -> None:
-    """Register ``export`` on the subparsers ``sub`` of the cranefmu command."""
-    e = sub.add_parser("export", help="write one variant of a scene (a parameter set, --set changes) as a "
-                                      "self-contained .ssp with its settled start, for hosts that cannot "
-                                      "choose a set (libcosim, ecos, fmpy)")
-    e.add_argument("scene", help="scene name under ssp/")
-    e.add_argument("--parameter-set", default=None, help="a parameter set of the scene (see cranefmu info); "
-                   "default: the default set")
-    e.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
-                   help="change a parameter (repeatable; not a connected input)")
-    e.add_argument("--output", required=True, help="the .ssp file to write")
-    e.add_argument("--fmus", default=None, choices=("native", "python"), help="the kind of FMU the file holds "
-                   "(default: native where built or buildable, else python; cranefmu build)")
-    e.set_defaults(func=_cmd_export)
-
-
-def _cmd_export(args: argparse.Namespace) -> int:
-    from .cli_common import parse_set as _parse_set
-
-    import sys
-
-    from .master.output_file import same_file_as
-
-    path, kind = export_scene_kind(args.scene, args.output, args.parameter_set, _parse_set(args.set), args.fmus)
-    # the archive on standard output (`-`, a link to /proc/self/fd/1): the line goes to stderr
-    print(f"wrote {path} (FMUs: {kind or 'neither cranefmu kind'})",
-          file=sys.stderr if same_file_as(args.output, 1) else sys.stdout)
-    return 0

@@ -147,7 +147,7 @@ def test_a_study_with_a_failed_point_lists_it_and_exits_1(tmp_path, monkeypatch,
                              prune=False)
     handler = signal.getsignal(signal.SIGINT)   # the command installs its own Ctrl-C handler
     try:
-        assert study_command._cmd_study(args) == 1
+        assert study_command.main(args) == 1
     finally:
         signal.signal(signal.SIGINT, handler)
     assert "study speed: 1 failed point(s); first: point 3" in capsys.readouterr().err

@@ -129,10 +129,9 @@ def add_parser(sub) -> None:
     c.add_argument("--osp", default=None, metavar="DIR", help="also write the scene for libcosim's OSP loader: "
                    "DIR/OspSystemStructure.xml (ports joined as variable groups), the FMUs and their "
                    "<Model>_OspModelDescription.xml")
-    c.set_defaults(func=_cmd_compose)
 
 
-def _cmd_compose(args: argparse.Namespace) -> int:
+def main(args: argparse.Namespace) -> int:
     from .. import whole_file
 
     for given, what, suffixes in ((args.output, "--output", (".ssp",)), (args.ssd, "--ssd", ())):

@@ -52,7 +52,7 @@ def write_json(path: Path, verdicts: list[Verdict], planned, wall: float, engine
     write(path, json.dumps(data, indent=1) + "\n", "--report")
 
 
-def _cmd_check(args: argparse.Namespace) -> int:
+def main(args: argparse.Namespace) -> int:
     from ..whole_file import WriteError, check
     from .runner import choose_engine, judge_all, prepare, run_cases
 
@@ -116,7 +116,6 @@ def add_parser(sub) -> None:
     p.add_argument("--quiet", action="store_true", help="no line per case on stderr while they run")
     p.add_argument("--fmus", default=None, choices=("native", "python"), help="the kind of FMU every case runs "
                    "with (default: the case's fmus setting, else native where built, else python)")
-    p.set_defaults(func=_cmd_check)
 
 
 def add_run_option(parser) -> None:

@@ -39,6 +39,21 @@ def raise_first(signum: int, frame=None, when: str = "") -> None:
         raise RunInterrupted(f"interrupted by {signal_name(signum)}{when}", signum=signum)
 
 
+class Outside:
+    """The command line's handler of stop signals outside a run (start-up, checks, after the run): the
+    first one raises :class:`RunInterrupted` saying what was kept (``when``, set by ``cranefmu run`` once
+    its rows are written), later ones are only noted."""
+
+    def __init__(self) -> None:
+        self.when = " before the run started: no rows were written"
+
+    def __call__(self, signum: int, frame=None) -> None:
+        raise_first(signum, frame, self.when)
+
+
+OUTSIDE = Outside()   # one per process: cranefmu.cli installs it, cranefmu.subcommands.run sets its ``when``
+
+
 
 class RunInterrupted(KeyboardInterrupt):
     """The run was stopped by a signal after closing cleanly; ``result`` holds the rows so far,

@@ -22,7 +22,7 @@ def _scene_of(header: list[str]) -> str:
     return ""
 
 
-def _cmd_report(args: argparse.Namespace) -> int:
+def main(args: argparse.Namespace) -> int:
     from ..master.results import read_csv
     from ..master.run import preview
     from . import report_columns, write_report
@@ -83,7 +83,6 @@ def add_parser(sub) -> None:
     p.add_argument("--scene", default=None, help="the scene that wrote it (default: the built-in scene with "
                    "exactly its columns, else none: generic plots, no units)")
     p.add_argument("--output", default=None, help="the HTML file (default: RESULT with .html)")
-    p.set_defaults(func=_cmd_report)
 
 
 def add_run_option(parser) -> None:

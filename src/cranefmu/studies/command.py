@@ -31,7 +31,7 @@ def run_studies(names: list[str], output: str, size: str, workers: int | None = 
     return failures
 
 
-def _cmd_study(args: argparse.Namespace) -> int:
+def main(args: argparse.Namespace) -> int:
     names = list(STUDIES) if args.name == "all" else [args.name]
     from ..sweep.engine import interrupt_once
 
@@ -76,4 +76,3 @@ def add_parser(sub) -> None:
     s.add_argument("--prune", action="store_true", help="drop the rows of OUTPUT/runs/SIZE/ the study did not "
                    "use (an earlier request: other settings, scene build or code); without it they are kept and "
                    "the page counts them")
-    s.set_defaults(func=_cmd_study)

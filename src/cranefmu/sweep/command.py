@@ -20,7 +20,7 @@ def _settings(items: list[str]) -> dict[str, str]:
     return out
 
 
-def _cmd_sweep(args: argparse.Namespace) -> int:
+def main(args: argparse.Namespace) -> int:
     from .engine import interrupt_once, sweep
 
     interrupt_once()
@@ -78,5 +78,4 @@ def add_parser(sub) -> None:
                    "--vary, other fixed inputs, or another build of the scene or the code); without it they are "
                    "kept with a warning")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
-    s.set_defaults(func=_cmd_sweep)
 

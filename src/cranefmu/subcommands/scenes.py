@@ -6,8 +6,8 @@ import argparse
 
 def lines() -> list[str]:
     """One line per shipped scene: its name, then its question."""
-    from .scene_catalog import scene_names
-    from .scenes import SCENES
+    from ..scene_catalog import scene_names
+    from ..scenes import SCENES
 
     names = scene_names()
     width = max((len(n) for n in names), default=0)
@@ -15,12 +15,13 @@ def lines() -> list[str]:
     return out or ["this cranefmu carries no scene sources: give cranefmu run a path to an .ssp file"]
 
 
-def command(args: argparse.Namespace) -> int:
+def add_parser(sub) -> None:
+    """Register ``scenes`` on the subparsers ``sub`` of the cranefmu command."""
+    sub.add_parser("scenes", help="list the shipped scenes with the question each answers "
+                                  "(cranefmu info SCENE for one in detail)")
+
+
+def main(args: argparse.Namespace) -> int:
+    """Print one line per shipped scene; returns 0."""
     print("\n".join(lines()))
     return 0
-
-
-def add_parser(sub) -> None:
-    p = sub.add_parser("scenes", help="list the shipped scenes with the question each answers "
-                                      "(cranefmu info SCENE for one in detail)")
-    p.set_defaults(func=command)
