@@ -100,7 +100,7 @@ def fmi3(tmp: str) -> dict:
     import numpy as np
 
     from cranefmu import build as b
-    from cranefmu.fmi3_adapter import build_fmi3
+    from cranefmu.build import build_fmi3
 
     src, dst = b.SSP_DIR / "elastic_pendulum.ssp", Path(tmp) / "elastic_pendulum_fmi3.ssp"
     with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dst, "w") as zout:

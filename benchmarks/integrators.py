@@ -1,4 +1,4 @@
-"""Cost and accuracy of the FMUs' internal solvers (cranefmu.integrators) on every physics model.
+"""Cost and accuracy of the FMUs' internal solvers (cranefmu.adapter.integrators) on every physics model.
 
 For each model configuration of cranefmu.studies.model_cases (initialized at rest, then a step of its
 inputs) and each solver setting: the model is stepped like an FMU does it (macro step H, constant

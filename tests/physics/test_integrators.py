@@ -1,4 +1,4 @@
-"""Internal solvers (cranefmu.integrators): for every model a cheap explicit fixed-step method and
+"""Internal solvers (cranefmu.adapter.integrators): for every model a cheap explicit fixed-step method and
 an implicit adaptive one give the same trajectory; TR-BDF2 has order 2; on the stiff drivetrain
 the implicit methods are stable at a step where the explicit one blows up."""
 from __future__ import annotations
@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from cranefmu.integrators import METHODS, integrate
+from cranefmu.adapter.integrators import METHODS, integrate
 from model_cases import CASES, trajectory
 
 # ground contact is a kink in the right-hand side: every method drops to order 1 there
@@ -113,7 +113,7 @@ def test_drive_fmu_solver_parameter_picks_the_method(built):
 def _exact_and_radau(model, x0, u0, r1, r2, h: float, steps: int, max_step: float = 1e-3):
     """The trajectory at the macro steps with solver exact (the FMU default) and with a tight radau
     solve of the same equations and the same input polynomials; also how many exact steps fell back."""
-    from cranefmu.fmi_adapter import advance
+    from cranefmu.adapter.fmi_adapter import advance
 
     xe, xr, fallbacks = x0, x0, 0
     out_e, out_r = [x0], [x0]

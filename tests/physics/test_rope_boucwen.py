@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from cranefmu.integrators import integrate
+from cranefmu.adapter.integrators import integrate
 from cranefmu.physics import boucwen
 from cranefmu.physics.params import ParameterError
 from cranefmu.physics.rope import RopeModel, RopeParams, static_elongation
