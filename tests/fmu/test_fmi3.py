@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from fmu_child import in_pool as in_child
+from cranefmu_support.fmu_child import in_pool as in_child
 
 pytest.importorskip("pythonfmu3")
 

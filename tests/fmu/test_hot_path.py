@@ -11,7 +11,7 @@ import pytest
 
 from cranefmu.adapter.fmi_adapter import advance
 from cranefmu.adapter.integrators import integrate, rk4_list
-from model_cases import CASES
+from cranefmu_support.model_cases import CASES
 
 ROOT = Path(__file__).resolve().parents[2]
 

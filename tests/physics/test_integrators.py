@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from cranefmu.adapter.integrators import METHODS, integrate
-from model_cases import CASES, trajectory
+from cranefmu_support.model_cases import CASES, trajectory
 
 # ground contact is a kink in the right-hand side: every method drops to order 1 there
 _TOL = {"pendulum-elastic-ground": 5e-3,
@@ -76,8 +76,8 @@ def test_every_method_integrates_the_harmonic_oscillator():
 # --- the solver parameter inside the built FMU (fmpy, one child per instance) -------------------
 
 def _drive_fmu(solver: str, max_step: float) -> dict:
-    from fmu_child import session
-    from model_cases import CASES
+    from cranefmu_support.fmu_child import session
+    from cranefmu_support.model_cases import CASES
 
     case = next(c for c in CASES if c.id == "drive-motor")
     with session() as open_fmu:
@@ -99,7 +99,7 @@ def _drive_fmu(solver: str, max_step: float) -> dict:
 def test_drive_fmu_solver_parameter_picks_the_method(built):
     """Through the FMU: rk4 with max_step 1e-3 blows up on the stiff drivetrain (the step fails),
     trbdf2 with the same max_step matches rk4 with 1e-4 (the Drive's default)."""
-    from fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
 
     ref = in_child(_drive_fmu, "rk4", 1e-4)
     implicit = in_child(_drive_fmu, "trbdf2", 1e-3)

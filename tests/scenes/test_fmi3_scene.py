@@ -7,7 +7,7 @@ import zipfile
 import numpy as np
 import pytest
 
-from fmu_child import in_pool
+from cranefmu_support.fmu_child import in_pool
 
 pytest.importorskip("pythonfmu3")
 
