@@ -283,7 +283,7 @@ def _py_side(s, vin: list[int], vout: list[int], u: list[float], h: float, n: in
 
 def breakdown(row: dict, n: int = 1500) -> None:
     """Python-side times of our adapter, and the split of do_step / get_real."""
-    from cranefmu.fmi_adapter import advance
+    from cranefmu.adapter.fmi_adapter import advance
 
     cls = _load_class(ROOT / "fmus" / f"{row['fmu']}.py", f"_floor_{row['fmu']}", row["fmu"])
     s, vin, vout = _slave_with(cls, row, row["inputs"], row["u"])

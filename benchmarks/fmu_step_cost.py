@@ -6,7 +6,7 @@ For each scene, at the scene's macro step H (Jacobi, zero-order hold):
 2. each component is replayed alone with the inputs the co-simulation fed it (connected outputs
    at each step start, through the connections' LinearTransformation):
    - in-process, without FMI: the model built from the scene's parameters and the FMU's solver
-     settings, stepped by ``cranefmu.fmi_adapter.advance`` (the code ``do_step`` runs) and its
+     settings, stepped by ``cranefmu.adapter.fmi_adapter.advance`` (the code ``do_step`` runs) and its
      outputs computed by ``output_values`` (what a getReal after the step computes) -> "physics";
    - as the built FMU through fmpy in a child process: setReal(inputs) + doStep + getReal(Real
      outputs) + getInteger(flags) per step -> "FMU".
@@ -146,7 +146,7 @@ def build_model(model_cls, comp: str, parameters: dict[str, object], switches: d
 
 # --- 2a. physics in-process -----------------------------------------------------------------------------
 def physics_replay(model_cls, comp, parameters, switches, settings, u, h, steps) -> dict:
-    from cranefmu.fmi_adapter import advance
+    from cranefmu.adapter.fmi_adapter import advance
 
     model = build_model(model_cls, comp, parameters, switches)
     solver, rtol, max_step = settings["solver"], float(settings["rtol"]), float(settings["max_step"])

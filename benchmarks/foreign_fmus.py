@@ -3,10 +3,10 @@
 1. A hand-written SSP of our Rope and Pendulum (elastic_pendulum's wiring, no annotations), rope
    E = 1e12 Pa, 10 ms steps, 3 s: without the alarm (rows, rows with the rope slack, peak tension)
    and with it (where the inferred bond stops the run, and its message).
-2. The oscillator mass held by LateSpring (cranefmu.studies.late), whose force is first set at
+2. The oscillator mass held by LateSpring (cranefmu_support.late), whose force is first set at
    exitInitializationMode: the start position against f / (k_mass + k_spring), the largest |a|,
    the initialization exchanges.
-3. SpringSupport (the C test FMU, cranefmu.studies.c_fmu) under the Rope and Pendulum: at rest (largest
+3. SpringSupport (the C test FMU, cranefmu_support.c_fmu) under the Rope and Pendulum: at rest (largest
    deviation of y from -m g / k and of the tension from m g) and released from y = 0 (largest
    difference from the linear two-mass solution, in units of the static sag), jacobi and iterative.
 4. elastic_pendulum with the FMI 3.0 builds of Rope and Pendulum against the FMI 2.0 scene: the
@@ -30,6 +30,8 @@ from concurrent.futures import ProcessPoolExecutor
 from datetime import datetime, timezone
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))   # cranefmu_support: scaffolding outside the wheel
+
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "benchmarks" / "results"
 G = 9.81
@@ -44,7 +46,7 @@ def stiff(tmp: str, alarm: bool) -> dict:
     from cranefmu import build as b
     from cranefmu.errors import SimulationError
     from cranefmu.master.run import run
-    from cranefmu.studies.foreign_ssp import ROPE_PENDULUM, ROPE_PENDULUM_PARAMETERS, write_ssp
+    from cranefmu_support.foreign_ssp import ROPE_PENDULUM, ROPE_PENDULUM_PARAMETERS, write_ssp
 
     ssp = write_ssp(Path(tmp) / "stiff.ssp", {"rope": b.FMU_DIR / "Rope.fmu", "pendulum": b.FMU_DIR / "Pendulum.fmu"},
                     ROPE_PENDULUM, {**ROPE_PENDULUM_PARAMETERS, "rope.E": 1e12})
@@ -59,8 +61,8 @@ def stiff(tmp: str, alarm: bool) -> dict:
 
 def late(tmp: str) -> dict:
     from cranefmu.master.run import run
-    from cranefmu.studies.late import late_scene
-    from cranefmu.studies.oscillator import build_oscillator
+    from cranefmu_support.late import late_scene
+    from cranefmu_support.oscillator import build_oscillator
 
     osc = build_oscillator(Path(tmp))
     res = run(late_scene(Path(tmp), osc.parent / "OscMass.fmu"), stop_time=0.5, step_size=1e-3, progress=False,
@@ -75,8 +77,8 @@ def c_support(tmp: str) -> dict:
     from scipy.linalg import expm
 
     from cranefmu import build as b
-    from cranefmu.studies.c_fmu import C_ROPE, K, LOAD, M_SUPPORT, support_scene
-    from cranefmu.studies.c_fmu.build import build
+    from cranefmu_support.c_fmu import C_ROPE, K, LOAD, M_SUPPORT, support_scene
+    from cranefmu_support.c_fmu.build import build
     from cranefmu.master.run import run
 
     fmu = build(Path(tmp) / "SpringSupport.fmu")
@@ -100,7 +102,7 @@ def fmi3(tmp: str) -> dict:
     import numpy as np
 
     from cranefmu import build as b
-    from cranefmu.fmi3_adapter import build_fmi3
+    from cranefmu.build import build_fmi3
 
     src, dst = b.SSP_DIR / "elastic_pendulum.ssp", Path(tmp) / "elastic_pendulum_fmi3.ssp"
     with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dst, "w") as zout:

@@ -28,7 +28,7 @@ import numpy as np
 import scene_defaults as sd
 
 from cranefmu.converge import key_outputs
-from cranefmu.integrators import rk4_list
+from cranefmu.adapter.integrators import rk4_list
 from cranefmu.reference import Monolith
 
 SCENE, STOP, GRID = "hook_sway", 10.0, 1e-3

@@ -1,6 +1,6 @@
-"""Cost and accuracy of the FMUs' internal solvers (cranefmu.integrators) on every physics model.
+"""Cost and accuracy of the FMUs' internal solvers (cranefmu.adapter.integrators) on every physics model.
 
-For each model configuration of cranefmu.studies.model_cases (initialized at rest, then a step of its
+For each model configuration of cranefmu_support.model_cases (initialized at rest, then a step of its
 inputs) and each solver setting: the model is stepped like an FMU does it (macro step H, constant
 inputs, ``integrate`` per step, ``after_step``), timed over the whole span, and compared with a
 tight Radau solve (rtol 1e-10).  Error: largest |x - x_ref| of each state over the trajectory,
@@ -21,7 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from cranefmu.studies.model_cases import CASES, trajectory
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))   # cranefmu_support: scaffolding outside the wheel
+from cranefmu_support.model_cases import CASES, trajectory  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 

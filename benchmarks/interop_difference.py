@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))   # cranefmu_support: scaffolding outside the wheel
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -42,7 +44,7 @@ def main(stop: float, smoke: bool = False) -> None:
     from cranefmu.master.extracted import extracted_scene
     from cranefmu.master.run import run
     from cranefmu.scenes import SCENES
-    from cranefmu.studies.fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
     from cranefmu.studies.hosts import (agreement_step, ecos_run, fmpy_run, libcosim_timed, scene_file,
                                         scene_variants, split_feedthrough)
 

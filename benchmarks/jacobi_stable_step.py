@@ -32,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))   # cranefmu_support: scaffolding outside the wheel
+
 ROOT = Path(__file__).resolve().parent.parent
 LADDER = (0.02, 0.01, 0.005, 0.004, 0.002, 0.001, 5e-4, 2.5e-4, 1e-4)   # [s]
 STORE = ROOT / "src" / "cranefmu" / "host_steps.json"
@@ -132,7 +134,7 @@ def fmpy_check(scene: str, pset: str, h: float, span: float) -> str:
     "ran", or the time and the error where it stopped (in a child process: pythonfmu FMUs do not
     survive a second instantiation in one process)."""
     from cranefmu import build as b
-    from cranefmu.studies.fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
     from cranefmu.studies.hosts import fmpy_run_until
 
     return in_child(fmpy_run_until, str(b.SSP_DIR / f"{scene}.ssp"), pset, h, span)

@@ -3,7 +3,7 @@ stepping the same FMUs (issue 34's anchor: libcosim about 11-15 us a macro step)
 
     .venv/bin/python benchmarks/master_per_step.py [--steps 4000] [--rounds 3] [--before COMMIT] [--out DIR]
 
-The FMU is the project's C test FMU (SpringSupport: src/cranefmu/studies/c_fmu, built here with the
+The FMU is the project's C test FMU (SpringSupport: support/cranefmu_support/c_fmu, built here with the
 machine's compiler): K instances in a ring, each one's position y feeding the next one's force F
 through a LinearTransformation (factor -1e4 N/m), one .ssp loaded by every host.  Per host and K, in a
 fresh process each: CPU time (``time.process_time``) of a run of ``steps`` macro steps minus one of
@@ -36,6 +36,8 @@ import zipfile
 from pathlib import Path
 
 from result_table import stamp
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))   # cranefmu_support: scaffolding outside the wheel
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
@@ -136,7 +138,7 @@ def main() -> None:
     ap.add_argument("--before", default=None, help="also the master of this commit (Python exchange)")
     ap.add_argument("--out", type=Path, default=RESULTS)
     a = ap.parse_args()
-    from cranefmu.studies.c_fmu.build import build
+    from cranefmu_support.c_fmu.build import build
     from master_overhead import _package_with_master_of
 
     hosts = ([f"cranefmu before ({a.before})"] if a.before else []) + HOSTS

@@ -4,7 +4,7 @@ Every host makes the same FMI calls per step: 2 doStep, 9 getReal + 9 setReal al
 connections, and one getReal per recorded output (all Real outputs of both FMUs).  Hosts:
 
 - ``fmpy``: a Python loop over fmpy's ``FMU2Slave`` (ctypes), in a fresh child process;
-- ``C``: cranefmu/studies/c_host/host.c compiled with gcc, libpython preloaded;
+- ``C``: support/cranefmu_support/c_host/host.c compiled with gcc, libpython preloaded;
 - ``C, hold_gil``: the same host holding one Python thread state for the whole run;
 each C host with the FMUs' own fix on (default) and off (``CRANEFMU_KEEP_THREAD_STATE=0``, every
 FMI call from the C thread then creates and destroys a Python thread state).
@@ -25,7 +25,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from cranefmu.studies.c_host import native
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))   # cranefmu_support: scaffolding outside the wheel
+from cranefmu_support.c_host import native  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 

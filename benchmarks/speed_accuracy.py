@@ -455,7 +455,7 @@ def memory_run(scene: str, stop: float, h: float) -> dict:
 
 
 # --- libcosim side by side ------------------------------------------------------------------------------
-# libcosim's ECCO (change rates 0.2 / 1.5 and the other defaults of interop_hosts.EccoSettings, i.e.
+# libcosim's ECCO (change rates 0.2 / 1.5 and the other defaults of cranefmu.studies.hosts.EccoSettings, i.e.
 # libcosim's own multi-bond test) swept over its absolute tolerance [J per step and scalar bond];
 # both ECCO controllers start at the finest fixed H and stay within [H / ECCO_RANGE, H * ECCO_RANGE]
 LIBCOSIM_ECCO_TOLERANCES = (1.0, 1e-1, 1e-2, 1e-3)

@@ -1,5 +1,5 @@
 """Boom FMU: telescopic boom with luffing cylinder (cranefmu.physics.boom)."""
-from cranefmu.fmi_adapter import CraneSlave
+from cranefmu.adapter.fmi_adapter import CraneSlave
 from cranefmu.physics.boom import BoomModel
 
 

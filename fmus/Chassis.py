@@ -1,5 +1,5 @@
 """Chassis FMU: truck chassis on elastic outriggers with unilateral contact (cranefmu.physics.chassis)."""
-from cranefmu.fmi_adapter import CraneSlave
+from cranefmu.adapter.fmi_adapter import CraneSlave
 from cranefmu.physics.chassis import ChassisModel
 
 

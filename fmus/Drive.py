@@ -1,5 +1,5 @@
 """Drive FMU: asynchronous motor + torsional drivetrain + drum, or kinematic payout (cranefmu.physics.drive)."""
-from cranefmu.fmi_adapter import CraneSlave
+from cranefmu.adapter.fmi_adapter import CraneSlave
 from cranefmu.physics.drive import DriveModel
 
 

@@ -1,5 +1,5 @@
 """Girder FMU: overhead girder and drum bearing (cranefmu.physics.girder)."""
-from cranefmu.fmi_adapter import CraneSlave
+from cranefmu.adapter.fmi_adapter import CraneSlave
 from cranefmu.physics.girder import GirderModel
 
 

@@ -1,5 +1,5 @@
 """Pendulum FMU: hook and load under gravity and the rope force (cranefmu.physics.pendulum)."""
-from cranefmu.fmi_adapter import CraneSlave
+from cranefmu.adapter.fmi_adapter import CraneSlave
 from cranefmu.physics.pendulum import PendulumModel
 
 

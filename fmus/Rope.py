@@ -1,5 +1,5 @@
 """Rope FMU: Kelvin-Voigt or modified Bouc-Wen hoist rope, slack-capable (cranefmu.physics.rope)."""
-from cranefmu.fmi_adapter import CraneSlave
+from cranefmu.adapter.fmi_adapter import CraneSlave
 from cranefmu.physics.rope import RopeModel
 
 

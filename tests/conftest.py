@@ -1,8 +1,9 @@
 """Fixtures every layer shares: the FMUs and scenes are built once per test session (only what is stale).
 
-The helper modules beside this file (scene_edit, cli_process, pendulum_cases, the faulty package and the
-re-exports of cranefmu.studies' model_cases, fmu_child, interop_hosts, oscillator, ...) are imported by plain name from every layer
-folder: this directory is put on sys.path here, whatever pytest's import mode (README.md)."""
+The helper modules beside this file (scene_edit, cli_process, pendulum_cases, the faulty package, ...) are
+imported by plain name from every layer folder: this directory is put on sys.path here, whatever pytest's
+import mode (README.md); so is support/ (the cranefmu_support package: model_cases, fmu_child, oscillator,
+c_fmu, ..., scaffolding the wheel does not ship)."""
 from __future__ import annotations
 
 import sys
@@ -11,8 +12,10 @@ from pathlib import Path
 import pytest
 
 HELPERS = str(Path(__file__).resolve().parent)
-if HELPERS not in sys.path:
-    sys.path.insert(0, HELPERS)
+SUPPORT = str(Path(__file__).resolve().parents[1] / "support")
+for _folder in (SUPPORT, HELPERS):
+    if _folder not in sys.path:
+        sys.path.insert(0, _folder)
 
 
 @pytest.fixture(scope="session")
@@ -36,8 +39,8 @@ def built():
 
 @pytest.fixture(scope="session")
 def oscillator_ssp(tmp_path_factory):
-    """The master's test problem (src/cranefmu/studies/oscillator): two FMUs built from test models, one .ssp."""
-    from oscillator import build_oscillator
+    """The master's test problem (support/cranefmu_support/oscillator): two FMUs built from test models, one .ssp."""
+    from cranefmu_support.oscillator import build_oscillator
 
     return build_oscillator(tmp_path_factory.mktemp("oscillator"))
 

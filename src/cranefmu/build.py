@@ -116,6 +116,44 @@ def build_fmu(script: Path, dest: Path | None = None) -> Path:
     return dest
 
 
+def build_fmi3(name: str, dest: Path | None = None) -> Path:
+    """Build ``fmus/<name>3.fmu`` (FMI 3.0) from ``fmus/<name>.py`` with pythonfmu3's builder."""
+    from importlib.metadata import distribution
+
+    from pythonfmu3.builder import FmuBuilder
+
+    script = FMU_SOURCES / f"{name}.py"
+    dest = Path(dest) if dest else FMU_DIR / f"{name}3.fmu"
+    bundle = bundle_name(name) + "_fmi3"
+    with tempfile.TemporaryDirectory(prefix="cranefmu_build3_") as tmp:
+        stage = Path(tmp)
+        pkg = _stage_bundle(stage, bundle)
+        shutil.copy2(PACKAGE_DIR / "adapter" / "fmi3_adapter.py", pkg / "adapter" / "fmi3_adapter.py")
+        fmi2_module = f"{name}{bundle}_fmi2"
+        (stage / f"{fmi2_module}.py").write_text(_IMPORT.sub(rf"\g<1>{bundle}\g<2>", script.read_text()))
+        # the FMI 2.0 adapter imports pythonfmu (its Python part only; the binary is not used)
+        pythonfmu_pkg = Path(distribution("pythonfmu").locate_file("pythonfmu"))
+        shutil.copytree(pythonfmu_pkg, stage / "pythonfmu", ignore=shutil.ignore_patterns("resources", "tests",
+                                                                                          "__pycache__"))
+        script3 = stage / f"{name}{bundle}.py"
+        script3.write_text(f'"""{name} FMU, FMI 3.0 binding over its FMI 2.0 adapter."""\n'
+                           "from pythonfmu3 import Fmi3Slave\n"
+                           f"from {bundle}.adapter.fmi3_adapter import CraneSlave3\n"
+                           f"from {fmi2_module} import {name} as _{name}2\n\n\n"
+                           # pythonfmu3's builder looks for Fmi3Slave in the class statement itself
+                           f"class {name}(CraneSlave3, Fmi3Slave):\n    fmi2_class = _{name}2\n")
+        built = FmuBuilder.build_FMU(script3, dest=stage / "out",
+                                     project_files=[pkg, stage / f"{fmi2_module}.py", stage / "pythonfmu"],
+                                     canGetAndSetFMUState=True, canSerializeFMUState=True)
+        shutil.copy2(built, dest)
+        # the builder imported the staged modules into this process: forget them (as build.build_fmu does)
+        for mod in [m for m in sys.modules if m.split(".")[0] in (bundle, fmi2_module, script3.stem)]:
+            del sys.modules[mod]
+        while str(stage) in sys.path:
+            sys.path.remove(str(stage))
+    return dest
+
+
 def write_osp_description(fmu: Path) -> Path | None:
     """Write the OSP-IS ``<Model>_OspModelDescription.xml`` of ``fmu`` beside it, where libcosim looks
     (its ports as variable groups, :mod:`cranefmu.compose.osp`); None for an FMU without ports."""

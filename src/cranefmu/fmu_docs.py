@@ -164,7 +164,7 @@ def render(fmu: Path) -> str:
             "  Without LD_PRELOAD the library does not load (`undefined symbol: _Py_NoneStruct`); without the "
             "packages fmi2Instantiate returns NULL. The FMU keeps one Python thread state per host thread alive "
             "across calls (a thread without one would create and destroy it in every call, 28-44 us a call measured; "
-            "`CRANEFMU_KEEP_THREAD_STATE=0` turns this off). See src/cranefmu/studies/c_host/host.c for a complete host.",
+            "`CRANEFMU_KEEP_THREAD_STATE=0` turns this off). See support/cranefmu_support/c_host/host.c for a complete host.",
             "- **Instances**: several instances (and copies unzipped twice) run side by side in one process and are "
             "independent, and an instance can be freed and the FMU instantiated again (tests/fmu/test_instances.py). "
             "Terminate and free every instance before the process exits.",

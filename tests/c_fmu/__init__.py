@@ -1,2 +1,1 @@
-"""Re-export of :mod:`cranefmu.studies.c_fmu` (moved into the package so benchmarks use public API only)."""
-from cranefmu.studies.c_fmu import *  # noqa: F401,F403
+"""C FMUs compiled for tests only (flags.c, integrator.c); the shared compiler lookup is cranefmu_support.c_fmu.build."""

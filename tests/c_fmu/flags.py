@@ -7,7 +7,7 @@ import subprocess
 import zipfile
 from pathlib import Path
 
-from cranefmu.studies.c_fmu.build import compiler
+from cranefmu_support.c_fmu.build import compiler
 
 HERE = Path(__file__).resolve().parent
 IDENTIFIER = "Flags"

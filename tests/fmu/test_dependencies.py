@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from fmpy import read_model_description
 
-from model_cases import CASES
+from cranefmu_support.model_cases import CASES
 
 MODELS = sorted({c.model for c in CASES}, key=lambda m: m.__name__)
 # 0/1 flags change only when a threshold is crossed; for them only the "undeclared: no change" half

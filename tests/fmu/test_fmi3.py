@@ -1,10 +1,10 @@
 """FMI 3.0 variants built with pythonfmu3 over the same FMI 2.0 adapter and physics
-(cranefmu.fmi3_adapter): they pass `fmpy validate` and compute what the FMI 2.0 FMUs compute."""
+(cranefmu.adapter.fmi3_adapter): they pass `fmpy validate` and compute what the FMI 2.0 FMUs compute."""
 from __future__ import annotations
 
 import pytest
 
-from fmu_child import in_pool as in_child
+from cranefmu_support.fmu_child import in_pool as in_child
 
 pytest.importorskip("pythonfmu3")
 
@@ -13,7 +13,7 @@ G = 9.81
 
 @pytest.fixture(scope="module")
 def fmi3(built, tmp_path_factory):
-    from cranefmu.fmi3_adapter import build_fmi3
+    from cranefmu.build import build_fmi3
 
     out = tmp_path_factory.mktemp("fmi3")
     return {name: build_fmi3(name, out / f"{name}3.fmu") for name in ("Pendulum", "Rope")}

@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cranefmu.fmi_adapter import advance
-from cranefmu.integrators import integrate, rk4_list
-from model_cases import CASES
+from cranefmu.adapter.fmi_adapter import advance
+from cranefmu.adapter.integrators import integrate, rk4_list
+from cranefmu_support.model_cases import CASES
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -17,7 +17,7 @@ extrapolation=0``.  Hosts:
   H = 0.5 ms: a first-order difference);
   it agrees to 1e-12 with that scheme reproduced step by step through fmpy, which pins the
   difference on the coupling order alone.
-- a C host (src/cranefmu/studies/c_host/host.c) compiled with gcc, loading the FMUs' binaries with dlopen and the
+- a C host (support/cranefmu_support/c_host/host.c) compiled with gcc, loading the FMUs' binaries with dlopen and the
   FMI 2.0 C API; libpython preloaded (pythonfmu leaves it unresolved).  Agrees to 1e-9.
 
 None of these hosts exchanges values in initialization mode, and the C host sets no String
@@ -41,8 +41,8 @@ import numpy as np
 import pytest
 from fmpy.validation import validate_fmu
 
-from cranefmu.studies.c_host import native
-from fmu_child import in_pool as in_child
+from cranefmu_support.c_host import native
+from cranefmu_support.fmu_child import in_pool as in_child
 
 SCENE = "elastic_pendulum"
 H = 1e-3

@@ -37,7 +37,7 @@ TUNABLE = [("Rope", "zeta", 0.1), ("Pendulum", "drag_coefficient", 1.2), ("Drive
 
 
 def _initialize(fmu_name: str, params: dict) -> tuple[int | None, list[str]]:
-    from fmu_child import session
+    from cranefmu_support.fmu_child import session
 
     with session() as open_fmu:
         f = open_fmu(fmu_name)
@@ -49,7 +49,7 @@ def _initialize(fmu_name: str, params: dict) -> tuple[int | None, list[str]]:
 
 
 def _retune(fmu_name: str, name: str, value: float, fixed: str | None) -> dict:
-    from fmu_child import session
+    from cranefmu_support.fmu_child import session
 
     with session() as open_fmu:
         f = open_fmu(fmu_name)
@@ -68,7 +68,7 @@ def _retune(fmu_name: str, name: str, value: float, fixed: str | None) -> dict:
 
 @pytest.mark.parametrize("fmu_name,params,needles", AT_INIT, ids=lambda v: str(v) if isinstance(v, str) else "")
 def test_bad_parameter_is_refused_at_initialization(built, fmu_name, params, needles):
-    from fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
 
     status, messages = in_child(_initialize, fmu_name, params)
     assert status is not None and status >= 3, "initialization with a bad parameter did not fail"
@@ -80,7 +80,7 @@ def test_bad_parameter_is_refused_at_initialization(built, fmu_name, params, nee
 
 @pytest.mark.parametrize("fmu_name,name,value", TUNABLE)
 def test_tunable_parameter_nan_after_initialization_is_refused(built, fmu_name, name, value):
-    from fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
 
     r = in_child(_retune, fmu_name, name, value, None)
     assert r["taken"] == value
@@ -89,7 +89,7 @@ def test_tunable_parameter_nan_after_initialization_is_refused(built, fmu_name, 
 
 
 def test_fixed_parameter_cannot_change_after_initialization(built):
-    from fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
 
     r = in_child(_retune, "Rope", "zeta", 0.1, "length")
     assert r["status"] is not None and r["status"] >= 3

@@ -12,8 +12,8 @@ import pytest
 
 from cranefmu import cli
 from cranefmu.errors import CraneFmuError
-from cranefmu.fmi_adapter import solvers
-from cranefmu.integrators import AUTO, EXACT, METHODS
+from cranefmu.adapter.fmi_adapter import solvers
+from cranefmu.adapter.integrators import AUTO, EXACT, METHODS
 from cranefmu.master.run import run
 
 MODELS = {"Boom": "boom.BoomModel", "Chassis": "chassis.ChassisModel", "Drive": "drive.DriveModel",

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from model_cases import CASES
+from cranefmu_support.model_cases import CASES
 
 H, N_BEFORE, N_AFTER = 1e-2, 15, 25
 
@@ -26,7 +26,7 @@ def _run(fmu, t: float, n: int) -> np.ndarray:
 
 
 def _save_run_restore(case_id: str) -> dict:
-    from fmu_child import session
+    from cranefmu_support.fmu_child import session
 
     case = next(c for c in CASES if c.id == case_id)
     with session() as open_fmu:
@@ -49,7 +49,7 @@ def _save_run_restore(case_id: str) -> dict:
 
 
 def _resume_elsewhere(fmu_name: str, blob: bytes) -> np.ndarray:
-    from fmu_child import session
+    from cranefmu_support.fmu_child import session
 
     with session() as open_fmu:
         b = open_fmu(fmu_name)
@@ -60,7 +60,7 @@ def _resume_elsewhere(fmu_name: str, blob: bytes) -> np.ndarray:
 
 @pytest.mark.parametrize("case", CASES, ids=lambda c: c.id)
 def test_restored_state_repeats_the_same_numbers(built, case):
-    from fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
 
     r = in_child(_save_run_restore, case.id)
     first = r["first"]
@@ -73,7 +73,7 @@ def test_restored_state_repeats_the_same_numbers(built, case):
 
 
 def _restore_undoes_a_tunable_change() -> dict:
-    from fmu_child import session
+    from cranefmu_support.fmu_child import session
 
     case = next(c for c in CASES if c.id == "chassis")
     with session() as open_fmu:
@@ -99,7 +99,7 @@ def test_restore_brings_back_the_tunable_parameters_model(built):
     """setFMUstate keeps the built model only while the restored parameters equal the current ones
     (a rollback then costs no rebuild); a tunable parameter changed since the save is restored with
     its model."""
-    from fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
 
     r = in_child(_restore_undoes_a_tunable_change)
     assert np.max(np.abs(r["changed"] - r["first"])) > 0.0

@@ -7,7 +7,7 @@ from scipy.optimize import brentq
 
 from cranefmu.errors import SettingsError
 from cranefmu.master.run import run
-from oscillator.exact import Oscillator
+from cranefmu_support.oscillator.exact import Oscillator
 
 OSC = Oscillator(d1=3.0, dc=3.0, d2=3.0)   # decays: a fixed step is too fine for most of the run
 X0, T = 0.1, 6.0

@@ -8,7 +8,7 @@ import pytest
 from cranefmu.errors import SimulationError
 from cranefmu.master.power_bonds import RESIDUAL_WARNING
 from cranefmu.master.run import run
-from oscillator.runs import DAMPED, SINGLE
+from cranefmu_support.oscillator.runs import DAMPED, SINGLE
 
 
 def bond_total(ssp, h, osc, **kw):

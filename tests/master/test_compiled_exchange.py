@@ -162,7 +162,7 @@ def integrators_ssp(tmp_path_factory):
     """Two Integrator FMUs (tests/c_fmu/integrator.c: x' = u, canInterpolateInputs, no rate inputs) in a
     loop, a.u = b.y and b.u = -a.y (a LinearTransformation): x_a = cos t, x_b = sin t from a.x0 = 1."""
     from c_fmu.integrator import build, compiler
-    from foreign_ssp import write_ssp
+    from cranefmu_support.foreign_ssp import write_ssp
 
     if compiler() is None:
         pytest.skip("no C compiler")

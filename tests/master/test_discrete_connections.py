@@ -33,7 +33,7 @@ def driven_rows(fmu, tmp_path, connections, steps=8, h=0.1, compiled=True):
     Boolean k odd), then one Jacobi step (Coupling.jacobi_step: every FMU steps, then the exchange;
     ``compiled``: in the kernel where it can run, else in Python); returns (the Real outputs per row, the
     discrete outputs per row by name, whether the kernel ran)."""
-    from foreign_ssp import write_ssp
+    from cranefmu_support.foreign_ssp import write_ssp
 
     ssp = write_ssp(tmp_path / f"two_{len(connections)}.ssp", {"a": fmu, "b": fmu}, connections)
     workdir, scene = extracted_scene(ssp)

@@ -7,7 +7,7 @@ import pytest
 from cranefmu.errors import SimulationError
 from cranefmu.master.progress import Progress
 from cranefmu.master.run import run
-from oscillator.runs import SINGLE
+from cranefmu_support.oscillator.runs import SINGLE
 
 
 def test_blow_up_to_non_finite_names_component_time_and_advice(oscillator_ssp, tmp_path):

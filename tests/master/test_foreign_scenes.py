@@ -8,9 +8,9 @@ import pytest
 
 from cranefmu.errors import SceneError
 from cranefmu.master.run import run
-from late import IDENTITY, late_scene
-from oscillator import SSD, build_oscillator
-from oscillator.exact import Oscillator
+from cranefmu_support.late import IDENTITY, late_scene
+from cranefmu_support.oscillator import SSD, build_oscillator
+from cranefmu_support.oscillator.exact import Oscillator
 
 G = 9.81
 X_CONN = '<ssd:Connection startElement="mass" startConnector="x" endElement="spring" endConnector="x_in"/>'

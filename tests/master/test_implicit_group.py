@@ -6,7 +6,7 @@ import pytest
 from cranefmu.converge import key_outputs
 from cranefmu.errors import SettingsError, SimulationError
 from cranefmu.master.run import run
-from oscillator.runs import DAMPED, X0, Z0, go, jacobi_limit
+from cranefmu_support.oscillator.runs import DAMPED, X0, Z0, go, jacobi_limit
 
 BOTH = ["mass", "spring"]
 

@@ -114,7 +114,7 @@ def test_oscillator_jacobi_is_stopped_beyond_its_limit_or_when_far_too_coarse(os
     force swings through zero, so the energy the coupling makes up per window is ~ 1.6 omega H of what
     the bond carries: at 0.5 x the limit (stable, error 18 % of the amplitude against the exact
     solution, checked here) it is stopped as far too coarse; at 0.3 x (error 10 %) it runs."""
-    from oscillator.runs import DAMPED, Z0, go, jacobi_limit
+    from cranefmu_support.oscillator.runs import DAMPED, Z0, go, jacobi_limit
 
     h = factor * jacobi_limit()
     if not stopped:
@@ -131,7 +131,7 @@ def test_oscillator_jacobi_is_stopped_beyond_its_limit_or_when_far_too_coarse(os
 def oscillator_without_bonds(tmp_path_factory):
     import re
 
-    from oscillator import SSD, build_oscillator
+    from cranefmu_support.oscillator import SSD, build_oscillator
 
     # an empty power-bond annotation: the scene declares that it has none (none are inferred)
     empty = ('<ssd:Annotations><ssc:Annotation type="org.cranefmu.powerbonds"><cf:PowerBonds '
@@ -144,7 +144,7 @@ def oscillator_without_bonds(tmp_path_factory):
 def test_scene_without_power_bonds_is_watched_by_its_connections(oscillator_without_bonds, factor, stopped):
     """No power bonds: the change per step of a coupling value grows geometrically beyond the limit
     (measured 1.02 per step at 1.1 x); the error names the connection."""
-    from oscillator.runs import DAMPED, go, jacobi_limit
+    from cranefmu_support.oscillator.runs import DAMPED, go, jacobi_limit
 
     h = factor * jacobi_limit()
     if not stopped:

@@ -6,7 +6,7 @@ import pytest
 
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
-from oscillator.runs import DAMPED, UNDAMPED, X0, Z0, go, jacobi_limit
+from cranefmu_support.oscillator.runs import DAMPED, UNDAMPED, X0, Z0, go, jacobi_limit
 
 
 def error(res, osc):

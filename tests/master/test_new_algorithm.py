@@ -8,7 +8,7 @@ import pytest
 from cranefmu.master import algorithm_table
 from cranefmu.master.algorithms import Algorithm
 from cranefmu.master.run import run
-from oscillator.exact import Oscillator
+from cranefmu_support.oscillator.exact import Oscillator
 
 OSC = Oscillator(d1=0.5, dc=2.0)          # omega = 7.0 and 15.8 rad/s, lightly damped
 X0 = 0.1

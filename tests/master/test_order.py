@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from cranefmu.master.run import run
-from oscillator.exact import Oscillator
+from cranefmu_support.oscillator.exact import Oscillator
 
 OSC = Oscillator(d1=0.5, dc=2.0)          # omega = 7.0 and 15.8 rad/s, lightly damped
 X0 = 0.1                                   # mass released 0.1 m from rest

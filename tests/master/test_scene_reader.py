@@ -162,7 +162,7 @@ def test_every_ssv_unit_has_the_dimension_of_the_fmu_variable(built, scene):
     variable measures (m for m, rad for rad ...), else the converted number means something else."""
     from fmpy import read_model_description
 
-    from cranefmu.units import parse
+    from cranefmu.adapter.units import parse
 
     source = read_scene_folder(b.SSP_DIR / scene, b.FMU_DIR)
     units = {f"{c.name}.{v.name}": v.unit or "" for c in source.components

@@ -6,8 +6,8 @@ import pytest
 from cranefmu.errors import ParameterSetError, SceneError
 from cranefmu.master.graph import is_loop, strongly_connected
 from cranefmu.master.run import run
-from oscillator import SSD, build_oscillator
-from oscillator.exact import Oscillator
+from cranefmu_support.oscillator import SSD, build_oscillator
+from cranefmu_support.oscillator.exact import Oscillator
 
 G = 9.81
 X_CONN = '<ssd:Connection startElement="mass" startConnector="x" endElement="spring" endConnector="x_in"/>'

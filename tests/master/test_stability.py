@@ -1,12 +1,12 @@
 """Largest stable macro step of Jacobi with zero-order hold: measured by runs, against the spectral
-radius of the linear recurrence z_{n+1} = M(H) z_n of the scheme (src/cranefmu/studies/oscillator/exact.py)."""
+radius of the linear recurrence z_{n+1} = M(H) z_n of the scheme (support/cranefmu_support/oscillator/exact.py)."""
 import numpy as np
 import pytest
 from scipy.optimize import brentq
 
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
-from oscillator.runs import DAMPED as OSC
+from cranefmu_support.oscillator.runs import DAMPED as OSC
 
 N_STEPS = 400
 

@@ -6,7 +6,7 @@ import numpy as np
 
 from cranefmu.master.fmu import wrap_fmi_calls
 from cranefmu.master.run import run
-from oscillator.runs import UNDAMPED, X0
+from cranefmu_support.oscillator.runs import UNDAMPED, X0
 
 H, STOP = 0.01, 0.2
 

@@ -8,7 +8,7 @@ import types
 
 import numpy as np
 
-from cranefmu.integrators import rk4_list
+from cranefmu.adapter.integrators import rk4_list
 from cranefmu.physics.boom import BoomModel, BoomParams
 
 SWITCHES = [(tip, cyl, ts, ls) for tip in ("dynamic", "kinematic") for cyl in ("prescribed", "spring_damper")

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from boom_cases import SWITCHES, assert_same, boom_fields, law_times, native_step, random_inputs, rates, unchecked
-from cranefmu.fmi_adapter import advance
+from cranefmu.adapter.fmi_adapter import advance
 from cranefmu.native.harness import HERE, load
 from cranefmu.physics.boom import BoomModel, BoomParams
 from cranefmu.physics.params import ParameterError

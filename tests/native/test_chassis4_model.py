@@ -63,7 +63,7 @@ def test_a_rocking_chassis_steps_bit_for_bit_over_many_steps():
     moment swinging through the tipping line of the lighter side: a pad lifts and lands again, and the C and
     the Python model stay the same to the last bit all the way (the carried inertia moves, so the mass
     matrix is inverted again every step)."""
-    from cranefmu.integrators import integrate
+    from cranefmu.adapter.integrators import integrate
 
     p = Chassis4Params(boom_inertia="carried")
     nat, py = load("Chassis4", p), Chassis4Model(p)

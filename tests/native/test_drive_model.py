@@ -2,7 +2,7 @@
 directly through the cffi harness: initial state, derivatives and outputs of both modes over random
 parameters, states, line forces and times on every side of the supply start, the ramp's end and the
 brake release; the kinematic trapezoid in each of its phases; rk4 steps with and without input rates
-against cranefmu.fmi_adapter.advance; and the cross-field parameter checks with Python's words.
+against cranefmu.adapter.fmi_adapter.advance; and the cross-field parameter checks with Python's words.
 
 Every comparison is exact (the same bits): the C model does Python's operations in Python's order and
 calls libm only where Python does (pow for i_p ** 2), so no tolerance is needed; measured worst relative
@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from cranefmu.fmi_adapter import advance
+from cranefmu.adapter.fmi_adapter import advance
 from cranefmu.physics.drive import DriveModel, DriveParams
 from cranefmu.physics.params import ParameterError
 

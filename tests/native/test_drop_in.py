@@ -1,5 +1,5 @@
 """Native FMUs as drop-in FMUs for other tools: fmpy validate, fmpy.simulate_fmu, and plain C hosts with no
-libpython in the process (the project's src/cranefmu/studies/c_host/host.c, and tests/native/cycle_host.c
+libpython in the process (the project's support/cranefmu_support/c_host/host.c, and tests/native/cycle_host.c
 over instantiate/free cycles, FMU-state round trips and the failure paths, also under valgrind).
 
 The FMUs: the layer's test model OscMass (tests/native/models/OscMass.c) and every model listed in
@@ -19,8 +19,8 @@ import pytest
 
 from conformance import MODEL_CASES, native_fmu
 from cranefmu.native.build import MODELS_DIR, compiler_available
-from cranefmu.studies.c_host.native import compile_host, fmi2_headers, write_config
-from cranefmu.studies.oscillator import HERE as OSC_DIR
+from cranefmu_support.c_host.native import compile_host, fmi2_headers, write_config
+from cranefmu_support.oscillator import HERE as OSC_DIR
 
 pytestmark = pytest.mark.skipif(not compiler_available(), reason="no C compiler and CMake")
 HERE = Path(__file__).resolve().parent

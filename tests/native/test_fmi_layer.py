@@ -1,6 +1,6 @@
 """The generic native FMI 2.0 layer (src/cranefmu/native/fmi2) against the pythonfmu adapter it mirrors.
 
-The test model is OscMass (cranefmu.studies.oscillator, a mass on a spring pushed by a coupling force),
+The test model is OscMass (cranefmu_support.oscillator, a mass on a spring pushed by a coupling force),
 whose C twin tests/native/models/OscMass.c exists only here: it proves the layer alone (solvers, input
 rates, discrete output, switch, cross-field check, FMU state, refusals).  Every model listed in
 conformance.MODEL_CASES is checked the same way with its own cases, and its modelDescription against
@@ -17,7 +17,7 @@ import pytest
 
 from conformance import MODEL_CASES, MODEL_RTOL, RK45_RTOL, RTOL, Case, conform, drive_all, fmu_pair, in_child
 from cranefmu.native.build import compiler_available
-from cranefmu.studies.oscillator import HERE as OSC_DIR
+from cranefmu_support.oscillator import HERE as OSC_DIR
 
 pytestmark = pytest.mark.skipif(not compiler_available(), reason="no C compiler and CMake")
 HERE = Path(__file__).resolve().parent

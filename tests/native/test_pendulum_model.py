@@ -20,8 +20,8 @@ import pytest
 
 pytest.importorskip("cffi")
 
-from cranefmu.fmi_adapter import advance  # noqa: E402
-from cranefmu.integrators import substeps  # noqa: E402
+from cranefmu.adapter.fmi_adapter import advance  # noqa: E402
+from cranefmu.adapter.integrators import substeps  # noqa: E402
 from cranefmu.native.harness import load  # noqa: E402
 from cranefmu.physics.params import ParameterError  # noqa: E402
 from cranefmu.physics.pendulum import PendulumModel, PendulumParams  # noqa: E402

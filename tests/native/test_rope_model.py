@@ -19,7 +19,7 @@ import math
 import numpy as np
 import pytest
 
-from cranefmu.fmi_adapter import advance
+from cranefmu.adapter.fmi_adapter import advance
 from cranefmu.physics import boucwen
 from cranefmu.physics.params import ParameterError
 from cranefmu.physics.rope import RopeModel, RopeParams, elastic_length

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from boom_cases import assert_same, boom_fields, law_times, rates
-from cranefmu.fmi_adapter import advance
+from cranefmu.adapter.fmi_adapter import advance
 from cranefmu.native.harness import load
 from cranefmu.physics.params import ParameterError
 from cranefmu.physics.slewing import SlewingBoomModel, SlewingBoomParams

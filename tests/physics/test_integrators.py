@@ -1,4 +1,4 @@
-"""Internal solvers (cranefmu.integrators): for every model a cheap explicit fixed-step method and
+"""Internal solvers (cranefmu.adapter.integrators): for every model a cheap explicit fixed-step method and
 an implicit adaptive one give the same trajectory; TR-BDF2 has order 2; on the stiff drivetrain
 the implicit methods are stable at a step where the explicit one blows up."""
 from __future__ import annotations
@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from cranefmu.integrators import METHODS, integrate
-from model_cases import CASES, trajectory
+from cranefmu.adapter.integrators import METHODS, integrate
+from cranefmu_support.model_cases import CASES, trajectory
 
 # ground contact is a kink in the right-hand side: every method drops to order 1 there
 _TOL = {"pendulum-elastic-ground": 5e-3,
@@ -76,8 +76,8 @@ def test_every_method_integrates_the_harmonic_oscillator():
 # --- the solver parameter inside the built FMU (fmpy, one child per instance) -------------------
 
 def _drive_fmu(solver: str, max_step: float) -> dict:
-    from fmu_child import session
-    from model_cases import CASES
+    from cranefmu_support.fmu_child import session
+    from cranefmu_support.model_cases import CASES
 
     case = next(c for c in CASES if c.id == "drive-motor")
     with session() as open_fmu:
@@ -99,7 +99,7 @@ def _drive_fmu(solver: str, max_step: float) -> dict:
 def test_drive_fmu_solver_parameter_picks_the_method(built):
     """Through the FMU: rk4 with max_step 1e-3 blows up on the stiff drivetrain (the step fails),
     trbdf2 with the same max_step matches rk4 with 1e-4 (the Drive's default)."""
-    from fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
 
     ref = in_child(_drive_fmu, "rk4", 1e-4)
     implicit = in_child(_drive_fmu, "trbdf2", 1e-3)
@@ -113,7 +113,7 @@ def test_drive_fmu_solver_parameter_picks_the_method(built):
 def _exact_and_radau(model, x0, u0, r1, r2, h: float, steps: int, max_step: float = 1e-3):
     """The trajectory at the macro steps with solver exact (the FMU default) and with a tight radau
     solve of the same equations and the same input polynomials; also how many exact steps fell back."""
-    from cranefmu.fmi_adapter import advance
+    from cranefmu.adapter.fmi_adapter import advance
 
     xe, xr, fallbacks = x0, x0, 0
     out_e, out_r = [x0], [x0]

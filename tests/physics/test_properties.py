@@ -16,7 +16,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from cranefmu.integrators import integrate
+from cranefmu.adapter.integrators import integrate
 from cranefmu.errors import CraneFmuError, SimulationError
 from cranefmu.master.run import run
 from cranefmu.physics.boom import BoomModel

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from cranefmu.integrators import integrate
+from cranefmu.adapter.integrators import integrate
 from cranefmu.physics import boucwen
 from cranefmu.physics.params import ParameterError
 from cranefmu.physics.rope import RopeModel, RopeParams, static_elongation
@@ -185,7 +185,7 @@ def test_regime_entry_resets_are_the_projection_of_the_fmu():
 # --- through the built FMU (fmpy, in a child process) ------------------------------------------
 
 def _fmu_bouc_wen_run() -> dict:
-    from fmu_child import session
+    from cranefmu_support.fmu_child import session
 
     load = 20e3
     d = static_elongation(P, load)
@@ -212,7 +212,7 @@ def _fmu_bouc_wen_run() -> dict:
 
 
 def test_bouc_wen_rope_fmu_rest_loops_and_slack(built):
-    from fmu_child import in_child
+    from cranefmu_support.fmu_child import in_child
 
     res = in_child(_fmu_bouc_wen_run)
     rows, load = res["rows"], res["load"]

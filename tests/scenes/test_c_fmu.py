@@ -1,4 +1,4 @@
-"""A non-Python FMU in every run of the suite: SpringSupport (src/cranefmu/studies/c_fmu/spring_support.c, FMI 2.0
+"""A non-Python FMU in every run of the suite: SpringSupport (support/cranefmu_support/c_fmu/spring_support.c, FMI 2.0
 written in C, compiled with cc while the tests run) as the sprung suspension point of our Rope and
 Pendulum in a hand-written SSP (docs/foreign_fmus.md)."""
 from __future__ import annotations
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from c_fmu import C_ROPE, G, K, LOAD, M_SUPPORT, support_scene
-from c_fmu.build import build, compiler
+from cranefmu_support.c_fmu import C_ROPE, G, K, LOAD, M_SUPPORT, support_scene
+from cranefmu_support.c_fmu.build import build, compiler
 from cranefmu.master.run import run
 
 

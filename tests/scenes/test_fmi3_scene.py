@@ -7,7 +7,7 @@ import zipfile
 import numpy as np
 import pytest
 
-from fmu_child import in_pool
+from cranefmu_support.fmu_child import in_pool
 
 pytest.importorskip("pythonfmu3")
 
@@ -16,7 +16,7 @@ pytest.importorskip("pythonfmu3")
 def fmi3_scene(built, tmp_path_factory):
     """elastic_pendulum.ssp with resources/Rope3.fmu and Pendulum3.fmu in place of the FMI 2.0 ones."""
     from cranefmu import build as b
-    from cranefmu.fmi3_adapter import build_fmi3
+    from cranefmu.build import build_fmi3
 
     out = tmp_path_factory.mktemp("fmi3_scene")
     src, dst = b.SSP_DIR / "elastic_pendulum.ssp", out / "elastic_pendulum_fmi3.ssp"

@@ -8,7 +8,7 @@ import pytest
 
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
-from foreign_ssp import ROPE_PENDULUM, ROPE_PENDULUM_PARAMETERS, write_ssp
+from cranefmu_support.foreign_ssp import ROPE_PENDULUM, ROPE_PENDULUM_PARAMETERS, write_ssp
 
 LENGTH, E, AREA, DELTA = 10.0, 1e11, 5.655e-5, 0.01
 

@@ -245,10 +245,10 @@ def test_the_cli_reports_a_bad_scene_in_one_line(built, tmp_path, capsys):
 
 
 def test_a_foreign_fmu_joins_by_its_variables(built, tmp_path):
-    """SpringSupport (C, src/cranefmu/studies/c_fmu) as the rope's sprung top, connected variable by variable beside the
+    """SpringSupport (C, support/cranefmu_support/c_fmu) as the rope's sprung top, connected variable by variable beside the
     rope's and hook's ports: settled at rest, the support sags m g / k and the tension is the weight."""
-    from c_fmu import G, K, LOAD, M_SUPPORT
-    from c_fmu.build import build, compiler
+    from cranefmu_support.c_fmu import G, K, LOAD, M_SUPPORT
+    from cranefmu_support.c_fmu.build import build, compiler
 
     if compiler() is None:
         pytest.skip("no C compiler (cc or gcc) on PATH: the C test FMU cannot be built")
@@ -304,8 +304,8 @@ def test_libcosim_joins_whole_ports_from_the_osp_system_structure(built, tmp_pat
     and velocity, then position): under its plain Jacobi every input is its source's output one step
     earlier, in both directions."""
     pytest.importorskip("libcosimpy")
-    from fmu_child import in_child
-    from interop_hosts import libcosim_run
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import libcosim_run
 
     folder = tmp_path / "osp"
     assert cli(["compose", str(b.SSP_SOURCES / "elastic_pendulum"), "--output", str(tmp_path / "ep.ssp"),

@@ -8,7 +8,7 @@ import re
 
 import pytest
 
-from cranefmu import units
+from cranefmu.adapter import units
 from cranefmu.experiments.reader import ExperimentError, load
 
 ASSERT = '[[assert]]\ncolumn = "rope.tension"\nmax = 1e9\n'

@@ -554,7 +554,7 @@ def test_discrete_outputs_of_a_foreign_fmu_are_recorded_under_their_own_names(fl
     from fmpy import simulate_fmu
 
     from cranefmu.master.run import preview
-    from foreign_ssp import write_ssp
+    from cranefmu_support.foreign_ssp import write_ssp
 
     ssp = write_ssp(tmp_path / "flags.ssp", {"ft": flags_fmu}, [])
     sets = [f"--set=ft.{k}={str(v).lower()}" for k, v in FLAG_INPUTS.items()]
@@ -572,7 +572,7 @@ def test_discrete_outputs_of_a_foreign_fmu_are_recorded_under_their_own_names(fl
 
 def test_adaptive_is_refused_for_an_fmu_that_declares_a_fixed_communication_step(flags_fmu, tmp_path):
     from c_fmu.flags import build
-    from foreign_ssp import write_ssp
+    from cranefmu_support.foreign_ssp import write_ssp
 
     fixed = build(tmp_path / "Flags.fmu", variable_step=False)
     ssp = write_ssp(tmp_path / "fixed.ssp", {"ft": fixed}, [])
@@ -601,7 +601,7 @@ def fmi3_description(variables: str) -> str:
      '</Float64>', "output 'vec' is an array"),
 ])
 def test_an_fmi3_output_the_master_cannot_read_is_refused_at_load_by_name(built, tmp_path, variable, needle):
-    from foreign_ssp import write_ssp
+    from cranefmu_support.foreign_ssp import write_ssp
 
     fmu = tmp_path / "Ints.fmu"
     with zipfile.ZipFile(fmu, "w") as zf:
@@ -617,7 +617,7 @@ def test_an_fmi3_output_the_master_cannot_read_is_refused_at_load_by_name(built,
 def test_discrete_connections_between_fmus_run_and_leave_the_real_values_alone(flags_fmu, tmp_path):
     """Integer, Boolean and Enumeration connections are held at every exchange (tests/master/
     test_discrete_connections.py checks them row by row); was refused at load."""
-    from foreign_ssp import write_ssp
+    from cranefmu_support.foreign_ssp import write_ssp
 
     real = [("a", "Real_output", "b", "Real_input")]
     discrete = [("a", "Boolean_output", "b", "Boolean_input"), ("a", "Enumeration_output", "b", "Enumeration_input"),
@@ -644,7 +644,7 @@ def test_discrete_connections_between_fmus_run_and_leave_the_real_values_alone(f
                                                ("Real_output", "Integer_input", "Real -> Integer")])
 def test_a_discrete_connection_of_mismatched_types_is_refused_at_load_in_one_line(flags_fmu, tmp_path, start, end,
                                                                                    types):
-    from foreign_ssp import write_ssp
+    from cranefmu_support.foreign_ssp import write_ssp
 
     ssp = write_ssp(tmp_path / "two.ssp", {"a": flags_fmu, "b": flags_fmu}, [("a", start, "b", end)])
     p = cranefmu("run", str(ssp), "--stop-time", "0.1", "--step", "0.1", "--output", "o.csv", cwd=tmp_path)

@@ -24,7 +24,7 @@ from cranefmu.master.extracted import extracted_scene
 from cranefmu.master.run import run
 from cranefmu.master.scene import read_scene_folder
 from cranefmu.scenes import SCENES
-from interop_hosts import agreement_step, split_feedthrough
+from cranefmu.studies.hosts import agreement_step, split_feedthrough
 
 NAMED = [(d.name, s) for d in b.scene_dirs() for s in read_scene_folder(d, b.FMU_DIR).sets]
 H = 1e-3
@@ -56,8 +56,8 @@ def test_fmpy_runs_hook_sway_crane_motion_from_the_files_own_set(built):
     stopped at fmi2ExitInitializationMode), the tip travels as the set's law says (0.3 m/s reached over a
     1 s ramp: x = (v / t_acc) t^2 / 2), and the hook follows it as ours does (fmpy's zero-input first step
     aside, which rings on: the hook's horizontal position within 1 % of its 2.4 mm travel of ours)."""
-    from fmu_child import in_child
-    from interop_hosts import fmpy_run_set
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import fmpy_run_set
 
     out = in_child(fmpy_run_set, str(b.SSP_DIR / "hook_sway.ssp"), "crane_motion", H, 0.2)
     assert len(out["time"]) == 200
@@ -77,8 +77,8 @@ def test_ecos_starts_a_named_set_of_the_built_file_settled(built, scene, paramet
     read a connected input is ours (jacobi-plain, the same set) to 1e-9 of its largest value.  Before, the
     set was applied to nothing: truck_telescope luff30 started with 5.5e6 N of rope tension."""
     pytest.importorskip("ecospy")
-    from fmu_child import in_child
-    from interop_hosts import ecos_run, worst_relative
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import ecos_run, worst_relative
 
     h = agreement_step(scene)
     plain, _ = split_feedthrough(scene)
@@ -93,8 +93,8 @@ def test_ecos_luff30_rope_carries_the_load_and_both_pads_bear(built):
     """The issue's case in numbers: luff30's rope tension after the first step is the hanging load's
     weight, 2500 kg g (to 1e-4: the hook just starts moving), and both pad pairs carry load (tipping off)."""
     pytest.importorskip("ecospy")
-    from fmu_child import in_child
-    from interop_hosts import ecos_run
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import ecos_run
 
     out = in_child(ecos_run, str(b.SSP_DIR / "truck_telescope.ssp"), H, H,
                    ["rope.tension", "chassis.N_front", "chassis.N_rear", "chassis.tipping"], "luff30")
@@ -112,8 +112,8 @@ def test_libcosim_starts_the_osp_export_at_rest(built, tmp_path, scene, columns)
     first step (before: elastic_pendulum T = 0 and the load fell a step; truck_telescope 5.9e5 N of
     tension and 1.46 MN on the pads)."""
     pytest.importorskip("libcosimpy")
-    from fmu_child import in_child
-    from interop_hosts import libcosim_run, worst_relative
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import libcosim_run, worst_relative
 
     folder = tmp_path / "osp"
     assert cli(["compose", str(b.SSP_SOURCES / scene), "--output", str(tmp_path / f"{scene}.ssp"),
@@ -147,8 +147,8 @@ def test_libcosim_at_the_files_step_stays_stable_where_the_stored_step_blows_up(
     stored setting); loaded with no step given, libcosim takes the file's own (``osp:FixedStepAlgorithm``,
     the measured stable step) and its largest tension is ours within 1 %."""
     pytest.importorskip("libcosimpy")
-    from fmu_child import in_child
-    from interop_hosts import libcosim_run
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import libcosim_run
 
     ssp = str(b.SSP_DIR / "overhead_lift.ssp")
     stored = read_scene_folder(b.SSP_DIR / "overhead_lift", b.FMU_DIR).settings["step_size"]

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import csv
 import os
+import re
 import shutil
 import stat
 import subprocess
@@ -119,6 +120,10 @@ def _csv(path: Path) -> tuple[list[str], np.ndarray]:
     return rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
 
 
+# test and benchmark scaffolding moved to support/cranefmu_support (issue 36): never in the wheel
+SCAFFOLDING = re.compile(r"cranefmu/studies/(fmu_child|foreign_ssp|model_cases)\.py|cranefmu/studies/(oscillator|c_host|c_fmu|late)/")
+
+
 def test_the_wheel_carries_the_sources_and_is_what_runs(installed):
     import zipfile
 
@@ -129,6 +134,8 @@ def test_the_wheel_carries_the_sources_and_is_what_runs(installed):
                [*CHECKOUT.glob("fmus/*.py"), *(f for d in scene_dirs() for f in scene_files(d))]]
     assert sources and all(f"cranefmu/_sources/{s}" in names for s in sources)
     assert not any(n.endswith((".fmu", ".ssp")) for n in names)
+    assert not [n for n in names if n.startswith("cranefmu_support/") or SCAFFOLDING.match(n)]  # tests' scaffolding
+    assert "cranefmu/adapter/fmi_adapter.py" in names and "cranefmu/studies/hosts.py" in names
     import tarfile
 
     members = {m.split("/", 1)[1] for m in tarfile.open(installed.sdist).getnames() if "/" in m}

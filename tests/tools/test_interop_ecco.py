@@ -17,7 +17,7 @@ H = 1e-3
 
 
 def test_vector_bonds_become_one_scalar_bond_per_axis():
-    from interop_hosts import scalar_bonds
+    from cranefmu.studies.hosts import scalar_bonds
 
     scene = read_scene_folder(b.SSP_DIR / "truck_telescope", b.FMU_DIR)
     split = scalar_bonds(scene.bonds)
@@ -32,8 +32,8 @@ def test_vector_bonds_become_one_scalar_bond_per_axis():
 @pytest.mark.parametrize("scene", SCENE_NAMES)
 def test_hand_built_libcosim_execution_equals_libcosims_ssp_load(built, scene):
     """Same slaves, connections and parameters as libcosim's SSP loader: 50 fixed steps agree to the bit."""
-    from fmu_child import in_child
-    from interop_hosts import libcosim_run
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import libcosim_run
 
     keys = list(SCENES[scene].key_outputs)
     ssp = str(b.SSP_DIR / f"{scene}.ssp")
@@ -50,8 +50,8 @@ def test_libcosim_ecco_step_follows_its_tolerance(built):
     inside [min_step, max_step], and lands closer to a fine fixed-step run (H / 10) in the swing angle.
     Both runs start from the settled start the built .ssp carries (the hand-built execution applies
     the file's values, as libcosim's SSP loader does)."""
-    from fmu_child import in_child
-    from interop_hosts import libcosim_timed
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import libcosim_timed
 
     keys = ["pendulum.theta", "rope.tension"]
     stop, h = 1.0, 2e-3

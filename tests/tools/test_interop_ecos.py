@@ -11,7 +11,7 @@ import pytest
 from cranefmu import build as b
 from cranefmu.master.scene import output_units, read_scene_folder
 from cranefmu.scenes import SCENES
-from interop_hosts import (AGREEMENT_SPAN, agreement_step, scene_file, scene_variants, split_feedthrough,
+from cranefmu.studies.hosts import (AGREEMENT_SPAN, agreement_step, scene_file, scene_variants, split_feedthrough,
                            worst_relative)
 
 try:
@@ -30,8 +30,8 @@ def test_ecos_as_loaded_follows_our_plain_jacobi(built, scene, parameter_set):
     and the truck's chassis tilt rate, which stays near zero, then differs by 2e-9 of its own size.  Feedthrough outputs are not compared row by
     row: ecos reads outputs after it has set the next step's inputs, and an FMU answers with those
     (:func:`test_ecos_reads_feedthrough_outputs_after_setting_the_inputs`)."""
-    from fmu_child import in_child
-    from interop_hosts import ecos_run
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import ecos_run
 
     from cranefmu.master.run import run
 
@@ -55,8 +55,8 @@ def test_ecos_reads_feedthrough_outputs_after_setting_the_inputs(built):
     position of step k (the inputs already set for the next step), which is what our plain Jacobi
     reads after step k + 1 (it holds the inputs of step k over that step): ecos's row k equals our
     row k + 1 to 1e-9, and differs from our row k by the one-step lag (1e-5 of the range)."""
-    from fmu_child import in_child
-    from interop_hosts import ecos_run
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import ecos_run
 
     from cranefmu.master.run import run
 

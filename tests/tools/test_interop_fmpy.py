@@ -14,15 +14,15 @@ import pytest
 from cranefmu import build as b
 from cranefmu.master.extracted import extracted_scene
 from cranefmu.scenes import SCENES
-from interop_hosts import scene_file
+from cranefmu.studies.hosts import scene_file
 
 SCENE_NAMES = [d.name for d in b.scene_dirs()]
 H = 1e-3
 
 
 def _fmpy(ssp: str, stop: float) -> tuple[dict, dict]:
-    from fmu_child import in_child
-    from interop_hosts import fmpy_run
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import fmpy_run
 
     loaded = extracted_scene(Path(ssp))[1]
     parameters = loaded.parameters          # the file's default set, with its settled start

@@ -13,7 +13,7 @@ import pytest
 from cranefmu import build as b
 from cranefmu.master.scene import read_scene_folder
 from cranefmu.scenes import SCENES
-from interop_hosts import (AGREEMENT_SPAN, agreement_step, scene_file, scene_variants, worst_relative)
+from cranefmu.studies.hosts import (AGREEMENT_SPAN, agreement_step, scene_file, scene_variants, worst_relative)
 
 pytest.importorskip("libcosimpy")
 
@@ -22,8 +22,8 @@ H = 1e-3
 
 
 def _libcosim(ssp: str, steps: int, columns: list[str]) -> dict:
-    from fmu_child import in_child
-    from interop_hosts import libcosim_run
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import libcosim_run
 
     return in_child(libcosim_run, ssp, H, steps, columns)
 
@@ -47,8 +47,8 @@ def test_libcosim_as_loaded_equals_our_plain_jacobi(built, scene, parameter_set)
     to 1e-9 of its range over 2 s (measured: to the last bit or within 5e-16).  Fails without the
     settled start in the file: libcosim's initialization (one exchange sweep per simulator) leaves
     elastic_pendulum's rope unloaded (2.3e-2) and truck_telescope's hook 0.2 m beside the tip."""
-    from fmu_child import in_child
-    from interop_hosts import libcosim_timed
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import libcosim_timed
 
     from cranefmu.master.run import run
 

@@ -11,7 +11,7 @@ import pytest
 
 from cranefmu import build as b
 from cranefmu.scenes import SCENES
-from interop_hosts import split_feedthrough, worst_relative
+from cranefmu.studies.hosts import split_feedthrough, worst_relative
 
 SCENE_NAMES = [d.name for d in b.scene_dirs()]
 SPAN = 0.5   # [s] simulated in each host
@@ -70,8 +70,8 @@ def test_native_scenes_are_native_and_carry_the_host_steps(native_ssp):
 def test_native_scene_in_libcosim_equals_our_plain_jacobi(native_ssp, scene):
     """libcosim's fixed-step Jacobi on the native file, as loaded, against our ``jacobi-plain`` of the same
     file at the same step: every key output to 1e-9 of its range."""
-    from fmu_child import in_child
-    from interop_hosts import libcosim_timed
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import libcosim_timed
 
     pytest.importorskip("libcosimpy")
     ssp = native_ssp[scene]
@@ -95,8 +95,8 @@ def test_native_scene_in_ecos_follows_our_plain_jacobi(native_ssp, scene):
         import ecospy  # noqa: F401
     except (ImportError, OSError) as err:
         pytest.skip(f"ecospy cannot be imported: {err}")
-    from fmu_child import in_child
-    from interop_hosts import ecos_run
+    from cranefmu_support.fmu_child import in_child
+    from cranefmu.studies.hosts import ecos_run
 
     ssp = native_ssp[scene]
     h = _host_step(ssp)

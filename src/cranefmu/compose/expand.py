@@ -19,7 +19,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from ..units import parse as parse_unit
+from ..adapter.units import parse as parse_unit
 from .interface import PARTS, Interface, PortSpec
 from .source import SceneSource
 

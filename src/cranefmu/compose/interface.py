@@ -2,7 +2,7 @@
 and its switches, read from the FMU's modelDescription.xml.
 
 Ports are the ``org.cranefmu.ports`` VendorAnnotation our FMUs carry (declared in physics as
-:class:`cranefmu.physics.component.Port`, written by :mod:`cranefmu.fmi_adapter`); a foreign FMU has
+:class:`cranefmu.physics.component.Port`, written by :mod:`cranefmu.adapter.fmi_adapter`); a foreign FMU has
 none and is connected by its variables.  Switches are the ``org.cranefmu.enumerations`` annotation
 (a text switch is an Integer code in the FMU).
 """
@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..errors import SceneError
 
-PORTS_TOOL = "org.cranefmu.ports"               # as cranefmu.fmi_adapter writes them (it is bundled into
+PORTS_TOOL = "org.cranefmu.ports"               # as cranefmu.adapter.fmi_adapter writes them (it is bundled into
 ENUMERATIONS_TOOL = "org.cranefmu.enumerations"  # each FMU; the composer does not import it)
 PARTS = ("position", "velocity", "force")
 

@@ -27,7 +27,7 @@ def osp_model_description(iface: Interface) -> bytes:
     """The OspModelDescription.xml of the FMU whose interface is ``iface`` (its ports as variable groups)."""
     from lxml import etree
 
-    from ..units import parse as parse_unit
+    from ..adapter.units import parse as parse_unit
 
     root = etree.Element(f"{{{OSP_NS}}}OspModelDescription", nsmap={None: OSP_NS}, version="1.0")
     units = etree.SubElement(root, f"{{{OSP_NS}}}UnitDefinitions")

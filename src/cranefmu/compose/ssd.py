@@ -52,7 +52,7 @@ def add_parameters(holder, parameters, bare: bool = False) -> None:
     element ``holder`` (``bare``: the variable name without "component.", for a component binding)."""
     from lxml import etree
 
-    from ..units import parse as parse_unit
+    from ..adapter.units import parse as parse_unit
 
     for p in parameters:
         entry = etree.SubElement(holder, f"{{{SSV_NS}}}Parameter", name=p.name.partition(".")[2] if bare else p.name)

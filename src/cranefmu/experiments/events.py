@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 import re
 
-from .. import units
+from ..adapter import units
 from ..errors import CraneFmuError
 from .expressions import evaluate, names as expression_names, parse
 from .profiles import Profile

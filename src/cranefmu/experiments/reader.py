@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
-from .. import units
+from ..adapter import units
 from ..errors import CraneFmuError
 from .lines import Lines
 from .metrics import REGISTRY
@@ -328,7 +328,7 @@ def _number(value, lines: Lines, table: str, key: str, index: int | None = None,
             unit: str | None = None, found: dict | None = None, name: str | None = None):
     """A finite number (or, with ``expression``, the text of an expression, checked for form).
 
-    A string ``"NUMBER UNIT"`` (``"15 kN"``, ``"90 deg"``, ``"0.5 s"``; :func:`cranefmu.units.quantity`) is
+    A string ``"NUMBER UNIT"`` (``"15 kN"``, ``"90 deg"``, ``"0.5 s"``; :func:`cranefmu.adapter.units.quantity`) is
     converted to SI: checked against ``unit`` when the key's unit is known here, else recorded in ``found``
     (``name`` -> the unit written) for the scene check, which knows the column's or input's unit."""
     name = name or key

@@ -211,7 +211,7 @@ def measured_unit(a, column_unit: str | None) -> str | None:
 def _check_units(quantities: dict, unit: str | None, what: str, where, rate_key: str | None = None) -> None:
     """Refuse a quantity whose unit does not measure what ``what`` (in ``unit``) measures; ``rate_key``: the
     key whose quantity is ``unit`` per second (a move's speed)."""
-    from .. import units
+    from ..adapter import units
 
     for key, written in quantities.items():
         if key == "level" and what.startswith("metric"):

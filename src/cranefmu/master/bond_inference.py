@@ -18,7 +18,7 @@ from __future__ import annotations
 import re
 from typing import Mapping
 
-from ..units import parse as parse_unit
+from ..adapter.units import parse as parse_unit
 from .scene import ConnectionSpec, Scene
 
 FORCE, VELOCITY, TORQUE, ANGULAR = "force", "velocity", "torque", "angular velocity"

@@ -102,7 +102,7 @@ def wrap_fmi_calls(wrap):
         _CALL_WRAPPERS.remove(wrap)
 
 
-ENUMERATIONS_TOOL = "org.cranefmu.enumerations"   # written by cranefmu.fmi_adapter (bundled, cannot import this)
+ENUMERATIONS_TOOL = "org.cranefmu.enumerations"   # written by cranefmu.adapter.fmi_adapter (bundled, cannot import this)
 
 
 def switch_names(md_root) -> dict[str, dict[str, int]]:

@@ -7,7 +7,7 @@ file goes through the guarded parser of :mod:`.untrusted`.  What is read (SSP 1.
 - elements (FMU components only; nested systems are refused), their connectors;
 - connections, with their ``ssc:LinearTransformation`` (factor, offset);
 - parameters, typed as in the .ssv (Real, Integer, Boolean, String, Enumeration); a Real's
-  ``unit=`` is converted to SI (:mod:`cranefmu.units`) or refused; an Integer must be a whole
+  ``unit=`` is converted to SI (:mod:`cranefmu.adapter.units`) or refused; an Integer must be a whole
   number.  The System's bindings and every Component's own bindings (bare variable names, as
   libcosim reads them) form the default set; a parameter bound twice with two values is refused.
   Other .ssv files in ``resources/`` are named parameter sets;
@@ -32,7 +32,7 @@ from typing import Union
 from .bond_declarations import ANNOTATION as BONDS_ANNOTATION, read_bonds
 from ..errors import ParameterSetError, SceneError, SettingsError
 from .settings import parse_bool, stored_settings
-from ..units import parse as parse_unit
+from ..adapter.units import parse as parse_unit
 from .stop_conditions import read_stop_conditions
 from .fmi_integer import fmi_integer
 from .untrusted import check_xml_files, parse_xml, safe_extract

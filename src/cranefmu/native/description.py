@@ -1,7 +1,7 @@
 """The native FMU's modelDescription.xml and its variable tables for the C layer, from the pythonfmu FMU's.
 
 One source for both FMU kinds: the description starts as the pythonfmu adapter's own
-:meth:`~cranefmu.fmi_adapter.CraneSlave.to_xml` of the same slave class (``fmus/<Name>.py``), so names,
+:meth:`~cranefmu.adapter.fmi_adapter.CraneSlave.to_xml` of the same slave class (``fmus/<Name>.py``), so names,
 value references, causality, variability, units, start values, descriptions, the enumerations and ports
 annotations and the ModelStructure are the same by construction.  Only what differs is changed: the
 generation tool, no execution tool needed, FMU state and its serialization, the C sources
@@ -23,7 +23,7 @@ from pathlib import Path
 from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
 from ..version import __version__
-from ..fmi_adapter import EXTRAPOLATION_SUFFIXES, CraneSlave, solvers
+from ..adapter.fmi_adapter import EXTRAPOLATION_SUFFIXES, CraneSlave, solvers
 from ..physics.params import allowed_text, enumeration_text
 
 NATIVE_TOOL = "org.cranefmu.native"   # VendorAnnotations tool describing the native build
@@ -68,7 +68,7 @@ def pythonfmu_description(cls: type[CraneSlave]) -> Element:
 def native_description(cls: type[CraneSlave], source_files: list[str], digest: str) -> tuple[bytes, str]:
     """The native FMU's modelDescription.xml (bytes) and GUID, for C sources ``source_files`` (the .c
     files in ``sources/``) whose content hashes to ``digest``."""
-    from ..fmi_adapter import PYTHON_HOST_NOTE, PYTHON_HOST_TOOL
+    from ..adapter.fmi_adapter import PYTHON_HOST_NOTE, PYTHON_HOST_TOOL
 
     root = pythonfmu_description(cls)
     root.set("generationTool", GENERATION_TOOL)

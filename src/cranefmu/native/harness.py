@@ -43,7 +43,7 @@ int cf_fail(CfModel *m, const char *format, ...) {
 
 
 def _physics(name: str):
-    from ..fmi_adapter import CraneSlave  # noqa: F401  (the FMU scripts' base)
+    from ..adapter.fmi_adapter import CraneSlave  # noqa: F401  (the FMU scripts' base)
     module = {"Rope": "rope", "Drive": "drive", "Girder": "girder", "Pendulum": "pendulum", "Boom": "boom",
               "SlewingBoom": "slewing", "Chassis": "chassis", "Chassis4": "chassis4"}[name]
     mod = importlib.import_module(f"cranefmu.physics.{module}")
@@ -147,11 +147,11 @@ class NativeModel:
 
     def rk4_step(self, t0: float, x0: np.ndarray, h: float, u0: np.ndarray, r1: np.ndarray | None,
                  r2: np.ndarray | None, max_step: float) -> np.ndarray:
-        """One communication step of the C model as :func:`cranefmu.fmi_adapter.advance` takes it with solver rk4:
-        the project's own rk4 (:func:`~cranefmu.integrators.rk4_list` where the Python model steps plain floats,
-        else :func:`~cranefmu.integrators.integrate`) on the C derivatives with the inputs u0 + s (r1 + s/2 r2)
+        """One communication step of the C model as :func:`cranefmu.adapter.fmi_adapter.advance` takes it with solver rk4:
+        the project's own rk4 (:func:`~cranefmu.adapter.integrators.rk4_list` where the Python model steps plain floats,
+        else :func:`~cranefmu.adapter.integrators.integrate`) on the C derivatives with the inputs u0 + s (r1 + s/2 r2)
         (a frozen model keeps its state), then the C after_step at the inputs of the step's end."""
-        from ..integrators import integrate, rk4_list
+        from ..adapter.integrators import integrate, rk4_list
         from ..physics.component import Model
 
         moving = r1 is not None and bool(np.any(r1) or np.any(r2))

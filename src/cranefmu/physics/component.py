@@ -160,7 +160,7 @@ class Model:
     def derivatives_list(self, t: float, x: list[float], u: np.ndarray) -> list[float]:
         """:meth:`derivatives` on a list of floats.  A model whose right-hand side works on plain floats
         overrides this one (and derives ``derivatives`` from it): the FMU's rk4 then steps lists and
-        builds no array per stage (:func:`cranefmu.integrators.rk4_list`)."""
+        builds no array per stage (:func:`cranefmu.adapter.integrators.rk4_list`)."""
         return self.derivatives(t, np.array(x), u).tolist()
 
     @property

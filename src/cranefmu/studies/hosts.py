@@ -1,7 +1,7 @@
 """Run a built scene in another master (libcosim through libcosimpy, ecos through ecospy, fmpy's
 ``simulate_ssp``) and read back what it applied; shared by the interop tests, the speed study and the benchmarks (benchmarks/
 speed_accuracy.py, interop_difference.py).  Each run belongs in a child
-process (:func:`cranefmu.studies.fmu_child.in_child`): pythonfmu FMUs do not survive a second instantiation in one
+process (:func:`cranefmu_support.fmu_child.in_child`): pythonfmu FMUs do not survive a second instantiation in one
 process.  libcosim's facts and pitfalls: docs/interop.md."""
 from __future__ import annotations
 

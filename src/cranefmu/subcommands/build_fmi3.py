@@ -18,7 +18,7 @@ def main(args: argparse.Namespace) -> int:
     from ..build import build, fmu_scripts
 
     try:
-        from ..fmi3_adapter import build_fmi3
+        from ..build import build_fmi3
     except ModuleNotFoundError as err:
         if err.name != "pythonfmu3":
             raise

@@ -101,7 +101,7 @@ def check_units(facts: SceneFacts, given: dict[str, str]) -> None:
     parameter measures (its declared unit), before anything runs."""
     if not given:
         return
-    from .. import units
+    from ..adapter import units
     from ..experiments.scene_check import interface
 
     declared = interface(str(facts.ssp)).units or {}

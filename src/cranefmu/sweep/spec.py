@@ -12,7 +12,7 @@ An input is a scene parameter ``comp.var`` or a run setting (a field of
 
 A setting's text is converted through its field's own type (:func:`cranefmu.master.settings.convert`).
 
-A parameter's values may carry a unit (:func:`cranefmu.units.quantity`): after each value (``30 deg,45 deg``)
+A parameter's values may carry a unit (:func:`cranefmu.adapter.units.quantity`): after each value (``30 deg,45 deg``)
 or once after the list or range (``30,45,60 deg``, ``30:60:4 deg``), one unit for all values of an input.
 The run gets the value in SI (the FMU's unit, checked by the engine); the table shows it as given, its
 column named with the unit (``boom.luff_angle [deg]``).
@@ -63,7 +63,7 @@ def convert(name: str, text: object) -> object:
 def split_unit(name: str, parts: list[str]) -> tuple[list[str], str]:
     """(the parts' number texts, the one unit written on any of them, or ""): ``30 deg`` or ``30`` beside a
     part that names the unit; two units for one input, or a unit on a run setting, are refused."""
-    from .. import units
+    from ..adapter import units
 
     texts, written = [], set()
     for part in parts:
@@ -210,7 +210,7 @@ class Run:
     @property
     def si_inputs(self) -> dict:
         """``inputs`` with each value given in a unit in SI (what the run and a Custom metric see)."""
-        from .. import units
+        from ..adapter import units
 
         given = dict(self.units)
         return {k: v * units.parse(given[k])[0] if k in given else v for k, v in self.inputs.items()}

@@ -1,5 +1,5 @@
 /* Test model of the native FMI layer (not shipped): the C twin of
-   cranefmu.studies.oscillator.OscMass (mass m on a spring k and damper d to the ground, pushed by a
+   cranefmu_support.oscillator.OscMass (mass m on a spring k and damper d to the ground, pushed by a
    coupling force F: m a = F + f - k x - d v), operation for operation as the Python model. */
 #include "cf_model.h"
 #include "OscMass_tables.h"

@@ -1,4 +1,4 @@
-/* The generic FMI 2.0 co-simulation layer of a native crane FMU: what cranefmu.fmi_adapter.CraneSlave
+/* The generic FMI 2.0 co-simulation layer of a native crane FMU: what cranefmu.adapter.fmi_adapter.CraneSlave
    does for the pythonfmu FMU, in C99 + libm, over one model of include/cf_model.h.
 
    - Parameters solver, rtol, max_step, then the model's Params fields (cf_fmu_variables.h); each value
@@ -260,7 +260,7 @@ static fmi2Status refresh_outputs(CfInstance *c) {
     return fmi2OK;
 }
 
-/* --- advance (cranefmu.fmi_adapter.advance) ---------------------------------------------------- */
+/* --- advance (cranefmu.adapter.fmi_adapter.advance) ---------------------------------------------------- */
 static int advance(CfInstance *c, double t, double h, double *x1, const char **kind) {
     CfValues *v = &c->v;
     CfModel *m = &v->model;

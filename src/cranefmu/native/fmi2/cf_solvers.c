@@ -1,4 +1,4 @@
-/* Fixed-step solvers, operation for operation as cranefmu/integrators.py, so that the native FMU's
+/* Fixed-step solvers, operation for operation as cranefmu/adapter/integrators.py, so that the native FMU's
    states equal the pythonfmu FMU's to the last bit (euler, rk2, rk4).  trbdf2 follows the same steps
    (Bank et al. 1985, gamma = 2 - sqrt(2); simplified Newton with the inverse of I - c h J kept over the
    sub-steps while Newton converges, halving a sub-step at most 8 times), but its inverse and

@@ -1,6 +1,6 @@
 /* The fixed-step internal solvers of the native FMU, operation for operation as
-   cranefmu.integrators (euler, rk2, rk4 as rk4_list, trbdf2; rk45 as scipy's RK45), over a model's right-hand side with the
-   inputs u0 + s r1 + s^2/2 r2 (s: time into the communication step), as cranefmu.fmi_adapter.advance. */
+   cranefmu.adapter.integrators (euler, rk2, rk4 as rk4_list, trbdf2; rk45 as scipy's RK45), over a model's right-hand side with the
+   inputs u0 + s r1 + s^2/2 r2 (s: time into the communication step), as cranefmu.adapter.fmi_adapter.advance. */
 #ifndef CF_SOLVERS_H
 #define CF_SOLVERS_H
 
@@ -26,7 +26,7 @@ void cf_rhs(CfRhs *f, double t, const double *x, double *dx);
 long cf_substeps(double h, double max_step);
 
 /* x1 = x0 advanced over h from t0 with method CF_EULER, CF_RK2, CF_RK4, CF_TRBDF2 or CF_RK45 (rtol: its
-   relative tolerance, absolute 1e-3 rtol, as cranefmu.fmi_adapter.advance); n states; returns 0, or 1 with
+   relative tolerance, absolute 1e-3 rtol, as cranefmu.adapter.fmi_adapter.advance); n states; returns 0, or 1 with
    one line in msg. x1 may not alias x0. */
 int cf_integrate(CfRhs *f, int method, double t0, const double *x0, int n, double h, double max_step, double rtol,
                  double *x1, char *msg, size_t msg_size);

@@ -107,7 +107,7 @@ def trajectory(case: Case, solver: str = "rk4", max_step: float = 1e-4, rtol: fl
                h: float = 1e-2) -> tuple[np.ndarray, np.ndarray]:
     """States at the communication points 0, h, 2h, ... t_end, integrated like the FMU does it:
     constant inputs, ``integrate`` per macro step, then ``after_step``."""
-    from cranefmu.integrators import integrate
+    from cranefmu.adapter.integrators import integrate
 
     m, u = case.make(), case.u()
     # initialized with the default inputs (at rest, unloaded), then the case inputs act from t = 0

@@ -12,14 +12,10 @@ An FMU script names the FMI 2.0 class::
     class Rope(CraneSlave3, Fmi3Slave):
         fmi2_class = _Rope2
 
-:func:`build_fmi3` writes that script and builds ``<Name>3.fmu`` with pythonfmu3's builder.
+:func:`cranefmu.build.build_fmi3` writes that script and builds ``<Name>3.fmu`` with pythonfmu3's builder.
 """
 from __future__ import annotations
 
-import shutil
-import sys
-import tempfile
-from pathlib import Path
 from typing import Any, ClassVar
 from xml.etree.ElementTree import Element, SubElement
 
@@ -161,43 +157,3 @@ class CraneSlave3(Fmi3Slave):
                 own = deps[name] if el.tag == "Output" else sorted(set(deps[name]) | set(params))
                 el.set("dependencies", " ".join(str(d) for d in own))
         return root
-
-
-def build_fmi3(name: str, dest: Path | None = None) -> Path:
-    """Build ``fmus/<name>3.fmu`` (FMI 3.0) from ``fmus/<name>.py`` with pythonfmu3's builder."""
-    from importlib.metadata import distribution
-
-    from pythonfmu3.builder import FmuBuilder
-
-    from . import build as b
-
-    script = b.FMU_SOURCES / f"{name}.py"
-    dest = Path(dest) if dest else b.FMU_DIR / f"{name}3.fmu"
-    bundle = b.bundle_name(name) + "_fmi3"
-    with tempfile.TemporaryDirectory(prefix="cranefmu_build3_") as tmp:
-        stage = Path(tmp)
-        pkg = b._stage_bundle(stage, bundle)
-        shutil.copy2(Path(__file__), pkg / "fmi3_adapter.py")
-        fmi2_module = f"{name}{bundle}_fmi2"
-        (stage / f"{fmi2_module}.py").write_text(b._IMPORT.sub(rf"\g<1>{bundle}\g<2>", script.read_text()))
-        # the FMI 2.0 adapter imports pythonfmu (its Python part only; the binary is not used)
-        pythonfmu_pkg = Path(distribution("pythonfmu").locate_file("pythonfmu"))
-        shutil.copytree(pythonfmu_pkg, stage / "pythonfmu", ignore=shutil.ignore_patterns("resources", "tests",
-                                                                                          "__pycache__"))
-        script3 = stage / f"{name}{bundle}.py"
-        script3.write_text(f'"""{name} FMU, FMI 3.0 binding over its FMI 2.0 adapter."""\n'
-                           "from pythonfmu3 import Fmi3Slave\n"
-                           f"from {bundle}.fmi3_adapter import CraneSlave3\n"
-                           f"from {fmi2_module} import {name} as _{name}2\n\n\n"
-                           # pythonfmu3's builder looks for Fmi3Slave in the class statement itself
-                           f"class {name}(CraneSlave3, Fmi3Slave):\n    fmi2_class = _{name}2\n")
-        built = FmuBuilder.build_FMU(script3, dest=stage / "out",
-                                     project_files=[pkg, stage / f"{fmi2_module}.py", stage / "pythonfmu"],
-                                     canGetAndSetFMUState=True, canSerializeFMUState=True)
-        shutil.copy2(built, dest)
-        # the builder imported the staged modules into this process: forget them (as build.build_fmu does)
-        for mod in [m for m in sys.modules if m.split(".")[0] in (bundle, fmi2_module, script3.stem)]:
-            del sys.modules[mod]
-        while str(stage) in sys.path:
-            sys.path.remove(str(stage))
-    return dest

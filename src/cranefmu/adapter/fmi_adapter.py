@@ -30,8 +30,8 @@ from pythonfmu.enums import Fmi2Status
 
 from . import units
 from .integrators import AUTO, EXACT, METHODS, integrate, rk4_list
-from .physics.component import Model, check_ports, port_takes
-from .physics.params import ParameterError, allowed_text, check_value, enumeration_text
+from ..physics.component import Model, check_ports, port_takes
+from ..physics.params import ParameterError, allowed_text, check_value, enumeration_text
 
 EXTRAPOLATION_SUFFIXES = ("_dt", "_dt2")  # d/dt and d2/dt2 of a coupling input
 ENUMERATIONS_TOOL = "org.cranefmu.enumerations"  # VendorAnnotations tool listing each switch's names

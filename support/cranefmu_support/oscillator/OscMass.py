@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cranefmu.fmi_adapter import CraneSlave
+from cranefmu.adapter.fmi_adapter import CraneSlave
 from cranefmu.physics.component import Model, Signal
 from cranefmu.physics.params import ParameterError, Params, param
 
