@@ -26,7 +26,7 @@ from .exchange_label import exchange_label
 from .coupled import Coupling
 from .divergence import ValueCheck
 from ..errors import CraneFmuError, SceneError, SettingsError, SimulationError
-from .extracted import extracted_scene, fresh_fmu_dirs
+from .extracted import extracted_scene, fresh_fmu_dirs, instantiates_in_place
 from .initialization import initialize
 from .loop import March, Sampler
 from .output_file import OutputFile
@@ -157,9 +157,12 @@ class Execution:
         try:
             self._stack.enter_context(one_thread())
             workdir, self.scene = extracted_scene(spec.ssp)
-            self._fmu_dirs = Path(tempfile.mkdtemp(prefix="run_", dir=workdir))
-            fresh_fmu_dirs(workdir, self.scene, self._fmu_dirs)   # never instantiate twice from one directory
-            parts = build_execution(spec, self.scene, self._fmu_dirs, claim)
+            if instantiates_in_place(workdir, self.scene):   # native FMUs: loaded libraries kept between runs
+                dirs = workdir
+            else:   # never instantiate a pythonfmu FMU twice from one directory (process.py)
+                dirs = self._fmu_dirs = Path(tempfile.mkdtemp(prefix="run_", dir=workdir))
+                fresh_fmu_dirs(workdir, self.scene, self._fmu_dirs)
+            parts = build_execution(spec, self.scene, dirs, claim)
             self.coupling, self.bonds, self.recorder = parts.system, parts.bonds, parts.recorder
             c = self.coupling
             starts = spec.overrides if c.commands is None else \

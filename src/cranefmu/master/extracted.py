@@ -81,6 +81,28 @@ def _digest(ssp: Path) -> str:
     return DIGESTS[key]
 
 
+_SHARED: dict[Path, bool] = {}   # extracted scene directory -> whether its runs instantiate from it
+
+
+def instantiates_in_place(workdir: Path, scene: Scene) -> bool:
+    """Whether every FMU of the extracted ``scene`` is a native cranefmu FMU (plain C): its runs then
+    instantiate from the extracted directories themselves and keep the loaded libraries between runs
+    (:func:`.fmu.keeps_library`); any other FMU gets directories of its own (:func:`fresh_fmu_dirs`)."""
+    if workdir not in _SHARED:
+        from .fmu import NATIVE_TOOL
+
+        tool = NATIVE_TOOL.encode()
+        _SHARED[workdir] = all(tool in (fmu_dir(workdir, c.name) / "modelDescription.xml").read_bytes()
+                               and b'fmiVersion="2.0"' in (fmu_dir(workdir, c.name) / "modelDescription.xml").read_bytes()
+                               for c in scene.components)
+    return _SHARED[workdir]
+
+
+def in_place(unzipdir: Path) -> bool:
+    """Whether ``unzipdir`` is an FMU directory of an extracted scene whose runs instantiate from it."""
+    return _SHARED.get(Path(unzipdir).parent, False)
+
+
 def fresh_fmu_dirs(workdir: Path, scene: Scene, target: Path) -> None:
     """Give each component of ``scene`` a directory of its own under ``target`` to be instantiated
     from (``fmu_<name>``, as :class:`~cranefmu.master.coupled.Coupling` expects): this platform's

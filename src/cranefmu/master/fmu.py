@@ -88,6 +88,18 @@ def _slave_class():
 
 _CALL_WRAPPERS: list = []   # active wrap_fmi_calls wrappers, innermost last
 
+# (directory, model identifier) -> fmpy slaves of native cranefmu FMUs whose instance was freed and whose
+# library stays loaded with its functions resolved: the next run's instance of that FMU is made by one
+# fmi2Instantiate on one of them (loading a library and resolving its functions cost ~6 ms an FMU)
+_LOADED: dict[tuple[str, str], list] = {}
+NATIVE_TOOL = "native FMI 2.0 layer"   # in the generationTool of cranefmu's native FMUs (native/description.py)
+
+
+def keeps_library(md) -> bool:
+    """Whether an FMU's loaded library is kept for later instances in this process: only cranefmu's own
+    native FMI 2.0 FMUs (plain C, no global state; pythonfmu's binaries must load fresh, process.py)."""
+    return md.fmiVersion == "2.0" and NATIVE_TOOL in (md.generationTool or "")
+
 
 @contextlib.contextmanager
 def wrap_fmi_calls(wrap):
@@ -204,8 +216,17 @@ class FmuComponent:
             cls = slave_class()
         else:
             cls = _slave_class()
-        self.fmu = cls(guid=self.md.guid, unzipDirectory=str(self.unzipdir),
-                       modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=self.name)
+        ident = self.md.coSimulation.modelIdentifier
+        from .extracted import in_place
+
+        self._keep = keeps_library(self.md) and not _CALL_WRAPPERS and in_place(self.unzipdir)
+        kept = _LOADED.get((str(self.unzipdir), ident)) if self._keep else None
+        if kept:
+            self.fmu = kept.pop()
+            self.fmu.instanceName, self.fmu.fatal = self.name, False
+        else:
+            self.fmu = cls(guid=self.md.guid, unzipDirectory=str(self.unzipdir), modelIdentifier=ident,
+                           instanceName=self.name)
         if _CALL_WRAPPERS:
             functions = self.fmu._functions
             for fname, f in list(functions.items()):
@@ -257,6 +278,13 @@ class FmuComponent:
             self.fmu.terminate()
         except Exception:
             pass
+        if getattr(self, "_keep", False):   # free the instance, keep the library for the next one
+            try:
+                self.fmu.fmi2FreeInstance(self.fmu.component)
+            except Exception:
+                return
+            _LOADED.setdefault((str(self.unzipdir), self.md.coSimulation.modelIdentifier), []).append(self.fmu)
+            return
         try:
             self.fmu.freeInstance()
         except Exception:
