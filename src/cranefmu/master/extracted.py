@@ -14,7 +14,7 @@ from pathlib import Path
 
 from .bond_inference import scene_bonds
 from .fmu import FmuComponent
-from .process import DIGESTS, LOCK, SCENES, adopt_extracted, drop_empty_root, forget_extracted, scenes_root
+from .process import DIGESTS, IN_PLACE, LOCK, SCENES, adopt_extracted, drop_empty_root, forget_extracted, scenes_root
 from .scene import Scene, load_scene
 
 
@@ -81,26 +81,20 @@ def _digest(ssp: Path) -> str:
     return DIGESTS[key]
 
 
-_SHARED: dict[Path, bool] = {}   # extracted scene directory -> whether its runs instantiate from it
 
 
 def instantiates_in_place(workdir: Path, scene: Scene) -> bool:
     """Whether every FMU of the extracted ``scene`` is a native cranefmu FMU (plain C): its runs then
     instantiate from the extracted directories themselves and keep the loaded libraries between runs
     (:func:`.fmu.keeps_library`); any other FMU gets directories of its own (:func:`fresh_fmu_dirs`)."""
-    if workdir not in _SHARED:
+    if workdir not in IN_PLACE:
         from .fmu import NATIVE_TOOL
 
         tool = NATIVE_TOOL.encode()
-        _SHARED[workdir] = all(tool in (fmu_dir(workdir, c.name) / "modelDescription.xml").read_bytes()
+        IN_PLACE[workdir] = all(tool in (fmu_dir(workdir, c.name) / "modelDescription.xml").read_bytes()
                                and b'fmiVersion="2.0"' in (fmu_dir(workdir, c.name) / "modelDescription.xml").read_bytes()
                                for c in scene.components)
-    return _SHARED[workdir]
-
-
-def in_place(unzipdir: Path) -> bool:
-    """Whether ``unzipdir`` is an FMU directory of an extracted scene whose runs instantiate from it."""
-    return _SHARED.get(Path(unzipdir).parent, False)
+    return IN_PLACE[workdir]
 
 
 def fresh_fmu_dirs(workdir: Path, scene: Scene, target: Path) -> None:

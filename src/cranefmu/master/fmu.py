@@ -15,7 +15,7 @@ from .settings import parse_bool
 from .fmi_integer import fmi_integer
 # the process-global state of the pythonfmu workarounds (the contract: .process)
 from .process import EXTRACTED_MARK as _EXTRACTED, MODEL_DESCRIPTIONS as _MODEL_DESCRIPTIONS, Messages
-from .process import instance_callbacks as _instance_callbacks
+from .process import in_place, instance_callbacks as _instance_callbacks
 
 _EXCEPTION_LINE = re.compile(r"^[A-Za-z_][\w.]*(Error|Exception|Exit|Interrupt)\b.*")
 
@@ -217,8 +217,6 @@ class FmuComponent:
         else:
             cls = _slave_class()
         ident = self.md.coSimulation.modelIdentifier
-        from .extracted import in_place
-
         self._keep = keeps_library(self.md) and not _CALL_WRAPPERS and in_place(self.unzipdir)
         kept = _LOADED.get((str(self.unzipdir), ident)) if self._keep else None
         if kept:

@@ -66,8 +66,15 @@ class Messages(list):
 
 _LOGS: "weakref.WeakValueDictionary[int, Messages]" = weakref.WeakValueDictionary()   # key -> its log
 _KEYS = itertools.count(1)   # 0 is no key (a NULL componentEnvironment)
+IN_PLACE: dict[Path, bool] = {}   # extracted scene directory -> whether its runs instantiate from it (.extracted)
 _callbacks: list = []
+_INSTANCE_CALLBACKS: list = []   # every instance's own callbacks struct (instance_callbacks), never freed
 FMI3_LOGGERS: list = []   # every FMI 3.0 instance's log callback (:mod:`.fmi3`), kept for the same reason
+
+
+def in_place(unzipdir: Path) -> bool:
+    """Whether ``unzipdir`` is an FMU directory of an extracted scene whose runs instantiate from it."""
+    return IN_PLACE.get(Path(unzipdir).parent, False)
 
 
 def scenes_root() -> Path:
@@ -89,6 +96,7 @@ def clear() -> None:
     """Remove every extracted scene now (they are extracted again when next run)."""
     with LOCK:
         SCENES.clear()
+        IN_PLACE.clear()
         if _root:
             shutil.rmtree(_root.pop(), ignore_errors=True)
 
@@ -165,4 +173,8 @@ def instance_callbacks(messages: Messages):
     _LOGS[key] = messages
     own = type(base).from_buffer_copy(base)   # the same (proxied) logger and memory functions
     own.componentEnvironment = c_void_p(key)
+    # kept for the life of the process, as the logger is: an FMU may keep the struct's address (FMI 2.0 lets
+    # it use the callbacks until fmi2FreeInstance; pythonfmu's wrapper may log after its instance is gone), and
+    # a freed ctypes struct is small-object memory that Python hands to its next objects
+    _INSTANCE_CALLBACKS.append(own)
     return own

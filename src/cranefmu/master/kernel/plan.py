@@ -126,6 +126,7 @@ class KernelPlan:
         for comp in comps:
             comp.read()   # the read tuple exists (the buffer of the exchange plan)
         p.read_vrs = self._pointers([ctypes.addressof(comp._read[0]) for comp in comps])
+        self._keep.extend(comp._read for comp in comps)   # the arrays those addresses are in, as long as the plan
         p.read_n = self._array([comp._read[1] for comp in comps], i32)
         p.read_at = self._array(c._read_at, i32)
         self.fresh = np.zeros(len(comps), dtype=i32)
