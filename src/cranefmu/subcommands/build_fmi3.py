@@ -17,10 +17,12 @@ def main(args: argparse.Namespace) -> int:
     """Build the named FMI 3.0 FMUs (default all); returns 0."""
     from ..build import build, fmu_scripts
 
+    from ..build import build_fmi3
+
     try:
-        from ..build import build_fmi3
-    except ModuleNotFoundError as err:
-        if err.name != "pythonfmu3":
+        import pythonfmu3.builder  # noqa: F401  (build_fmi3's builder, imported when it builds)
+    except ImportError as err:
+        if not (err.name or "").startswith("pythonfmu3"):
             raise
         raise CraneFmuError("build-fmi3 needs pythonfmu3, which is not installed: pip install 'cranefmu[fmi3]'") from None
 
