@@ -76,3 +76,14 @@ def test_experiment_set_with_a_wrong_unit_names_file_and_line(tmp_path, theta0, 
     with pytest.raises(CraneFmuError) as err:
         prepare([path])
     assert str(err.value).startswith(f"{path}:4: {says}"), str(err.value)
+
+
+def test_export_set_takes_units(tmp_path):
+    import zipfile
+
+    out = tmp_path / "v.ssp"
+    r = cranefmu("export", "hook_sway", "--set", "pendulum.theta0=10 deg", "--output", str(out))
+    assert r.returncode == 0, r.stderr
+    ssv = zipfile.ZipFile(out).read("resources/default.ssv").decode()
+    block = ssv[ssv.index('name="pendulum.theta0"'):]
+    assert float(block.split('value="', 1)[1].split('"', 1)[0]) == 10 * DEG
