@@ -10,7 +10,8 @@ MAX_ROWS = 10_000_000     # default --max-rows: a larger run is refused before i
 
 
 def parse_set(items: list[str]) -> dict[str, str]:
-    """``--set component.variable=value`` items as {"component.variable": "value"} (text, converted later)."""
+    """``--set component.variable=value`` items as {"component.variable": "value"} (text, converted later: a
+    number with a unit, ``"45 deg"``, to the declared unit by :mod:`cranefmu.parameter_units` in ``resolve``)."""
     out = {}
     for item in items:
         key, sep, value = item.partition("=")

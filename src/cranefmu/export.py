@@ -32,7 +32,9 @@ def export_scene_kind(scene: str, output: str | Path, parameter_set: str | None 
     before it is copied: the target may be standard output, unreadable after).  Raises a :class:`CraneFmuError` naming a bad scene, set, value or target."""
     from . import build as b
     from .fmu_kinds import check_kind, native_fmu_dir, native_ssp_dir, scene_path
+    from .experiments.scene_check import interface
     from .master.scene import read_scene_folder
+    from .parameter_units import in_declared_units
 
     from . import whole_file
 
@@ -45,7 +47,8 @@ def export_scene_kind(scene: str, output: str | Path, parameter_set: str | None 
     native = scene_path(scene, fmus).parent == native_ssp_dir()   # builds the native scene if it is chosen
     folder = b.SSP_DIR / scene
     loaded = read_scene_folder(folder, b.FMU_DIR)
-    values = variant_values(loaded, parameter_set, parameters or {})
+    parameters = in_declared_units(parameters or {}, lambda: interface(scene, fmus).units or {})   # "45 deg" -> rad
+    values = variant_values(loaded, parameter_set, parameters)
     bound = b._bound_files(folder)
     if len(bound) != 1:
         raise SceneError(f"scene {scene}: the System binds {len(bound)} .ssv files; export needs exactly one")

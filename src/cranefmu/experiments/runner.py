@@ -20,7 +20,7 @@ from ..errors import CraneFmuError
 from .assertions import Verdict, judge, measured
 from .expressions import evaluate
 from .reader import Case, CommandSpec, ExperimentError, load
-from .scene_check import SceneInterface, check, columns_of, measured_unit
+from .scene_check import SceneInterface, check, columns_of, measured_unit, set_in_declared_units
 
 
 @dataclass
@@ -386,7 +386,7 @@ def prepare_case(case: Case, results: set[str], overrides: dict) -> Planned:
 
     from .crane_commands import bind
 
-    case = bind(case)
+    case = bind(set_in_declared_units(case))
     if overrides.get("fmus") is not None:   # the kind of FMU picks the scene file its checks read
         case = replace(case, settings={**case.settings, "fmus": overrides["fmus"]})
     scene = check(case, results)

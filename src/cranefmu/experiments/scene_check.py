@@ -8,7 +8,7 @@ before the first run.
 from __future__ import annotations
 
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ..errors import CraneFmuError
@@ -119,6 +119,33 @@ def scene_of(case: Case) -> SceneInterface:
         return interface(case.scene, case.settings.get("fmus"))
     except CraneFmuError as err:
         raise ExperimentError(f"{case.keys.get('scene', case.where)}: scene: {err}") from None
+
+
+def set_in_declared_units(case: Case) -> Case:
+    """``case`` with each ``set`` value typed with a unit (``"45 deg"``) in its parameter's declared unit
+    (:mod:`cranefmu.parameter_units`); a unit that does not fit, or a text a Real cannot take, refused in one
+    line FILE:LINE: set: ...  Without such a value the case is returned as it is."""
+    from ..parameter_units import in_declared_unit
+
+    if not any(isinstance(v, str) for v in case.parameters.values()):
+        return case
+    scene = scene_of(case)
+    at_set = case.keys.get("set", case.where)
+    out = {}
+    for key, value in case.parameters.items():
+        comp, _, var = key.partition(".")
+        kind = scene.variables.get(comp, {}).get(var, (None, None))[1]
+        try:
+            out[key] = in_declared_unit(key, value, (scene.units or {}).get(key))
+        except CraneFmuError as err:
+            raise ExperimentError(f"{at_set}: set: {err}") from None
+        if kind == "Real" and isinstance(out[key], str):
+            try:
+                float(out[key])
+            except ValueError:
+                raise ExperimentError(f"{at_set}: set: {key} = {value!r} is not allowed: a number (SI) or a number "
+                                      "with a unit, e.g. '45 deg', '2.5 t', '15 kN'") from None
+    return replace(case, parameters=out)
 
 
 def check(case: Case, results: set[str]) -> SceneInterface:

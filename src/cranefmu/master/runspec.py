@@ -29,6 +29,7 @@ from pathlib import Path
 
 from ..errors import ParameterSetError, SettingsError
 from .algorithm_table import defaults_of
+from ..parameter_units import in_declared_units
 from .settings import DEFAULT_STOP_TIME, FMU_KINDS, NUMERICAL, Settings, convert, is_list
 
 SOURCES = ("given", "parameter set", "scene", "algorithm default", "default")
@@ -45,7 +46,7 @@ class RunSpec:
     set_aside: dict[str, object] = field(default_factory=dict)   # stored settings not taken (another algorithm)
     stored_for: str = ""                   # the algorithm the scene's stored settings were measured for
     parameter_set: str | None = None
-    parameters: dict = field(default_factory=dict)       # "comp.var" -> value, as the caller gave them
+    parameters: dict = field(default_factory=dict)       # "comp.var" -> value as given, a "45 deg" in its declared unit
     overrides: dict = field(default_factory=dict)        # (comp, var) -> value: the parameter set, then parameters
     output: Path | None = None             # CSV written during the run
     keep: bool = True                      # hold the rows in memory
@@ -104,7 +105,7 @@ def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None 
             raise
         raise SettingsError(f"{err} ({name} is the scene's stored setting, see cranefmu info: give "
                             f"{name} explicitly)") from None
-    parameters = dict(parameters or {})
+    parameters = in_declared_units(dict(parameters or {}), lambda: _declared_units(ssp))
     overrides = _overrides(loaded, parameter_set, parameters)
     _refuse_connected_inputs(loaded, parameters)
     return RunSpec(ssp, loaded.name, settings, sources, set_aside, stored_for, parameter_set, parameters, overrides,
@@ -168,6 +169,13 @@ def _overrides(scene, parameter_set: str | None, parameters: dict) -> dict[tuple
                                     f"{scene.name}: {', '.join(sorted(names))}")
         out[(comp, var)] = value
     return out
+
+
+def _declared_units(ssp: Path) -> dict[str, str]:
+    """"comp.var" -> the unit its modelDescription declares (read only for a value given with a unit)."""
+    from ..experiments.scene_check import interface
+
+    return interface(str(ssp)).units or {}
 
 
 def _refuse_connected_inputs(scene, parameters: dict) -> None:

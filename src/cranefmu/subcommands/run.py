@@ -27,7 +27,8 @@ def add_parser(sub) -> None:
     add_arguments(r)   # every run setting, from cranefmu.master.settings.Settings
     r.add_argument("--parameter-set", default=None, help="a parameter set of the scene (see cranefmu info)")
     r.add_argument("--set", action="append", default=[], metavar="COMP.VAR=VALUE",
-                   help="override a parameter or start value (repeatable; not a connected input)")
+                   help="override a parameter or start value: a number in SI or with a unit, e.g. "
+                        "\"boom.luff_angle=45 deg\" (repeatable; not a connected input)")
     r.add_argument("--output", default=None, help="CSV file written during the run (columns time, comp.var), "
                    "as OUTPUT.part until the run ends")
     r.add_argument("--plot", nargs="?", const="", default=None, metavar="VARS",

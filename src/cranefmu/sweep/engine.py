@@ -101,17 +101,14 @@ def check_units(facts: SceneFacts, given: dict[str, str]) -> None:
     parameter measures (its declared unit), before anything runs."""
     if not given:
         return
-    from ..adapter import units
     from ..experiments.scene_check import interface
+    from ..parameter_units import refusal
 
     declared = interface(str(facts.ssp)).units or {}
     for name, unit in given.items():
-        own = declared.get(name)
-        if own is None:
-            raise SettingsError(f"{name} [{unit}] is not allowed: {name} declares no unit, so a value with a unit "
-                                "cannot be checked: give plain numbers (SI)")
-        if not units.same_dimension(unit, own):
-            raise SettingsError(f"{name} [{unit}] is not allowed: {name} is in {own}, {unit!r} does not measure that")
+        line = refusal(name, f"[{unit}]", unit, declared.get(name))
+        if line is not None:
+            raise SettingsError(line)
 
 
 def default_metrics(scene: str) -> list[str]:
