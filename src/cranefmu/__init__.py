@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .master.parameter_rules import register_parameter_rules as _register_parameter_rules
+from .master.parameter_rules import register_unit_conversion as _register_unit_conversion
 from .master.scene_names import register_scene_resolver as _register_scene_resolver
 
 from .version import __version__
@@ -43,6 +44,20 @@ def _followed(scene: str, given, values) -> dict:
 
 
 _register_parameter_rules(_derive, _followed)
+
+
+def _in_declared_units(parameters: dict, ssp) -> dict:
+    from .parameter_units import in_declared_units
+
+    def declared() -> dict:
+        from .experiments.scene_check import interface
+
+        return interface(str(ssp)).units or {}
+
+    return in_declared_units(parameters, declared)
+
+
+_register_unit_conversion(_in_declared_units)
 
 
 def fmu_path(name: str, fmus: str | None = None) -> Path:

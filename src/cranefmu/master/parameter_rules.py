@@ -1,12 +1,14 @@
-"""Parameters that follow others, as a hook: the crane layer registers its rules (:mod:`cranefmu.derived`,
-from ``cranefmu/__init__.py``) and :mod:`.runspec` applies them, so the master imports no crane code.
-Without a registration every change stands as given."""
+"""Parameters that follow others and values given with a unit, as hooks: the crane layer registers its rules
+(:mod:`cranefmu.derived`) and its unit conversion (:mod:`cranefmu.parameter_units`) from
+``cranefmu/__init__.py``, and :mod:`.runspec` applies them, so the master imports no crane code.  Without a
+registration every change stands as given."""
 from __future__ import annotations
 
 from typing import Callable, Mapping
 
 Derive = Callable[[str, Mapping[str, object], Mapping[str, object]], dict]
 _HOOKS: list[tuple[Derive, Derive]] = []
+_UNITS: list[Callable[[dict, object], dict]] = []
 
 
 def register_parameter_rules(derive: Derive, followed: Derive) -> None:
@@ -21,3 +23,13 @@ def derive(scene: str, base: Mapping[str, object], given: Mapping[str, object]) 
 
 def followed(scene: str, given: Mapping[str, object], values: Mapping[str, object]) -> dict:
     return _HOOKS[0][1](scene, given, values) if _HOOKS else {}
+
+
+def register_unit_conversion(convert: Callable[[dict, object], dict]) -> None:
+    """``convert(parameters, ssp)``: the parameters with each value given with a unit ("45 deg") in the unit
+    its modelDescription declares (raises in one line on a unit that does not measure it)."""
+    _UNITS[:] = [convert]
+
+
+def in_declared_units(parameters: dict, ssp) -> dict:
+    return _UNITS[0](parameters, ssp) if _UNITS else dict(parameters)

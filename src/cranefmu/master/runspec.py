@@ -29,7 +29,6 @@ from pathlib import Path
 
 from ..errors import ParameterSetError, SettingsError
 from .algorithm_table import defaults_of
-from ..parameter_units import in_declared_units
 from .settings import DEFAULT_STOP_TIME, FMU_KINDS, NUMERICAL, Settings, convert, is_list
 
 SOURCES = ("given", "parameter set", "scene", "algorithm default", "default")
@@ -105,7 +104,9 @@ def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None 
             raise
         raise SettingsError(f"{err} ({name} is the scene's stored setting, see cranefmu info: give "
                             f"{name} explicitly)") from None
-    parameters = in_declared_units(dict(parameters or {}), lambda: _declared_units(ssp))
+    from .parameter_rules import in_declared_units
+
+    parameters = in_declared_units(dict(parameters or {}), ssp)
     overrides = _overrides(loaded, parameter_set, parameters)
     _refuse_connected_inputs(loaded, parameters)
     return RunSpec(ssp, loaded.name, settings, sources, set_aside, stored_for, parameter_set, parameters, overrides,
@@ -169,13 +170,6 @@ def _overrides(scene, parameter_set: str | None, parameters: dict) -> dict[tuple
                                     f"{scene.name}: {', '.join(sorted(names))}")
         out[(comp, var)] = value
     return out
-
-
-def _declared_units(ssp: Path) -> dict[str, str]:
-    """"comp.var" -> the unit its modelDescription declares (read only for a value given with a unit)."""
-    from ..experiments.scene_check import interface
-
-    return interface(str(ssp)).units or {}
 
 
 def _refuse_connected_inputs(scene, parameters: dict) -> None:
