@@ -246,3 +246,24 @@ def test_plain_jacobi_bit_for_bit(lib, monkeypatch, oscillator_ssp, scene, stop)
     assert _equal(python.result, compiled.result) and compiled.stats.steps == steps
     assert (python.stats.compiled_steps, compiled.stats.compiled_steps, compiled.stats.kernel_calls) == (0, steps, steps)
     assert max(np.ptp(compiled.result[n]) for n in compiled.result.dtype.names[1:]) > 1e-3
+
+
+def test_a_component_whose_outputs_grew_after_planning_is_not_given_to_the_kernel():
+    """The kernel reads each component's outputs into its slot of one buffer, sized when the exchange was
+    planned; a component that reads more since (an output positioned later) must not reach it: fmi2GetReal
+    would write past the slot (two-worker test runs crashed in garbage collection after such writes)."""
+    import ctypes
+    from types import SimpleNamespace
+
+    from cranefmu.master.kernel.plan import python_reason
+
+    buffer = (ctypes.c_double * 5)()
+    slot = lambda at, n: (ctypes.c_double * n).from_buffer(buffer, 8 * at)   # noqa: E731
+    fits = [SimpleNamespace(_read=(None, 2, slot(0, 2), None)), SimpleNamespace(_read=(None, 3, slot(2, 3), None))]
+    grown = [fits[0], SimpleNamespace(_read=(None, 4, (ctypes.c_double * 4)(), None))]   # its own, larger buffer
+    for comps, planned in ((grown, False), ([fits[0], SimpleNamespace(_read=None)], False)):
+        coupling = SimpleNamespace(_phases=[object()], comps=comps, _read_at=[0, 2], _read_all=buffer)
+        assert python_reason(object(), coupling) == "a component's outputs were added after the exchange was planned"
+    from cranefmu.master.kernel.plan import _reads_fit
+
+    assert _reads_fit(SimpleNamespace(comps=fits, _read_at=[0, 2], _read_all=buffer))

@@ -74,6 +74,8 @@ def python_reason(lib, coupling) -> str:
         return why_not or "no compiled exchange"
     if coupling._phases is None:
         return "the exchange is not planned yet (initialization)"
+    if not _reads_fit(coupling):
+        return "a component's outputs were added after the exchange was planned"
     functions = [f for comp in coupling.comps
                  for f in (comp._do_step, comp._get_real, comp._set_real, comp._get_integer, comp._get_boolean)]
     functions += [f for t in coupling.discrete.transfers for f in _discrete_functions(t)]
@@ -84,6 +86,22 @@ def python_reason(lib, coupling) -> str:
     if not agrees_with_numpy(lib, sorted(sizes)):
         return "the kernel's product differs from numpy's here"
     return ""
+
+
+def _reads_fit(coupling) -> bool:
+    """Whether every component reads into its own slot of the coupling's one read buffer, as planned: the kernel
+    writes ``read_n`` values at ``read_buf + read_at`` with fmi2GetReal, so a component whose outputs grew after
+    the plan (``FmuComponent.position`` of a new output) would write past its slot, into the next one's or
+    beyond the buffer (memory Python hands to its objects)."""
+    import ctypes
+
+    ends = list(coupling._read_at[1:]) + [len(coupling._read_all)]
+    base = ctypes.addressof(coupling._read_all)
+    for comp, at, end in zip(coupling.comps, coupling._read_at, ends):
+        read = comp._read
+        if read is None or read[1] != end - at or ctypes.addressof(read[2]) != base + at * ctypes.sizeof(ctypes.c_double):
+            return False
+    return True
 
 
 class KernelPlan:
