@@ -39,10 +39,10 @@ def test_quick_start_commands_are_the_two_install_lines():
     assert lines == [
         "python3 -m venv .venv && .venv/bin/pip install . && .venv/bin/cranefmu run elastic_pendulum "
         "--stop-time 20 --output out.csv",
-        "python3 -m venv .venv && .venv/bin/pip install -e '.[test]' && .venv/bin/python -m pytest -q -n 2"]
+        "python3 -m venv .venv && .venv/bin/pip install -e '.[test]' && .venv/bin/python -m pytest -q"]
     # .ci/run runs the README's test command (its own venv)
     ci = (ROOT / ".ci" / "run").read_text()
-    assert re.search(r'^"\$venv/bin/python" -m pytest -q -n 2( --durations=\d+)?$', ci, re.M)
+    assert re.search(r'^"\$venv/bin/python" -m pytest -q( --durations=\d+)?$', ci, re.M)
     extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
     assert "test" in extras and "pytest" in " ".join(extras["test"])
 
