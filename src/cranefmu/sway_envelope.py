@@ -125,6 +125,9 @@ def envelope(time: np.ndarray, sway: np.ndarray) -> SwayEnvelope:
         raise SwayEnvelopeError(f"sway envelope: time and sway must be 1-D of equal length >= 5, got "
                                 f"{t.shape} and {s.shape}")
     dt = np.diff(t)
+    if len(dt) > 2 and abs(dt[-1] - dt[0]) > 1e-6 * dt[0] and np.ptp(dt[:-1]) <= 1e-6 * dt[:-1].mean():
+        # a stop time that is no multiple of the step ends the run with a shorter step: that row is left out
+        t, s, dt = t[:-1], s[:-1], dt[:-1]
     if not (np.all(np.isfinite(s)) and np.all(dt > 0) and np.ptp(dt) <= 1e-6 * dt.mean()):
         raise SwayEnvelopeError("sway envelope: time must be equally spaced and increasing and sway finite")
     n = len(s)

@@ -20,6 +20,15 @@ def test_envelope_of_two_tones_has_its_first_minimum_at_half_the_beat_period():
     assert env.envelope[0] == pytest.approx(a + b, rel=1e-3)
 
 
+def test_a_shorter_last_step_is_left_out():
+    """hook_sway's stored 3 ms does not divide its 10 s: the run ends with a 1 ms step, which the shipped
+    sway-envelope experiment refused ('time must be equally spaced') until that row was left out."""
+    w1, w2, a, b = 3.4, 13.4, 0.53, 0.07
+    t = np.append(np.arange(3334) * 0.003, 10.0)   # the last step 1 ms
+    env = envelope(t, a * np.cos(w1 * t) + b * np.cos(w2 * t))
+    assert env.first_min_time == pytest.approx(math.pi / (w2 - w1), rel=5e-3)
+
+
 def test_modes_match_the_closed_form_and_decouple_for_a_heavy_hook():
     m1, m2, l1, l2, g = 3.0, 10.0, 0.4, 0.5, 9.81
     modes = double_pendulum_modes(m1, m2, l1, l2, g)
