@@ -38,6 +38,17 @@ def built():
 
 
 @pytest.fixture(scope="session")
+def lib():
+    """The compiled exchange's library (cranefmu.master.kernel); the test is skipped where none can be built."""
+    from cranefmu.master import kernel
+
+    built = kernel.library()
+    if built is None:
+        pytest.skip(f"no compiled exchange here: {kernel.why_not}")
+    return built
+
+
+@pytest.fixture(scope="session")
 def oscillator_ssp(tmp_path_factory):
     """The master's test problem (support/cranefmu_support/oscillator): two FMUs built from test models, one .ssp."""
     from cranefmu_support.oscillator import build_oscillator

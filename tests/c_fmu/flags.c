@@ -16,6 +16,8 @@ typedef struct {
     double time;
 } Instance;
 
+#include "fmi2_unsupported.h"
+
 static void through(Instance *c) {
     c->r[1] = c->r[0];
     c->b[1] = c->b[0];
@@ -23,11 +25,6 @@ static void through(Instance *c) {
     c->i[3] = c->i[2];
 }
 
-const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
-const char *fmi2GetVersion(void) { return fmi2Version; }
-fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cats[]) {
-    (void)c; (void)on; (void)n; (void)cats; return fmi2OK;
-}
 fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, fmi2String resources,
                               const fmi2CallbackFunctions *cb, fmi2Boolean visible, fmi2Boolean logging) {
     (void)name; (void)type; (void)guid; (void)resources; (void)cb; (void)visible; (void)logging;
@@ -62,35 +59,11 @@ ACCESS(fmi2SetInteger, fmi2Integer, i, 4, const, x->i[vr[k]] = value[k])
 ACCESS(fmi2GetBoolean, fmi2Boolean, b, 2, , value[k] = x->b[vr[k]])
 ACCESS(fmi2SetBoolean, fmi2Boolean, b, 2, const, x->b[vr[k]] = value[k] ? 1 : 0)
 
-fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2String value[]) {
-    (void)c; (void)vr; (void)value; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2String value[]) {
-    (void)c; (void)vr; (void)value; return n ? fmi2Error : fmi2OK;
-}
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { (void)c; (void)s; return fmi2Error; }
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) { (void)c; (void)s; return fmi2Error; }
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) { (void)c; (void)s; return fmi2Error; }
-fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *n) {
-    (void)c; (void)s; (void)n; return fmi2Error;
-}
-fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t n) {
-    (void)c; (void)s; (void)b; (void)n; return fmi2Error;
-}
-fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *s) {
-    (void)c; (void)s; (void)b; (void)n; return fmi2Error;
-}
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
-                                        const fmi2ValueReference k[], size_t nk, const fmi2Real dk[],
-                                        fmi2Real du[]) {
-    (void)c; (void)u; (void)nu; (void)k; (void)nk; (void)dk; (void)du; return fmi2Error;
-}
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                        const fmi2Integer order[], const fmi2Real value[]) {
-    (void)c; (void)vr; (void)n; (void)order; (void)value; return fmi2Error;
-}
-fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                                        const fmi2Integer order[], fmi2Real value[]) {
     (void)c; (void)vr; (void)n; (void)order; (void)value; return fmi2Error;
 }
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_prior) {
@@ -100,13 +73,3 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_pr
     through(x);
     return fmi2OK;
 }
-fmi2Status fmi2CancelStep(fmi2Component c) { (void)c; return fmi2Error; }
-fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *v) { (void)c; (void)s; (void)v; return fmi2Error; }
-fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *v) {
-    if (s != fmi2LastSuccessfulTime) return fmi2Error;
-    *v = ((Instance *)c)->time;
-    return fmi2OK;
-}
-fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *v) { (void)c; (void)s; (void)v; return fmi2Error; }
-fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *v) { (void)c; (void)s; (void)v; return fmi2Error; }
-fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *v) { (void)c; (void)s; (void)v; return fmi2Error; }

@@ -27,14 +27,6 @@ def _equal(a: np.ndarray, b: np.ndarray) -> bool:
     return a.dtype == b.dtype and len(a) == len(b) and all(np.array_equal(a[n], b[n]) for n in a.dtype.names)
 
 
-@pytest.fixture(scope="module")
-def lib():
-    built = kernel.library()
-    if built is None:
-        pytest.skip(f"no compiled exchange here: {kernel.why_not}")
-    return built
-
-
 @pytest.mark.parametrize("extrapolation", [0, 1, 2])
 def test_oscillator_bit_for_bit(lib, monkeypatch, oscillator_ssp, extrapolation):
     python, compiled = _both(monkeypatch, oscillator_ssp, algorithm="jacobi", extrapolation=extrapolation,

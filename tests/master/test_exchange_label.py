@@ -48,14 +48,6 @@ def test_python_says_why():
     assert exchange_label(_stats(0, 0, 0), JACOBI) == "none (no macro step was taken)"
 
 
-@pytest.fixture(scope="module")
-def lib():
-    built = kernel.library()
-    if built is None:
-        pytest.skip(f"no compiled exchange here: {kernel.why_not}")
-    return built
-
-
 def test_a_native_jacobi_run_says_compiled_and_an_iterative_one_python(built, lib):
     jacobi = run("elastic_pendulum", stop_time=0.1, progress=False)   # stored: jacobi, extrapolation 2, 5 ms
     assert jacobi.stats.exchange == ("compiled kernel: 18 of 20 macro steps, in 11 kernel calls; Python: the other "

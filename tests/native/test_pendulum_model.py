@@ -21,7 +21,7 @@ import pytest
 pytest.importorskip("cffi")
 
 from cranefmu.adapter.fmi_adapter import advance  # noqa: E402
-from cranefmu.adapter.integrators import substeps  # noqa: E402
+from cranefmu.adapter.integrators import rk4_list  # noqa: E402
 from cranefmu.native.harness import load  # noqa: E402
 from cranefmu.physics.params import ParameterError  # noqa: E402
 from cranefmu.physics.pendulum import PendulumModel, PendulumParams  # noqa: E402
@@ -226,18 +226,7 @@ def native_step(c, t: float, x: np.ndarray, h: float, u0, r1, r2, solver: str, m
             s = ti - t
             half = 0.5 * s
             return c.derivatives(ti, xi, [a + s * (b + half * q) for a, b, q in zip(u, d1, d2)]).tolist()
-        n = substeps(h, max_step)
-        dt = h / n
-        half, sixth = 0.5 * dt, dt / 6.0
-        xs = x.tolist()
-        for i in range(n):
-            ti = t + i * dt
-            k1 = f(ti, xs)
-            k2 = f(ti + 0.5 * dt, [a + half * b for a, b in zip(xs, k1)])
-            k3 = f(ti + 0.5 * dt, [a + half * b for a, b in zip(xs, k2)])
-            k4 = f(ti + dt, [a + dt * b for a, b in zip(xs, k3)])
-            xs = [a + sixth * (b1 + 2.0 * b2 + 2.0 * b3 + b4) for a, b1, b2, b3, b4 in zip(xs, k1, k2, k3, k4)]
-        x1 = np.array(xs)
+        x1 = np.array(rk4_list(f, t, x.tolist(), h, max_step))
     return c.after_step(t + h, x1, u0 + h * (r1 + 0.5 * h * r2) if moving else u0)
 
 

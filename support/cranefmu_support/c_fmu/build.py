@@ -66,6 +66,15 @@ def model_description() -> str:
 
 def build(dest: Path) -> Path:
     """Compile and zip ``dest`` (an .fmu path); raises RuntimeError with the compiler's message."""
+    return compile_fmu(dest, HERE / "spring_support.c", IDENTIFIER, model_description(),
+                       flags=("-O2", "-Wextra"), libs=("-lm",), with_source=True)
+
+
+def compile_fmu(dest: Path, source: Path, identifier: str, description: str, *, flags: tuple[str, ...] = ("-O1",),
+                libs: tuple[str, ...] = (), with_source: bool = False) -> Path:
+    """Compile one C file against fmpy's FMI 2.0 headers into a shared library and zip it with
+    ``description`` (modelDescription.xml) into the FMU ``dest`` (and the source under sources/ if
+    ``with_source``); raises RuntimeError naming the file and the compiler's message."""
     import fmpy
 
     cc = compiler()
@@ -74,14 +83,15 @@ def build(dest: Path) -> Path:
     dest = Path(dest)
     lib = dest.with_suffix(".so")
     headers = Path(fmpy.__file__).parent / "c-code"
-    cmd = [cc, "-shared", "-fPIC", "-O2", "-std=c11", "-Wall", "-Wextra", "-Werror", "-I", str(headers),
-           str(HERE / "spring_support.c"), "-o", str(lib), "-lm"]
+    cmd = [cc, "-shared", "-fPIC", *flags, "-std=c11", "-Wall", "-Werror", "-I", str(headers), str(source),
+           "-o", str(lib), *libs]
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode != 0:
-        raise RuntimeError(f"compiling spring_support.c failed: {done.stderr.strip()}")
+        raise RuntimeError(f"compiling {Path(source).name} failed: {done.stderr.strip()}")
     with zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zf:
-        zf.writestr("modelDescription.xml", model_description())
-        zf.write(lib, f"binaries/{fmpy.platform}/{IDENTIFIER}{fmpy.sharedLibraryExtension}")
-        zf.write(HERE / "spring_support.c", "sources/spring_support.c")
+        zf.writestr("modelDescription.xml", description)
+        zf.write(lib, f"binaries/{fmpy.platform}/{identifier}{fmpy.sharedLibraryExtension}")
+        if with_source:
+            zf.write(source, f"sources/{Path(source).name}")
     lib.unlink()
     return dest
