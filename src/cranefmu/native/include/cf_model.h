@@ -76,6 +76,25 @@ const char *cf_state_name(const CfModel *m, int i);
 /* 1 when the model offers the solver "exact" (its Python twin overrides exact_step). */
 extern const int cf_has_exact_step;
 
+/* Model's defaults, for a model file that has no closed-form step (exact_applies is 1, exact_step
+   returns 0: the layer takes rk4) or nothing to do after a step: write the macro in place of the
+   functions. */
+#define CF_APPLIES_ALWAYS                                                                            \
+    int cf_exact_applies(const CfModel *m) { (void)m; return 1; }
+#define CF_NO_EXACT_STEP                                                                             \
+    CF_APPLIES_ALWAYS                                                                                \
+    int cf_exact_step(CfModel *m, double t, const double *x, double h, const double *u0, const double *r1, \
+                      const double *r2, double max_step, double *x1)                                 \
+    {                                                                                                \
+        (void)m, (void)t, (void)x, (void)h, (void)u0, (void)r1, (void)r2, (void)max_step, (void)x1;  \
+        return 0;                                                                                    \
+    }
+#define CF_NOTHING_AFTER_STEP                                                                        \
+    void cf_after_step(const CfModel *m, double t, double *x, const double *u)                       \
+    {                                                                                                \
+        (void)m, (void)t, (void)x, (void)u;                                                          \
+    }
+
 /* Optional (Model.prepare_exact_step): a model file that defines it gets it called once by
    fmi2ExitInitializationMode when the solver is exact (also "auto" resolved to exact), after the
    initial state; non-zero refuses the initialization with the message in m->msg (status error, as

@@ -233,23 +233,9 @@ int cf_frozen(const CfModel *m)
     return !data(m)->elastic;
 }
 
-int cf_exact_applies(const CfModel *m)
-{
-    (void)m;
-    return 1; /* Model.exact_applies' default; the Boom has no closed-form step */
-}
+CF_NO_EXACT_STEP
 
-int cf_exact_step(CfModel *m, double t, const double *x, double h, const double *u0, const double *r1,
-                  const double *r2, double max_step, double *x1)
-{
-    (void)m, (void)t, (void)x, (void)h, (void)u0, (void)r1, (void)r2, (void)max_step, (void)x1;
-    return 0;
-}
-
-void cf_after_step(const CfModel *m, double t, double *x, const double *u)
-{
-    (void)m, (void)t, (void)x, (void)u;
-}
+CF_NOTHING_AFTER_STEP
 
 const char *cf_state_name(const CfModel *m, int i)
 {

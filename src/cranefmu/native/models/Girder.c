@@ -178,11 +178,7 @@ int cf_frozen(const CfModel *m)
     return 0;
 }
 
-int cf_exact_applies(const CfModel *m)
-{
-    (void)m;
-    return 1;
-}
+CF_APPLIES_ALWAYS
 
 int cf_exact_step(CfModel *m, double t, const double *x, double h, const double *u0, const double *r1,
                   const double *r2, double max_step, double *x1)
@@ -198,13 +194,7 @@ int cf_exact_step(CfModel *m, double t, const double *x, double h, const double 
     return 1;
 }
 
-void cf_after_step(const CfModel *m, double t, double *x, const double *u)
-{
-    (void)m;
-    (void)t;
-    (void)x;
-    (void)u;
-}
+CF_NOTHING_AFTER_STEP
 
 const char *cf_state_name(const CfModel *m, int i)
 {

@@ -608,13 +608,7 @@ int cf_exact_step(CfModel *m, double t, const double *x, double h, const double 
     return 1;
 }
 
-void cf_after_step(const CfModel *m, double t, double *x, const double *u)
-{
-    (void)m;
-    (void)t;
-    (void)x;
-    (void)u;
-}
+CF_NOTHING_AFTER_STEP
 
 const char *cf_state_name(const CfModel *m, int i)
 {
