@@ -23,13 +23,14 @@ def fmu_dir(workdir: Path, component: str) -> Path:
     return Path(workdir) / f"fmu_{component}"
 
 
-def extracted_scene(ssp: Path) -> tuple[Path, Scene]:
-    """(directory holding the extracted .ssp and every component's FMU, the scene read from it)."""
+def extracted_scene(ssp: Path, copied: bool = True) -> tuple[Path, Scene]:
+    """(directory holding the extracted .ssp and every component's FMU, the scene read from it: a copy of its
+    own, or with ``copied=False`` the process's cached one, which the caller only reads)."""
     digest = _digest(Path(ssp))
     with LOCK:
         hit = SCENES.get(digest)
         if hit is not None and hit[0].is_dir():
-            return hit[0], copy.deepcopy(hit[1])
+            return hit[0], copy.deepcopy(hit[1]) if copied else hit[1]
         workdir = scenes_root() / digest
         shutil.rmtree(workdir, ignore_errors=True)
         workdir.mkdir()
@@ -43,7 +44,7 @@ def extracted_scene(ssp: Path) -> tuple[Path, Scene]:
             shutil.rmtree(workdir, ignore_errors=True)
             raise
         SCENES[digest] = (workdir, scene)
-        return workdir, copy.deepcopy(scene)
+        return workdir, copy.deepcopy(scene) if copied else scene
 
 
 def hand_over(ssp: Path, into: Path) -> tuple[Path, Scene] | None:
