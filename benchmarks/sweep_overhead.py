@@ -180,7 +180,8 @@ def on_cluster(client, runs: int, long: int, folder: Path) -> dict:
     out["worker process besides the task"] = (None, per["workers"] - task[1])
     out["scheduler"] = (None, per["scheduler"])
     out["client's engine loop besides the table"] = (None, loop_cpu - table[1])
-    out["transfer, scheduling, client (wall)"] = (loop_wall - task[0] - table[0], None)
+    if len(client.scheduler_info()["workers"]) == 1:   # runs one after another: the rest of the loop is transfer
+        out["transfer, scheduling, client (wall)"] = (loop_wall - task[0] - table[0], None)
     out["overhead per run"] = (loop_wall, per["workers"] + per["scheduler"] + loop_cpu)
     return out
 
@@ -199,6 +200,7 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--long", type=int, default=6, help="runs of 2 s a mode (the integration)")
     ap.add_argument("--workers", type=int, default=1, help="worker processes of the address mode's cluster")
     ap.add_argument("--modes", default="in-process,local,address")
+    ap.add_argument("--note", default="", help="a line on the code measured (e.g. an older commit's tree on PYTHONPATH)")
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "sweep_overhead.md"))
     args = ap.parse_args(argv)
     modes = args.modes.split(",")
@@ -243,7 +245,8 @@ def write(results: dict, args, load0: float, out: Path) -> None:
              f"Commit {commit}{' + uncommitted src changes' if dirty else ''}, "
              f"{clock.strftime('%Y-%m-%d %H:%M UTC', clock.gmtime())}, load average {load0:.1f} before and "
              f"{os.getloadavg()[0]:.1f} after (2 cores shared by several agents), {SCENE} with native FMUs, "
-             f"H = 1 ms; `--runs {args.runs} --long {args.long} --workers {args.workers}`.", "",
+             f"H = 1 ms; `--runs {args.runs} --long {args.long} --workers {args.workers}`."
+             + (f" {args.note}" if args.note else ""), "",
              "Means per run [ms] of the one-step runs: everything a run costs but its integration (its one step "
              "included). `integration of a 2 s run` is the stepping loop (`Execution._to_end`) of the 2 s runs "
              "of the same mode. CPU: the stages' thread CPU; `overhead per run` in CPU is the CPU the workers "
