@@ -1,5 +1,6 @@
 """Per-run overhead of a sweep worker with native FMUs: each run's FMUs loaded afresh from directories of
-their own (before) against the loaded libraries kept between runs of the scene (after, master/fmu.py).
+their own (before) against the instances kept between runs of the scene and reset (after, master/fmu.py).
+The whole sweep path (Dask, table) with its stages: benchmarks/sweep_overhead.py.
 
     .venv/bin/python benchmarks/sweep_reuse.py            # 30 one-step runs and 5 runs of 2 s per mode
     .venv/bin/python benchmarks/sweep_reuse.py --runs 10  # smaller
