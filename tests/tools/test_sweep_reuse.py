@@ -89,3 +89,25 @@ def test_a_sweep_point_after_others_on_reset_fmus_is_bitwise_a_fresh_one(monkeyp
     assert reused.dtype.names == fresh.dtype.names and reused.shape == fresh.shape == (201,)
     for name in reused.dtype.names:
         assert np.array_equal(reused[name], fresh[name]), name
+
+
+def test_an_fmu_refusing_the_reset_is_instantiated_afresh(monkeypatch):
+    """fmi2Reset refused (an FMU whose reset fails): the kept instance is freed and a new one made; the run
+    gives the bits of a fresh one."""
+    from fmpy.fmi1 import FMICallException
+
+    cls = fmu._slave_class()
+
+    def refuse(self):
+        raise FMICallException(function="fmi2Reset", status=3)
+
+    fmu._LOADED.clear()
+    first = run("elastic_pendulum", fmus="native", parameters={"rope.E": 3e10}, stop_time=0.05, step_size=1e-3,
+                progress=False).result
+    assert sum(len(v) for v in fmu._LOADED.values()) == 2
+    monkeypatch.setattr(cls, "reset", refuse, raising=False)
+    again = run("elastic_pendulum", fmus="native", parameters={"rope.E": 3e10}, stop_time=0.05, step_size=1e-3,
+                progress=False).result
+    assert sum(len(v) for v in fmu._LOADED.values()) == 2   # the refused ones dropped, the new ones kept
+    for name in first.dtype.names:
+        assert np.array_equal(first[name], again[name]), name

@@ -220,7 +220,10 @@ class FmuComponent:
         ident = self.md.coSimulation.modelIdentifier
         self._keep = keeps_library(self.md) and not _CALL_WRAPPERS and in_place(self.unzipdir)
         kept = _LOADED.get((str(self.unzipdir), ident)) if self._keep else None
-        if kept and self._reset(*kept.pop()):
+        entry = None
+        with contextlib.suppress(IndexError):   # another thread of this process may have taken the last one
+            entry = kept.pop() if kept else None
+        if entry is not None and self._reset(*entry):
             return
         self.fmu = cls(guid=self.md.guid, unzipDirectory=str(self.unzipdir), modelIdentifier=ident,
                        instanceName=self.name)
@@ -247,8 +250,9 @@ class FmuComponent:
         try:
             fmu.reset()
         except Exception:
-            with contextlib.suppress(Exception):
-                fmu.fmi2FreeInstance(fmu.component)
+            if not getattr(fmu, "fatal", False):   # after fmi2Fatal no call at all (FMI 2.0)
+                with contextlib.suppress(Exception):
+                    fmu.fmi2FreeInstance(fmu.component)
             return False
         self.fmu, self._callbacks, self.messages = fmu, callbacks, messages
         self.fmu.fatal = False
