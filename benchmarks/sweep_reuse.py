@@ -43,7 +43,7 @@ def main(argv: list[str] | None = None) -> None:
         return row["task_time"]
 
     rows = []
-    for mode in ("fresh (before)", "kept (after)"):
+    for mode in ("fresh (before)", "kept, fmi2Reset (after)"):
         execution.instantiates_in_place = (lambda w, s: False) if mode.startswith("fresh") else in_place
         for i in range(3):
             task(i, 1e-3)   # warm
