@@ -66,6 +66,13 @@ def test_a_sweep_of_short_runs_submits_fewer_tasks_than_runs(built, tmp_path):
         assert full.tobytes() == alone.tobytes()
 
 
+def test_workers_joining_later_get_tasks_too():
+    f = TaskFeed(list(range(100)), workers=0)   # a cluster whose workers have not joined yet
+    assert len(f.take(0)) == 2
+    f.set_workers(8)
+    assert len(f.take(2)) == 14   # two tasks in flight per worker
+
+
 @pytest.mark.parametrize("bad", [-1, 0])
 def test_a_feed_of_no_workers_still_feeds_one(bad):
     f = TaskFeed([1, 2], workers=bad)

@@ -207,6 +207,7 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
         out.workers = len(client.scheduler_info().get("workers", {}))
 
         feed = TaskFeed(todo, out.workers)
+        counted = clock.monotonic()
 
         def submit(runs: list[Run], attempt: int):
             fut = client.submit(execute_runs, ssp, runs, metrics, results_dir,
@@ -240,6 +241,12 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
                     bar.set_postfix_str(f"done {out.ran - out.failed}, failed {out.failed}", refresh=False)
                     bar.update(1)
             if alive:
+                if clock.monotonic() - counted > 1.0:   # workers may join or leave (an RPC: once a second at most)
+                    try:
+                        feed.set_workers(len(client.scheduler_info().get("workers", {})))
+                    except Exception:  # noqa: BLE001 - a scheduler going away: the loop's own checks report it
+                        pass
+                    counted = clock.monotonic()
                 for more in feed.take(len(futures)):
                     pending.add(submit(more, 1))
         if client.status != "running":

@@ -24,9 +24,18 @@ class TaskFeed:
 
     def __init__(self, runs: list, workers: int):
         self.queue = deque(runs)
-        self.workers = max(1, int(workers))
-        self.in_flight = 2 * self.workers
+        self.workers = 1
+        self.set_workers(workers)
         self.times: deque[float] = deque(maxlen=KEPT_TIMES)
+
+    def set_workers(self, workers: int) -> None:
+        """The cluster's workers now (a cluster may grow or lose some while the sweep runs; at least 1)."""
+        self.workers = max(1, int(workers))
+
+    @property
+    def in_flight(self) -> int:
+        """Tasks to keep submitted: two per worker."""
+        return 2 * self.workers
 
     def observe(self, task_time) -> None:
         """A finished run's time on its worker [s] (``task_time`` of its row; None or nan: not counted)."""
