@@ -125,7 +125,7 @@ def points(n: int, stop: float, offset: int) -> list[dict]:
     return [{"rope.E": 2e10 * (1 + (offset + i) / 1000), "stop_time": stop} for i in range(n)]
 
 
-def in_process(runs: int, long: int) -> dict:
+def in_process(runs: int, long: int, rounds: int) -> list[dict]:
     from cranefmu.master.runspec import resolve
     from cranefmu.sweep.metrics import parse_metric
     from cranefmu.sweep.spec import Run
@@ -143,15 +143,19 @@ def in_process(runs: int, long: int) -> dict:
             assert row["status"] == "ok", row
 
     sweep(points(3, 1e-3, 0))
-    collect()
-    sweep(points(runs, 1e-3, 100))
-    short = collect()
-    sweep(points(long, 2.0, 200))
-    return summary(short, collect(), runs)
+    out = []
+    for r in range(rounds):
+        collect()
+        sweep(points(runs, 1e-3, 1000 * r + 100))
+        short = collect()
+        sweep(points(long, 2.0, 1000 * r + 500))
+        out.append(summary(short, collect(), runs))
+    return out
 
 
-def on_cluster(client, runs: int, long: int, folder: Path) -> dict:
-    """The stages of ``runs`` one-step runs and the integration of ``long`` 2 s runs swept on ``client``."""
+def on_cluster(client, runs: int, long: int, folder: Path, rounds: int) -> list[dict]:
+    """Each round: the stages of ``runs`` one-step runs and the integration of ``long`` 2 s runs swept on
+    ``client`` (new points each round: nothing resumed)."""
     import cranefmu
 
     client.run(install)
@@ -163,13 +167,17 @@ def on_cluster(client, runs: int, long: int, folder: Path) -> dict:
         assert res.failed == 0, res.design[:1]
 
     sweep(points(4, 1e-3, 0), "warm.csv")
+    return [_round(client, sweep, runs, long, r) for r in range(rounds)]
+
+
+def _round(client, sweep, runs: int, long: int, r: int) -> dict:
     client.run(collect)
     collect()
     cpu0 = process_cpu(client)
-    sweep(points(runs, 1e-3, 100), "short.csv")
+    sweep(points(runs, 1e-3, 1000 * r + 100), f"short{r}.csv")
     cpu1 = process_cpu(client)
     short, short_client = _merge(list(client.run(collect).values())), collect()
-    sweep(points(long, 2.0, 200), "long.csv")
+    sweep(points(long, 2.0, 1000 * r + 500), f"long{r}.csv")
     out = summary(short, _merge(list(client.run(collect).values())), runs)
     collect()
     per = {k: (cpu1[k] - cpu0[k]) / runs for k in cpu0}
@@ -198,6 +206,7 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=30, help="one-step runs a mode (the overhead)")
     ap.add_argument("--long", type=int, default=6, help="runs of 2 s a mode (the integration)")
+    ap.add_argument("--rounds", type=int, default=3, help="measurements a mode (the median round is shown)")
     ap.add_argument("--workers", type=int, default=1, help="worker processes of the address mode's cluster")
     ap.add_argument("--modes", default="in-process,local,address")
     ap.add_argument("--note", default="", help="a line on the code measured (e.g. an older commit's tree on PYTHONPATH)")
@@ -212,7 +221,8 @@ def main(argv: list[str] | None = None) -> None:
 
             client, cluster = connect(1)
             try:
-                results["local (1 worker)"] = on_cluster(client, args.runs, args.long, Path(tempfile.mkdtemp(dir=tmp)))
+                results["local (1 worker)"] = on_cluster(client, args.runs, args.long,
+                                                         Path(tempfile.mkdtemp(dir=tmp)), args.rounds)
             finally:
                 close(client, cluster)
         if "address" in modes:   # a cluster reached by its address, as --scheduler
@@ -223,12 +233,12 @@ def main(argv: list[str] | None = None) -> None:
             client = Client(cluster.scheduler_address)
             try:
                 results[f"address ({args.workers} worker{'s' * (args.workers > 1)})"] = \
-                    on_cluster(client, args.runs, args.long, Path(tempfile.mkdtemp(dir=tmp)))
+                    on_cluster(client, args.runs, args.long, Path(tempfile.mkdtemp(dir=tmp)), args.rounds)
             finally:
                 client.close()
                 cluster.close()
         if "in-process" in modes:   # last: it wraps this process's worker.execute, which the clusters pickle
-            results["in-process (the task alone)"] = in_process(args.runs, args.long)
+            results["in-process (the task alone)"] = in_process(args.runs, args.long, args.rounds)
     write(results, args, load0, Path(args.out))
 
 
@@ -237,6 +247,10 @@ def write(results: dict, args, load0: float, out: Path) -> None:
                             text=True).stdout.strip()
     dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "src"], cwd=ROOT,
                            capture_output=True, text=True).stdout.strip()
+    ratios = {m: [100 * r["overhead per run"][1] / r["integration of a 2 s run"][1] for r in rounds]
+              for m, rounds in results.items()}
+    results = {m: sorted(rounds, key=lambda r: r["overhead per run"][1] / r["integration of a 2 s run"][1])[
+        (len(rounds) - 1) // 2] for m, rounds in results.items()}   # the round of the median CPU ratio
     modes = list(results)
     keys = list(dict.fromkeys(label for label, *_ in STAGES)) + [
         "table write (client)", "worker process besides the task", "scheduler", "client's engine loop besides the table",
@@ -245,7 +259,7 @@ def write(results: dict, args, load0: float, out: Path) -> None:
              f"Commit {commit}{' + uncommitted src changes' if dirty else ''}, "
              f"{clock.strftime('%Y-%m-%d %H:%M UTC', clock.gmtime())}, load average {load0:.1f} before and "
              f"{os.getloadavg()[0]:.1f} after (2 cores shared by several agents), {SCENE} with native FMUs, "
-             f"H = 1 ms; `--runs {args.runs} --long {args.long} --workers {args.workers}`."
+             f"H = 1 ms; `--runs {args.runs} --long {args.long} --workers {args.workers} --rounds {args.rounds}`."
              + (f" {args.note}" if args.note else ""), "",
              "Means per run [ms] of the one-step runs: everything a run costs but its integration (its one step "
              "included). `integration of a 2 s run` is the stepping loop (`Execution._to_end`) of the 2 s runs "
@@ -267,7 +281,10 @@ def write(results: dict, args, load0: float, out: Path) -> None:
             f"**{100 * results[m]['overhead per run'][i] / results[m]['integration of a 2 s run'][i]:.1f} %**"
             for m in modes) + " |")
         lines.append("")
-    lines += ["`task` holds the stages above it (resolve .. metrics) and the row."]
+    lines += ["`task` holds the stages above it (resolve .. metrics) and the row. Each mode was measured "
+              f"{args.rounds} times (new points each round); the tables show its round of the median CPU ratio. "
+              "CPU overhead / integration of every round:", ""]
+    lines += [f"- {m}: " + ", ".join(f"{x:.1f} %" for x in ratios[m]) for m in modes]
     text = "\n".join(lines) + "\n"
     print(text)
     out.write_text(text)
