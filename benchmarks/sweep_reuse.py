@@ -1,5 +1,6 @@
 """Per-run overhead of a sweep worker with native FMUs: each run's FMUs loaded afresh from directories of
-their own (before) against the loaded libraries kept between runs of the scene (after, master/fmu.py).
+their own (before) against the instances kept between runs of the scene and reset (after, master/fmu.py).
+The whole sweep path (Dask, table) with its stages: benchmarks/sweep_overhead.py.
 
     .venv/bin/python benchmarks/sweep_reuse.py            # 30 one-step runs and 5 runs of 2 s per mode
     .venv/bin/python benchmarks/sweep_reuse.py --runs 10  # smaller
@@ -42,7 +43,7 @@ def main(argv: list[str] | None = None) -> None:
         return row["task_time"]
 
     rows = []
-    for mode in ("fresh (before)", "kept (after)"):
+    for mode in ("fresh (before)", "kept, fmi2Reset (after)"):
         execution.instantiates_in_place = (lambda w, s: False) if mode.startswith("fresh") else in_place
         for i in range(3):
             task(i, 1e-3)   # warm

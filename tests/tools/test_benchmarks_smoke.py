@@ -31,6 +31,8 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
     "compiled_pieces.py": (["--rounds", "1", "--scale", "0.2", "--out", "{tmp}"], ["{tmp}/compiled_pieces.md"]),
     "small_linalg_cost.py": (["--repeat", "1"], ["benchmarks/results/small_linalg_cost.md"]),
     "sweep_reuse.py": (["--runs", "2"], ["benchmarks/results/sweep_reuse.md"]),
+    "sweep_overhead.py": (["--runs", "3", "--long", "1", "--rounds", "1", "--modes", "in-process,local", "--out",
+                           "{tmp}/sweep_overhead.md"], ["{tmp}/sweep_overhead.md"]),
     "kernel_call_cost.py": (["--calls", "2000", "--out", "{tmp}"], ["{tmp}/kernel_call_cost.md"]),
     "kinds_speed.py": (["--smoke"], ["benchmarks/results/kinds_speed_smoke.md"]),
     "cold_run_ab.py": (["--before", "HEAD", "--rounds", "1", "--scenes", "elastic_pendulum"],

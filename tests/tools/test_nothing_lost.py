@@ -65,8 +65,8 @@ def _counted_run(tmpdir: str, scene: str, kwargs: dict) -> dict:
         out["partial_time"] = None if partial is None else np.asarray(partial["time"]).tolist()
     # FMI 2.0: an instance that returned fmi2Fatal may not be called again, not even freed
     calls["fatal"] = sum(1 for fmu in instances if getattr(fmu, "fatal", False))
-    # a native FMU of an extracted scene is freed with fmi2FreeInstance and its library kept for the next run
-    # (cranefmu.master.fmu._LOADED: one entry per instance freed that way)
+    # a native FMU of an extracted scene is terminated and kept alive for the next run's fmi2Reset
+    # (cranefmu.master.fmu._LOADED: one entry per instance released that way, counted as freed)
     from cranefmu.master import fmu as master_fmu
 
     calls["freeInstance"] += sum(len(kept) for kept in master_fmu._LOADED.values())

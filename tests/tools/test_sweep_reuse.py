@@ -48,3 +48,66 @@ def test_python_fmus_never_kept():
     fmu._LOADED.clear()
     run("elastic_pendulum", fmus="python", stop_time=0.005, step_size=1e-3, progress=False)
     assert not fmu._LOADED
+
+
+def _sweep_point_after_others(monkeypatch, tmp_path, reuse: bool, resets: list) -> np.ndarray:
+    """The point ``rope.E = 3e10`` run by a sweep worker after other points (another E, a refused E, another
+    pendulum mass), each through sweep.worker.execute as a Dask task runs it; its full result."""
+    from cranefmu.master.runspec import resolve
+    from cranefmu.sweep.metrics import parse_metric
+    from cranefmu.sweep.spec import Run
+    from cranefmu.sweep.worker import SspFile, execute
+
+    if not reuse:
+        monkeypatch.setattr(execution, "instantiates_in_place", lambda workdir, scene: False)
+    fmu._LOADED.clear()
+    ssp = SspFile.of(resolve("elastic_pendulum", fmus="native").ssp, "elastic_pendulum", False)
+    out = tmp_path / ("reused" if reuse else "fresh")
+    out.mkdir()
+    others = [{"rope.E": 9e10}, {"rope.E": -1.0}, {"pendulum.mass": 2500.0, "rope.zeta": 0.05}]
+    rows = [execute(ssp, Run("elastic_pendulum", {**p, "stop_time": 0.2, "step_size": 1e-3, "fmus": "native"}),
+                    [parse_metric("max:rope.tension")], str(out))
+            for p in [*others, {"rope.E": 3e10}]]
+    assert [r["status"] for r in rows] == ["ok", "failed", "ok", "ok"], rows
+    assert len(resets) == (6 if reuse else 0)   # rope and pendulum reset before each of the 3 later runs
+    return np.load(out / f"{rows[-1]['key']}.npy")
+
+
+def test_a_sweep_point_after_others_on_reset_fmus_is_bitwise_a_fresh_one(monkeypatch, tmp_path):
+    resets: list = []
+    cls = fmu._slave_class()
+    reset = cls.reset
+
+    def counting(self, *a, **kw):
+        resets.append(self.instanceName)
+        return reset(self, *a, **kw)
+
+    monkeypatch.setattr(cls, "reset", counting, raising=False)
+    reused = _sweep_point_after_others(monkeypatch, tmp_path, True, resets)
+    resets.clear()
+    fresh = _sweep_point_after_others(monkeypatch, tmp_path, False, resets)
+    assert reused.dtype.names == fresh.dtype.names and reused.shape == fresh.shape == (201,)
+    for name in reused.dtype.names:
+        assert np.array_equal(reused[name], fresh[name]), name
+
+
+def test_an_fmu_refusing_the_reset_is_instantiated_afresh(monkeypatch):
+    """fmi2Reset refused (an FMU whose reset fails): the kept instance is freed and a new one made; the run
+    gives the bits of a fresh one."""
+    from fmpy.fmi1 import FMICallException
+
+    cls = fmu._slave_class()
+
+    def refuse(self):
+        raise FMICallException(function="fmi2Reset", status=3)
+
+    fmu._LOADED.clear()
+    first = run("elastic_pendulum", fmus="native", parameters={"rope.E": 3e10}, stop_time=0.05, step_size=1e-3,
+                progress=False).result
+    assert sum(len(v) for v in fmu._LOADED.values()) == 2
+    monkeypatch.setattr(cls, "reset", refuse, raising=False)
+    again = run("elastic_pendulum", fmus="native", parameters={"rope.E": 3e10}, stop_time=0.05, step_size=1e-3,
+                progress=False).result
+    assert sum(len(v) for v in fmu._LOADED.values()) == 2   # the refused ones dropped, the new ones kept
+    for name in first.dtype.names:
+        assert np.array_equal(first[name], again[name]), name

@@ -88,9 +88,10 @@ def _slave_class():
 
 _CALL_WRAPPERS: list = []   # active wrap_fmi_calls wrappers, innermost last
 
-# (directory, model identifier) -> fmpy slaves of native cranefmu FMUs whose instance was freed and whose
-# library stays loaded with its functions resolved: the next run's instance of that FMU is made by one
-# fmi2Instantiate on one of them (loading a library and resolving its functions cost ~6 ms an FMU)
+# (directory, model identifier) -> (fmpy slave, its callbacks, its log) of native cranefmu FMUs whose run
+# ended: the instance terminated but alive, its library loaded with its functions resolved.  The next run's
+# instance of that FMU is this one after fmi2Reset (loading a library and resolving its functions cost ~6 ms
+# an FMU; fmi2Reset puts every value back to the start values fmi2Instantiate gives: native/fmi2/cf_fmi2.c)
 _LOADED: dict[tuple[str, str], list] = {}
 NATIVE_TOOL = "native FMI 2.0 layer"   # in the generationTool of cranefmu's native FMUs (native/description.py)
 
@@ -219,12 +220,13 @@ class FmuComponent:
         ident = self.md.coSimulation.modelIdentifier
         self._keep = keeps_library(self.md) and not _CALL_WRAPPERS and in_place(self.unzipdir)
         kept = _LOADED.get((str(self.unzipdir), ident)) if self._keep else None
-        if kept:
-            self.fmu = kept.pop()
-            self.fmu.instanceName, self.fmu.fatal = self.name, False
-        else:
-            self.fmu = cls(guid=self.md.guid, unzipDirectory=str(self.unzipdir), modelIdentifier=ident,
-                           instanceName=self.name)
+        entry = None
+        with contextlib.suppress(IndexError):   # another thread of this process may have taken the last one
+            entry = kept.pop() if kept else None
+        if entry is not None and self._reset(*entry):
+            return
+        self.fmu = cls(guid=self.md.guid, unzipDirectory=str(self.unzipdir), modelIdentifier=ident,
+                       instanceName=self.name)
         if _CALL_WRAPPERS:
             functions = self.fmu._functions
             for fname, f in list(functions.items()):
@@ -237,8 +239,29 @@ class FmuComponent:
         except Exception as err:
             raise SceneError(f"component {self.name!r} ({self.md.modelName}) could not be instantiated: "
                              f"{self.python_error() or err}") from None
-        self.alive = True
         _hold_pythonfmu_library(self.fmu.dll)
+        self._bind()
+
+    def _reset(self, fmu, callbacks, messages) -> bool:
+        """Take a kept instance of this FMU (:data:`_LOADED`, same directory hence same instance name) as
+        this component's, put back to its start values by fmi2Reset; False (the instance freed) if the FMU
+        refuses the reset."""
+        messages.clear()   # the log the instance's callbacks file into (process.instance_callbacks)
+        try:
+            fmu.reset()
+        except Exception:
+            if not getattr(fmu, "fatal", False):   # after fmi2Fatal no call at all (FMI 2.0)
+                with contextlib.suppress(Exception):
+                    fmu.fmi2FreeInstance(fmu.component)
+            return False
+        self.fmu, self._callbacks, self.messages = fmu, callbacks, messages
+        self.fmu.fatal = False
+        self._bind()
+        return True
+
+    def _bind(self) -> None:
+        """The instance is alive: hold what the hot path calls."""
+        self.alive = True
         # the hot path calls the C functions themselves (fmpy's wrappers convert lists to new ctypes
         # arrays on every call); argument types as fmpy declared them
         functions = self.fmu._functions
@@ -276,12 +299,9 @@ class FmuComponent:
             self.fmu.terminate()
         except Exception:
             pass
-        if getattr(self, "_keep", False):   # free the instance, keep the library for the next one
-            try:
-                self.fmu.fmi2FreeInstance(self.fmu.component)
-            except Exception:
-                return
-            _LOADED.setdefault((str(self.unzipdir), self.md.coSimulation.modelIdentifier), []).append(self.fmu)
+        if getattr(self, "_keep", False):   # terminated, kept alive for the next run's fmi2Reset
+            _LOADED.setdefault((str(self.unzipdir), self.md.coSimulation.modelIdentifier), []).append(
+                (self.fmu, self._callbacks, self.messages))
             return
         try:
             self.fmu.freeInstance()

@@ -4,8 +4,8 @@ A process that runs FMUs keeps to this contract (pythonfmu and fmpy workarounds)
 lives here, and the modules that use it import it from here:
 
 - **Each run instantiates its pythonfmu (and foreign) FMUs from directories of its own** (:func:`.extracted.fresh_fmu_dirs`);
-  a scene of native cranefmu FMUs only instantiates from its extracted directories, and each FMU's loaded library
-  is kept for the next run's fmi2Instantiate (:data:`.fmu._LOADED`, :func:`.extracted.instantiates_in_place`).
+  a scene of native cranefmu FMUs only instantiates from its extracted directories, and each FMU's instance is kept,
+  terminated, for the next run's fmi2Reset (:data:`.fmu._LOADED`, :func:`.extracted.instantiates_in_place`).
   Measured first: a second instantiation from the same extracted directory made the process abort at
   exit ('corrupted double-linked list'). The cause was found later in pythonfmu 0.7.0's binary (its
   ``finalizePythonInterpreter`` writes into its interpreter guard after C++ freed it), and is worked

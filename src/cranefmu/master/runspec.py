@@ -90,7 +90,7 @@ def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None 
     if given.get("fmus") not in (None, *FMU_KINDS):   # before anything is built
         raise SettingsError(f"fmus = {given['fmus']!r} is not allowed: native or python")
     ssp = resolve_scene(scene, given.get("fmus"))
-    workdir, loaded = extracted_scene(ssp)
+    workdir, loaded = extracted_scene(ssp, copied=False)   # only read here: no copy (0.5-1 ms a sweep run)
     own = loaded.set_settings.get(parameter_set, {}) if parameter_set else {}
     values, sources, set_aside, stored_for = choose(given, {**loaded.settings, **own}, loaded.stop_time)
     sources.update({k: "parameter set" for k in own if sources[k] == "scene"})

@@ -9,16 +9,34 @@ run only: its own limits come back after), in a worker process and in a sweep's 
 from __future__ import annotations
 
 import contextlib
+import sys
 from collections.abc import Iterator
+
+_FOUND: tuple = (-1, None)   # (len(sys.modules) when the loaded libraries were scanned, their controller)
 
 
 @contextlib.contextmanager
 def one_thread() -> Iterator[None]:
     """BLAS and OpenMP pools limited to one thread for the block (a no-op without threadpoolctl)."""
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:   # an install without it: the pools keep their sizes
+    controller = _controller()
+    if controller is None:   # an install without threadpoolctl: the pools keep their sizes
         yield
         return
-    with threadpool_limits(limits=1):
+    with controller.limit(limits=1):
         yield
+
+
+def _controller():
+    """threadpoolctl's controller of the loaded BLAS/OpenMP libraries, scanned again only when a module was
+    imported since (a new pool comes with an extension module: numpy, scipy, an FMU's code).  Scanning reads
+    /proc/self/maps, 1-2 ms a call in a Dask worker: a sweep run pinned twice on every run."""
+    global _FOUND
+    modules = len(sys.modules)
+    if _FOUND[0] != modules:
+        try:
+            from threadpoolctl import ThreadpoolController
+        except ImportError:
+            _FOUND = (len(sys.modules), None)
+            return None
+        _FOUND = (len(sys.modules), ThreadpoolController())
+    return _FOUND[1]

@@ -1,8 +1,9 @@
 """Run a sweep on Dask's distributed scheduler: a LocalCluster of worker processes by default (one per
 core, one thread each) or an existing cluster by address; rows written as runs finish, resumable.
 
-Each run is one task (:func:`.worker.execute`): the worker process runs the simulation in-process, so a
-worker loads the scene's Python FMU code once and reuses it for every later run.  A run whose task
+Each task runs one or several runs (:func:`.worker.execute_runs`; several short ones share a task, :mod:`.feed`):
+the worker process runs the simulations in-process, so a worker loads the scene's FMUs once and reuses
+them for every later run.  A run whose task
 raises something unexpected is submitted once more; the second failure is recorded with its message.
 A run lost with its worker (or with the scheduler) is submitted once more while the cluster lives,
 else recorded as ``lost``: a resumed sweep runs it again.  The sweep itself never stops on a failed
@@ -31,7 +32,8 @@ from . import table as tables
 from .metrics import Custom, Metric, check, parse_metric
 from .request import digest as request_digest
 from .spec import Run, design as make_design
-from .worker import SspFile, execute
+from .feed import TaskFeed
+from .worker import SspFile, execute_runs
 
 MAX_ATTEMPTS = 2   # a run is retried at most once
 
@@ -52,6 +54,7 @@ class SweepResult:
     wall_time: float = 0.0       # [s] of this session, cluster start-up included
     workers: int = 0
     retried: list[str] = field(default_factory=list)   # keys of runs tried twice
+    tasks: int = 0               # Dask tasks submitted (several short runs share one: .feed)
 
 
 class ClusterLost(CraneFmuError):
@@ -203,36 +206,52 @@ def _distribute(todo: list[Run], facts: SceneFacts, metrics: list[Metric | Custo
         ssp = ship_ssp(client, facts.ssp, facts.name, local=cluster is not None or _is_local(client))
         out.workers = len(client.scheduler_info().get("workers", {}))
 
-        def submit(run: Run, attempt: int):
-            fut = client.submit(execute, ssp, run, metrics, results_dir, key=f"cranefmu-sweep-{run.key}-{attempt}")
-            futures[fut] = (run, attempt)
+        feed = TaskFeed(todo, out.workers)
+        counted = clock.monotonic()
+
+        def submit(runs: list[Run], attempt: int):
+            fut = client.submit(execute_runs, ssp, runs, metrics, results_dir,
+                                key=f"cranefmu-sweep-{runs[0].key}-x{len(runs)}-{attempt}")
+            futures[fut] = (runs, attempt)
+            out.tasks += 1
             return fut
 
-        pending = as_completed([submit(r, 1) for r in todo])
+        pending = as_completed([submit(runs, 1) for runs in feed.take(0)])
         bar = _bar(len(todo), progress, out.skipped)
         for fut in pending:
-            run, attempt = futures.pop(fut)
+            runs, attempt = futures.pop(fut)
             try:
-                row = fut.result()
+                rows = fut.result()
             except Exception as err:  # noqa: BLE001 - the worker died, the task or the scheduler was lost
-                row = {"key": run.key, **run.row, "status": "lost", "retry": True,
-                       "error": " ".join(f"worker lost the run: {type(err).__name__}: {err}".split())}
+                error = " ".join(f"worker lost the run: {type(err).__name__}: {err}".split())
+                rows = [{"key": run.key, **run.row, "status": "lost", "retry": True, "error": error} for run in runs]
             alive = client.status == "running"
-            if row.pop("retry", False) and attempt < MAX_ATTEMPTS and alive:
-                out.retried.append(run.key)
-                pending.add(submit(run, attempt + 1))
-                continue
-            row["attempts"] = attempt
-            table.write(row)
-            out.ran += 1
-            out.failed += row["status"] not in tables.FINISHED
-            out.lost += row["status"] == "lost"
-            if bar is not None:
-                bar.set_postfix_str(f"done {out.ran - out.failed}, failed {out.failed}", refresh=False)
-                bar.update(1)
+            for run, row in zip(runs, rows):
+                if row.pop("retry", False) and attempt < MAX_ATTEMPTS and alive:   # alone in its task
+                    out.retried.append(run.key)
+                    pending.add(submit([run], attempt + 1))
+                    continue
+                row["attempts"] = attempt
+                table.write(row)
+                feed.observe(row.get("task_time"))
+                out.ran += 1
+                out.failed += row["status"] not in tables.FINISHED
+                out.lost += row["status"] == "lost"
+                if bar is not None:
+                    bar.set_postfix_str(f"done {out.ran - out.failed}, failed {out.failed}", refresh=False)
+                    bar.update(1)
+            if alive:
+                if clock.monotonic() - counted > 1.0:   # workers may join or leave (an RPC: once a second at most)
+                    try:
+                        feed.set_workers(len(client.scheduler_info().get("workers", {})))
+                    except Exception:  # noqa: BLE001 - a scheduler going away: the loop's own checks report it
+                        pass
+                    counted = clock.monotonic()
+                for more in feed.take(len(futures)):
+                    pending.add(submit(more, 1))
         if client.status != "running":
             raise ClusterLost(f"lost the Dask scheduler{' at ' + scheduler if scheduler else ''} after {out.ran} "
-                              f"run(s); {out.lost} run(s) recorded as lost and every finished row kept in "
+                              f"run(s); {out.lost} run(s) recorded as lost, {len(feed.queue)} not started, and every finished row kept in "
                               f"{table.path}: start the cluster again and run the same command to resume")
     except KeyboardInterrupt as err:
         from ..master.interrupt import RunInterrupted, signal_name

@@ -86,6 +86,13 @@ def execute(ssp: SspFile, run: Run, metrics: list[Metric | Custom], results_dir:
     return row
 
 
+def execute_runs(ssp: SspFile, runs: list[Run], metrics: list[Metric | Custom],
+                 results_dir: str | None = None) -> list[dict]:
+    """:func:`execute` of each of ``runs`` in turn, in this process: one Dask task for several short runs
+    (:mod:`.feed`); their rows in the same order."""
+    return [execute(ssp, run, metrics, results_dir) for run in runs]
+
+
 def status_of(stopped: str) -> str:
     """A finished run's status from why it stopped: ok (ran to its stop time), tipped (the tipping flag
     ended it), stopped (another stop condition)."""
