@@ -139,6 +139,17 @@ def equal_rtol(scene: str, stop: float, grid: float, target: float) -> tuple[flo
     return tried
 
 
+def run_header(printed: str) -> dict:
+    """{"process": where the FMUs ran, "exchange": which exchange took the macro steps}, as the ``process:`` and
+    ``exchange:`` lines of ``cranefmu run``'s header say ('' where a line is missing)."""
+    out = {"process": "", "exchange": ""}
+    for line in printed.splitlines():
+        name, _, said = line.strip().partition(": ")
+        if name in out and not out[name]:
+            out[name] = said.strip()
+    return out
+
+
 def _cold_of_child(got: dict) -> tuple[float | None, float | None]:
     """(wall, CPU) [s] of a fresh child's first run with its start (interpreter, imports): the whole child
     less its second run."""
@@ -166,10 +177,11 @@ def measure(method: str, scene: str, stop: float, step: float, grid: float, tmp:
     if not row["error"]:
         if method == "ours":   # the whole command a user types
             csv = tmp / f"{scene}_{kind}_cold.csv"
-            row["cold"], row["cold_cpu"], row["error"] = command_time(
+            row["cold"], row["cold_cpu"], row["error"], said = command_time(
                 [*cranefmu_command(), "run", scene, "--fmus", kind, "--stop-time", repr(stop), "--step", repr(step),
                  "--no-progress", "--output", str(csv)])
             csv.unlink(missing_ok=True)
+            row.update(run_header(said))
         else:                  # the same fresh child: its first run with the interpreter start and imports
             row["cold"], row["cold_cpu"] = _cold_of_child(warm)
         if row["error"]:
@@ -270,6 +282,11 @@ def page(rows: list[dict], ran: list[str], start_load=(math.nan,) * 3, end_load=
                      f"{f(r['real_time_cold_cpu'], '.1f')} / {f(r['real_time_cold'], '.1f')} | "
                      f"{f(r['real_time_warm_cpu'], '.1f')} / {f(r['real_time_warm'], '.1f')} | "
                      f"{f(r['error_vs_reference'])} |")
+    ours = [r for r in rows if r["method"] == "ours" and r.get("exchange")]
+    if ours:
+        lines += ["", "Where our cold command ran the FMUs and which exchange took its macro steps, as its header "
+                  "printed them:", "", "| scene | FMUs | process | exchange |", "| --- | --- | --- | --- |"]
+        lines += [f"| {r['scene']} | {r['fmus']} | {r['process']} | {r['exchange']} |" for r in ours]
     others = [("ours, python FMUs", "ours", "python")] + [(m, m, None) for m in ran if m not in ("ours",)]
     lines += ["", "Ratios of CPU times from this run, ours with native FMUs / the other (> 1: ours with native FMUs "
               "costs more; a foreign host at the step it could run; walls in speed.csv):", "",

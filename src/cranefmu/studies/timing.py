@@ -156,16 +156,16 @@ def cranefmu_command() -> list[str]:
     return [sys.executable, "-c", "import sys; from cranefmu.cli import main; sys.exit(main())"]
 
 
-def command_time(args: list[str], timeout: float = 1800.0) -> tuple[float, float, str]:
-    """(wall, CPU) [s] of a whole command (cold: a fresh process, its children included) and its error line
-    ('' when it exited 0)."""
+def command_time(args: list[str], timeout: float = 1800.0) -> tuple[float, float, str, str]:
+    """(wall, CPU) [s] of a whole command (cold: a fresh process, its children included), its error line
+    ('' when it exited 0) and what it printed on stdout."""
     wall, cpu, p = _timed(args, timeout)
-    return wall, cpu, "" if p.returncode == 0 else ((p.stderr.strip().splitlines() or ["?"])[-1])
+    return wall, cpu, "" if p.returncode == 0 else ((p.stderr.strip().splitlines() or ["?"])[-1]), p.stdout
 
 
 def command_wall(args: list[str], timeout: float = 1800.0) -> tuple[float, str]:
     """Seconds of a whole command (cold: a fresh process) and its error line ('' when it exited 0)."""
-    wall, _, error = command_time(args, timeout)
+    wall, _, error, _ = command_time(args, timeout)
     return wall, error
 
 
