@@ -118,6 +118,9 @@ def test_speed_compares_on_one_grid_cold_and_warm(smoke):
     assert {r["fmus"] for r in rows if r["method"] == "ours"} == {"native", "python"}
     native = next(r for r in rows if r["method"] == "ours" and r["fmus"] == "native")
     assert "compiled kernel" in native["exchange"] and native["process"].startswith("this one")
+    # the same command writing its CSV: every grid row (header, rows at 0, H, ..., T) costs bytes and time
+    assert int(float(native["csv_bytes"])) > 100 * float(native["stop_time"]) / float(native["step"])
+    assert float(native["cold_csv_cpu"]) > 0.0
     for r in rows:
         if r["status"] == "ok":   # CPU time of a fresh process: its start is in cold, not in warm
             assert float(r["cold_cpu"]) > float(r["warm_cpu"]) > 0.0

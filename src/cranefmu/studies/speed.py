@@ -177,13 +177,16 @@ def measure(method: str, scene: str, stop: float, step: float, grid: float, tmp:
         if method in FOREIGN and not row["error_vs_reference"] <= DIVERGED:
             row["error"] = f"diverged: error {row['error_vs_reference']:.3g} of range"
     if not row["error"]:
-        if method == "ours":   # the whole command a user types
-            csv = tmp / f"{scene}_{kind}_cold.csv"
-            row["cold"], row["cold_cpu"], row["error"], said = command_time(
-                [*cranefmu_command(), "run", scene, "--fmus", kind, "--stop-time", repr(stop), "--step", repr(step),
-                 "--no-progress", "--output", str(csv)])
-            csv.unlink(missing_ok=True)
+        if method == "ours":   # the whole command a user types; again writing every row to a CSV
+            command = [*cranefmu_command(), "run", scene, "--fmus", kind, "--stop-time", repr(stop), "--step",
+                       repr(step), "--no-progress"]
+            row["cold"], row["cold_cpu"], row["error"], said = command_time(command)
             row.update(run_header(said))
+            csv = tmp / f"{scene}_{kind}_cold.csv"
+            row["cold_csv"], row["cold_csv_cpu"], csv_error, _ = command_time([*command, "--output", str(csv)])
+            row["csv_bytes"] = csv.stat().st_size if csv.is_file() else None
+            csv.unlink(missing_ok=True)
+            row["error"] = row["error"] or csv_error
         else:                  # the same fresh child: its first run with the interpreter start and imports
             row["cold"], row["cold_cpu"] = _cold_of_child(warm)
         if row["error"]:
@@ -265,8 +268,9 @@ def page(rows: list[dict], ran: list[str], start_load=(math.nan,) * 3, end_load=
              "(status unstable), not failures of this study; 'step' is the step it ran at.  The pythonfmu FMUs are "
              "not run in the foreign hosts (they need a preloaded CPython there, and were the slow part: 225 s "
              "cold for truck_telescope in libcosim in the study of 2026-11-26).  **cold** = the whole command in a "
-             "fresh process (ours: `cranefmu run SCENE --fmus KIND --stop-time T --step H --no-progress --output "
-             "x.csv`, with Python's bytecode cache; the others: a fresh process less its second run, i.e. interpreter "
+             "fresh process (ours: `cranefmu run SCENE --fmus KIND --stop-time T --step H --no-progress`, which prints "
+             "its summary and keeps no file, as the foreign hosts keep their values in memory, with Python's "
+             "bytecode cache; the same with `--output x.csv` in its own table below; the others: a fresh process less its second run, i.e. interpreter "
              "start, imports, the first run and the exit; libcosim's also less our own short run that finds the "
              "settled start it is handed); **warm** = the second run in one process (ours in-process).  CPU = user "
              "+ system time of the process and its children, of all their threads: it can exceed the wall on 2 "
@@ -291,6 +295,15 @@ def page(rows: list[dict], ran: list[str], start_load=(math.nan,) * 3, end_load=
         lines += ["", "Where our cold command ran the FMUs and which exchange took its macro steps, as its header "
                   "printed them:", "", "| scene | FMUs | process | exchange |", "| --- | --- | --- | --- |"]
         lines += [f"| {r['scene']} | {r['fmus']} | {r['process']} | {r['exchange']} |" for r in ours]
+    csv_rows = [r for r in rows if r["method"] == "ours" and r["status"] == "ok" and r.get("cold_csv")]
+    if csv_rows:
+        lines += ["", "Our cold command again with `--output x.csv` (every row of every output written as it goes):",
+                  "", "| scene | FMUs | cold CPU / wall [s] | with --output: cold CPU / wall [s] | CSV [MB] | "
+                  "real time x cold with the CSV, CPU / wall |", "| --- | --- | --- | --- | --- | --- |"]
+        lines += [f"| {r['scene']} | {r['fmus']} | {f(r['cold_cpu'])} / {f(r['cold'])} | {f(r['cold_csv_cpu'])} / "
+                  f"{f(r['cold_csv'])} | {f(r['csv_bytes'] / 1e6 if r.get('csv_bytes') else None)} | "
+                  f"{f(r['stop_time'] / r['cold_csv_cpu'], '.1f')} / {f(r['stop_time'] / r['cold_csv'], '.1f')} |"
+                  for r in csv_rows]
     others = [("ours, python FMUs", "ours", "python")] + [(m, m, None) for m in ran if m not in ("ours",)]
     lines += ["", "Ratios of CPU times from this run, ours with native FMUs / the other (> 1: ours with native FMUs "
               "costs more; a foreign host at the step it could run; walls in speed.csv):", "",
