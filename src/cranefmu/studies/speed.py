@@ -297,7 +297,8 @@ def page(rows: list[dict], ran: list[str], start_load=(math.nan,) * 3, end_load=
              "bytecode cache; the same with `--output x.csv` in its own table below; the others: a fresh process "
              "less its second run, i.e. interpreter start, imports, the first run and the exit; libcosim's also "
              "less our own short run that finds the settled start it is handed); **warm** = the second run in one "
-             "process (ours in-process).  CPU = user + system time of the process and its children, of all their threads: it can exceed the wall on 2 "
+             "process (ours in-process).  CPU = user + system time of the process and its children, of all their "
+             "threads: it can exceed the wall on 2 "
              "cores (numpy's BLAS threads at import, libcosim's and ecos's worker threads); real time x = T / time; "
              + ("each time the least of " + str(rounds) + " rounds (wall and CPU each).  " if rounds > 1 else
                 "one measurement each.  ")
