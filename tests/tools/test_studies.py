@@ -115,7 +115,21 @@ def test_speed_compares_on_one_grid_cold_and_warm(smoke):
             assert float(r["error_vs_reference"]) < 0.05
         if r["status"] == "ok":
             assert float(r["cold"]) > float(r["warm"]) > 0.0 and float(r["error_vs_reference"]) <= 1.0
+    assert {r["fmus"] for r in rows if r["method"] == "ours"} == {"native", "python"}
+    native = next(r for r in rows if r["method"] == "ours" and r["fmus"] == "native")
+    assert "compiled kernel" in native["exchange"] and native["process"].startswith("this one")
+    # the same command writing its CSV: every grid row (header, rows at 0, H, ..., T) costs bytes and time
+    assert int(float(native["csv_bytes"])) > 100 * float(native["stop_time"]) / float(native["step"])
+    assert float(native["cold_csv_cpu"]) > 0.0
+    for r in rows:
+        if r["status"] == "ok":   # CPU time of a fresh process: its start is in cold, not in warm
+            assert float(r["cold_cpu"]) > float(r["warm_cpu"]) > 0.0
+            assert math.isclose(float(r["real_time_cold_cpu"]), float(r["stop_time"]) / float(r["cold_cpu"]))
+    mono = next(r for r in rows if r["method"] == "monolith")
+    # at equal accuracy: as accurate as ours with native FMUs, or the tightest rtol of the ladder
+    assert float(mono["error_vs_reference"]) <= float(mono["target_error"]) or float(mono["rtol"]) == 1e-8
     for host in {r["method"] for r in rows} - {"ours", "monolith"}:
+        assert {r["fmus"] for r in rows if r["method"] == host} == {"native"}
         # a foreign host's plain Jacobi may be unstable at our stored step (a fact, not our failure): it
         # then runs at halved steps until it finishes, and is read on the same grid
         tried = [r for r in rows if r["method"] == host]
@@ -133,6 +147,36 @@ def test_speed_reads_a_finer_host_on_the_output_grid():
     t = np.arange(0, 41) * 0.0025   # a host at H/4 for 0.1 s
     got = on_grid({"time": t, "y": 2 * t}, 0.01, 0.1)
     assert np.allclose(got["time"], np.arange(0, 11) * 0.01) and np.allclose(got["y"], 2 * got["time"])
+
+
+def test_speed_reads_a_host_on_the_grid_by_index_and_a_nan_as_unbounded(monkeypatch):
+    """A host's times carry round-off (ecos: 0.0025 * k summed, 5.000000001e-3): read by grid index they match
+    (by searchsorted they fell one row late, and every ecos run read as diverged); a NaN in one output makes
+    the error unbounded (max() over floats would drop it)."""
+    import numpy as np
+
+    from cranefmu.studies import speed
+
+    grid, stop = 0.005, 0.1
+    t = np.arange(21) * grid
+    monkeypatch.setattr(speed, "keys", lambda scene: ("y",))
+    monkeypatch.setitem(speed._REFERENCES, ("s", stop, grid), {"time": t, "y": np.sin(t)})
+    host = np.cumsum(np.full(40, grid / 2)) * (1 + 1e-12)   # H/2 from the first step, summed
+    assert speed.accuracy("s", {"time": host, "y": np.sin(host) + 1e-3}, stop, grid) == pytest.approx(
+        1e-3 / np.ptp(np.sin(t)), rel=1e-6)
+    bad = np.sin(host)
+    bad[7] = np.nan
+    assert speed.accuracy("s", {"time": host, "y": bad}, stop, grid) == math.inf
+
+
+def test_speed_reads_the_process_and_exchange_of_a_run_header():
+    from cranefmu.studies.speed import run_header
+
+    said = ("scene x: 10 steps\n  process: this one (native FMUs)\n  exchange: compiled kernel: all 10 macro "
+            "steps, in 1 kernel calls\nwall time 0.1 s\n")
+    assert run_header(said) == {"process": "this one (native FMUs)",
+                                "exchange": "compiled kernel: all 10 macro steps, in 1 kernel calls"}
+    assert run_header("nothing") == {"process": "", "exchange": ""}
 
 
 def test_a_study_with_a_failed_point_lists_it_and_exits_1(tmp_path, monkeypatch, capsys):
