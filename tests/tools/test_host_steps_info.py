@@ -10,7 +10,8 @@ MEASURED = {"default": {"step": 1e-3, "span": 10.0, "stored_step": 2e-3},
 
 def test_a_changed_stored_step_is_named_beside_the_one_measured_against():
     lines = info_lines(MEASURED, {"default": 3e-3, "loose": 2e-3})
-    assert lines[1] == "    default: 1 ms (measured when the stored step was 2 ms; stored step now 3 ms; stable over 10 s)"
+    assert lines[1] == ("    default: 1 ms (measured when the stored step was 2 ms; stored step now 3 ms; "
+                        "stable over 10 s)")
     assert lines[2] == "    loose: 0.5 ms (stored step 2 ms; stable over 6 s)"
 
 
