@@ -280,6 +280,22 @@ def read_rows(label: str) -> list[dict]:
         return list(csv.DictReader(f))
 
 
+DOSTEP_TARGET_US = 10.0   # issue 33: a native FMU's doStep at its scene's stored step at most 10 us of CPU
+
+
+def dostep_target_line(rows: list[dict]) -> str:
+    """One sentence: how many native FMU rows meet :data:`DOSTEP_TARGET_US` (median doStep) and the largest."""
+    over = [r for r in rows if float(r["fmu_dostep_us"]) > DOSTEP_TARGET_US]
+    top = max(rows, key=lambda r: float(r["fmu_dostep_us"]))
+    text = (f"Issue 33's target, a native FMU's doStep at most {DOSTEP_TARGET_US:g} us at its scene's stored step: "
+            f"met by {len(rows) - len(over)} of {len(rows)} FMUs (largest {float(top['fmu_dostep_us']):.1f} us, "
+            f"{top['scene']} {top['component']})")
+    if over:
+        text += "; over it: " + ", ".join(f"{r['scene']} {r['component']} {float(r['fmu_dostep_us']):.1f} us"
+                                          for r in over)
+    return text + "."
+
+
 def write_report(labels: list[str], notes: dict[str, str]) -> None:
     lines = ["# Cost of one macro step per FMU", "",
              "`.venv/bin/python benchmarks/fmu_step_cost.py --label LABEL` (see its docstring for the method).",
@@ -321,7 +337,7 @@ def write_report(labels: list[str], notes: dict[str, str]) -> None:
             lines.append(f"| {r['scene']} | {r['component']} | {float(r['H']):g} | {fp:.0f} | {fn:.1f} "
                          f"({float(r['fmu_set_us']):.1f} / "
                          f"{float(r['fmu_dostep_us']):.1f} / {float(r['fmu_get_us']):.1f}) | {fp / fn:.0f} |")
-        lines.append("")
+        lines += ["", dostep_target_line(tables[native_label]), ""]
     if tables.get("before") and tables.get("after"):
         lines += ["## before / after", "", "| scene | component | FMU before [us] | FMU after [us] | ratio | "
                   "physics before | physics after | ratio |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]

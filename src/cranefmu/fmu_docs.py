@@ -49,6 +49,29 @@ def _third_party_imports(zf: zipfile.ZipFile, package: str) -> list[str]:
     return sorted(n for n in names if n not in sys.stdlib_module_names and n not in bundled)
 
 
+def _python_host(zf: zipfile.ZipFile) -> dict[str, str]:
+    """The attributes of the model description's PythonHost annotation (what a host needs), {} if none."""
+    from xml.etree import ElementTree
+
+    from .adapter.fmi_adapter import PYTHON_HOST_TOOL
+
+    root = ElementTree.fromstring(zf.read("modelDescription.xml"))
+    found = root.find(f"VendorAnnotations/Tool[@name='{PYTHON_HOST_TOOL}']/PythonHost")
+    return dict(found.attrib) if found is not None else {}
+
+
+def _needs(packages: list[str], host: dict[str, str]) -> str:
+    """The packages a host's Python needs: the annotation's (required, scipy's condition, optional), else
+    every third-party package the bundled sources import."""
+    if not host:
+        return "the packages " + (", ".join(f"`{p}`" for p in packages) or "(none)")
+    required = ", ".join(f"`{p}`" for p in host.get("packages", "").split())
+    scipy = host.get("scipy", "")
+    scipy = "`scipy` at no setting" if scipy == "never" else f"`scipy` {scipy}" if scipy else ""
+    optional = f"optionally {host['optional']}" if host.get("optional") else ""
+    return f"the package {required}" + "".join(f"; {x}" for x in (scipy, optional) if x)
+
+
 def _start(v) -> str:
     if v.start is None:
         return ""
@@ -79,6 +102,7 @@ def render(fmu: Path) -> str:
         package, module, model_class = _bundle(zf)
         source = zf.read(f"resources/{package}/physics/{module}.py").decode()
         packages = _third_party_imports(zf, package)
+        host = _python_host(zf)
         platforms = sorted({Path(n).parent.name for n in zf.namelist()
                             if n.startswith("binaries/") and not n.endswith("/")})
     physics_doc = ast.get_docstring(ast.parse(source)) or ""
@@ -147,7 +171,7 @@ def render(fmu: Path) -> str:
             f"- binaries: {', '.join(platforms)}", ""]
     out += ["## Using it from another tool", "",
             f"The binary is pythonfmu's wrapper: it runs the model in the CPython of the host process, which needs "
-            f"the packages {', '.join(f'`{p}`' for p in packages) or '(none)'} (the physics is bundled in the "
+            f"{_needs(packages, host)} (the physics is bundled in the "
             "FMU under a build-unique package name, so it never clashes with an installed cranefmu or another "
             "FMU). Tested with CPython 3.11 in fmpy, fmpy's container FMU, fmu-manipulation-toolbox's "
             "fmucontainer and a C host (tests/fmu/test_native_hosts.py).", "",
@@ -167,7 +191,10 @@ def render(fmu: Path) -> str:
             "`CRANEFMU_KEEP_THREAD_STATE=0` turns this off). See support/cranefmu_support/c_host/host.c for a complete host.",
             "- **Instances**: several instances (and copies unzipped twice) run side by side in one process and are "
             "independent, and an instance can be freed and the FMU instantiated again (tests/fmu/test_instances.py). "
-            "Terminate and free every instance before the process exits.",
+            "Terminate and free every instance before the process exits. pythonfmu 0.7.0's binary released its "
+            "interpreter guard twice at exit (its C++ static destructor, then its ELF destructor on the freed block) "
+            "and a C host aborted with `free(): corrupted unsorted chunks` (exit 134); the FMU now empties the guard "
+            "first from an exit handler of its own (cranefmu.adapter.pythonfmu_exit; tests/fmu/test_c_host_exit.py).",
             "- **Parameters** are checked at initialization: a refused value fails fmi2ExitInitializationMode with "
             "a logged message naming the parameter, its value and the allowed range.",
             f"- **FMI 3.0**: `cranefmu build-fmi3 {name}` builds `fmus/{name}3.fmu` with pythonfmu3, the same "

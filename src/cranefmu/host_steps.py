@@ -70,13 +70,19 @@ def annotate(root, steps: dict[str, dict]) -> None:
     etree.cleanup_namespaces(root, top_nsmap={"osp": OSP_NS})
 
 
-def info_lines(steps: dict[str, dict]) -> list[str]:
-    """``cranefmu info`` lines for the steps a file carries."""
+def info_lines(steps: dict[str, dict], stored_now: dict[str, float] | None = None) -> list[str]:
+    """``cranefmu info`` lines for the steps a file carries.  ``stored_now``: set name -> the scene's stored
+    step [s] today; where it is not the step stored when the plain-Jacobi step was measured (the
+    annotation's ``stored_step``), the line names both."""
     if not steps:
         return ["  plain-Jacobi step for other hosts (libcosim, ecos): not measured for this file"]
     lines = ["  largest plain-Jacobi step at which the scene stays stable (use it in libcosim or ecos, which run "
              "plain Jacobi; measured by benchmarks/jacobi_stable_step.py, docs/interop.md):"]
     for name, m in steps.items():
-        lines.append(f"    {name}: {m['step'] * 1e3:g} ms (stored step {m['stored_step'] * 1e3:g} ms; "
-                     f"stable over {m['span']:g} s)")
+        then, now = m["stored_step"], (stored_now or {}).get(name)
+        if now is None or now == then:
+            stored = f"stored step {then * 1e3:g} ms"
+        else:
+            stored = f"measured when the stored step was {then * 1e3:g} ms; stored step now {now * 1e3:g} ms"
+        lines.append(f"    {name}: {m['step'] * 1e3:g} ms ({stored}; stable over {m['span']:g} s)")
     return lines

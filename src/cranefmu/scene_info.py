@@ -48,6 +48,17 @@ def _settings_lines(scene: Scene) -> list[str]:
         + ", ".join(f"{k} = {v!r}" for k, v in own.items()) for name, own in scene.set_settings.items()]
 
 
+def _stored_steps(scene: Scene) -> dict[str, float]:
+    """Parameter set -> the step [s] stored for it today (its own setting, else the scene's); sets without
+    a stored step are left out."""
+    out = {}
+    for name in ["default", *scene.parameter_sets]:
+        step = scene.set_settings.get(name, {}).get("step_size", scene.settings.get("step_size"))
+        if step is not None:
+            out[name] = float(step)
+    return out
+
+
 def describe(scene: Scene) -> list[str]:
     """Lines for ``cranefmu info``: question, components with their role, fidelity switches, the
     default parameters with units (SI, as the FMUs take them), each named set as its changes
@@ -76,7 +87,7 @@ def describe(scene: Scene) -> list[str]:
     lines += mode_lines(scene.name) + fidelity_lines(scene.name) + speed_lines(scene.name)
     from .host_steps import info_lines
 
-    lines += info_lines(scene.host_steps)
+    lines += info_lines(scene.host_steps, _stored_steps(scene))
     driven = scene.driven_inputs   # their values are the settled start, listed apart below
     default = scene.model_values()
     lines.append("  parameter sets: " + ", ".join(["default", *scene.parameter_sets]))

@@ -14,8 +14,8 @@ from pathlib import Path
 PACKAGE_DIR = Path(__file__).resolve().parent
 CHECKOUT = PACKAGE_DIR.parent.parent  # src/cranefmu -> .
 PACKAGED = PACKAGE_DIR / "_sources"
-BUNDLED = ("__init__.py", "adapter/__init__.py", "adapter/fmi_adapter.py", "adapter/integrators.py", "adapter/units.py",
-           "physics")  # copied into every FMU
+BUNDLED = ("__init__.py", "adapter/__init__.py", "adapter/fmi_adapter.py", "adapter/integrators.py",
+           "adapter/pythonfmu_exit.py", "adapter/units.py", "physics")  # copied into every FMU
 
 
 def _is_checkout(root: Path) -> bool:

@@ -29,7 +29,8 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Status
 
 from . import units
-from .integrators import AUTO, EXACT, METHODS, integrate, rk4_list
+from .integrators import ADAPTIVE, AUTO, EXACT, METHODS, integrate, rk4_list
+from .pythonfmu_exit import binary_of, release_guard_at_exit
 from ..physics.component import Model, check_ports, port_takes
 from ..physics.params import ParameterError, allowed_text, check_value, enumeration_text
 
@@ -37,10 +38,37 @@ EXTRAPOLATION_SUFFIXES = ("_dt", "_dt2")  # d/dt and d2/dt2 of a coupling input
 ENUMERATIONS_TOOL = "org.cranefmu.enumerations"  # VendorAnnotations tool listing each switch's names
 PORTS_TOOL = "org.cranefmu.ports"  # VendorAnnotations tool declaring the mechanical ports (docs/composition.md)
 PYTHON_HOST_TOOL = "org.cranefmu.pythonhost"   # VendorAnnotations tool: what a host needs to run this FMU
-#: said in the model's description: a host reads there first what it needs (the native FMU drops it)
-PYTHON_HOST_NOTE = ("pythonfmu FMU: the host process needs a shared CPython 3.10-3.13 with numpy and scipy (a C "
-                    "host preloads libpython3.X.so, LD_PRELOAD); the native FMU of the same model needs none "
-                    "(cranefmu docs/fmus.md)")
+
+
+def scipy_solvers() -> tuple[str, ...]:
+    """The ``solver`` values that import scipy (its ``solve_ivp``, at the first step): the adaptive ones.
+    Nothing else in an FMU imports scipy (tests/fmu/test_scipy_free.py runs every FMU with scipy blocked)."""
+    return ADAPTIVE
+
+
+def _or_list(names: tuple[str, ...]) -> str:
+    return names[0] if len(names) == 1 else f"{', '.join(names[:-1])} or {names[-1]}"
+
+
+def python_host_note(physics: type[Model]) -> str:
+    """What a host needs to run the pythonfmu FMU of ``physics``, said in its model description (a host
+    reads there first; the native FMU drops it): scipy only where an adaptive solver has a moving state."""
+    when = physics.state_moves_when
+    if when is None:
+        scipy = "no setting imports scipy"
+    else:
+        scipy = f"scipy only with solver = {_or_list(scipy_solvers())}" + (f" and {when}" if when else "")
+    return (f"pythonfmu FMU: the host process needs a shared CPython 3.10-3.13 with numpy ({scipy}; a C host "
+            "preloads libpython3.X.so, LD_PRELOAD); the native FMU of the same model needs none (cranefmu "
+            "docs/fmus.md)")
+
+
+def python_host_scipy(physics: type[Model]) -> str:
+    """The vendor annotation's ``scipy`` attribute: when the FMU of ``physics`` imports scipy."""
+    when = physics.state_moves_when
+    if when is None:
+        return "never"
+    return "only with solver = " + " | ".join(scipy_solvers()) + (f" and {when}" if when else "")
 
 
 _PINNED_LIBRARIES: set[str] = set()   # BLAS/OpenMP libraries of this process already pinned to one thread
@@ -96,6 +124,8 @@ class CraneSlave(Fmi2Slave):
     def __init__(self, **kwargs: Any):
         super().__init__(**kwargs)
         cls = type(self)
+        # a C host aborted at exit after pythonfmu's guard was released twice (adapter/pythonfmu_exit.py)
+        release_guard_at_exit(binary_of(self.resources, self.modelName))
         self.description = cls.physics.description
         self._units: dict[str, str] = {}
         self._param_names: list[str] = []
@@ -423,12 +453,14 @@ class CraneSlave(Fmi2Slave):
                 real.set("unit", unit)
                 used[unit] = units.parse(unit)
         annotations = Element("VendorAnnotations")
-        root.set("description", f"{root.get('description', '')} [{PYTHON_HOST_NOTE}]".lstrip())
+        root.set("description", f"{root.get('description', '')} [{python_host_note(self.physics)}]".lstrip())
         host = SubElement(annotations, "Tool", name=PYTHON_HOST_TOOL)
         SubElement(host, "PythonHost", python="CPython 3.10-3.13, shared library (libpython3.X.so)",
-                   packages="numpy scipy", preload="a C host: LD_PRELOAD=<libdir>/libpython3.X.so, the "
-                   "environment's bin first on PATH", exit="terminate and free every instance before the process "
-                   "exits (pythonfmu 0.7.0 can abort a C host at exit: docs/fmus.md)")
+                   packages="numpy", scipy=python_host_scipy(self.physics),
+                   optional="threadpoolctl (pins BLAS/OpenMP threads to one)",
+                   preload="a C host: LD_PRELOAD=<libdir>/libpython3.X.so, the environment's bin first on PATH",
+                   exit="terminate and free every instance before the process exits; the FMU empties pythonfmu "
+                   "0.7.0's interpreter guard in an exit handler of its own (docs/fmus.md)")
         if self._switches:
             listing = SubElement(SubElement(annotations, "Tool", name=ENUMERATIONS_TOOL), "Enumerations")
             for name, names in self._switches.items():

@@ -3,7 +3,7 @@
 One contract for every method: ``integrate(f, t0, x0, h, method, ...)`` advances ``x' = f(t, x)``
 from ``t0`` to ``t0 + h`` and returns the new state.  Fixed-step methods take
 ``ceil(h / max_step)`` equal sub-steps; the adaptive ones delegate to scipy's ``solve_ivp``
-with ``rtol``/``atol`` and ``max_step``.  Bundled into every FMU: numpy and scipy only.
+with ``rtol``/``atol`` and ``max_step``.  Bundled into every FMU: numpy, and scipy for the adaptive methods only (imported at their first step).
 
 Explicit fixed-step: ``euler`` (order 1), ``rk2`` (Heun, 2), ``rk4`` (4): cheap, but stable only
 for ``max_step`` below about 2.8/|lambda_max| (rk4) on a stiff internal.

@@ -68,11 +68,12 @@ def pythonfmu_description(cls: type[CraneSlave]) -> Element:
 def native_description(cls: type[CraneSlave], source_files: list[str], digest: str) -> tuple[bytes, str]:
     """The native FMU's modelDescription.xml (bytes) and GUID, for C sources ``source_files`` (the .c
     files in ``sources/``) whose content hashes to ``digest``."""
-    from ..adapter.fmi_adapter import PYTHON_HOST_NOTE, PYTHON_HOST_TOOL
+    from ..adapter.fmi_adapter import PYTHON_HOST_TOOL, python_host_note
 
     root = pythonfmu_description(cls)
     root.set("generationTool", GENERATION_TOOL)
-    description = root.get("description", "").replace(f" [{PYTHON_HOST_NOTE}]", "").replace(f"[{PYTHON_HOST_NOTE}]", "")
+    note = python_host_note(cls.physics)
+    description = root.get("description", "").replace(f" [{note}]", "").replace(f"[{note}]", "")
     for holder in root.iter("VendorAnnotations"):   # what a pythonfmu FMU's host needs: not this one's
         for tool in [t for t in holder if t.get("name") == PYTHON_HOST_TOOL]:
             holder.remove(tool)

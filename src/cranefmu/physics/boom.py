@@ -369,6 +369,7 @@ _MOMENT_DEPS = tuple(n for n in _REACT_DEPS if n != "extension_command_dt2")   #
 
 
 class BoomModel(Model):
+    state_moves_when = "tip = dynamic and cylinder = spring_damper"   # else frozen (:attr:`frozen`)
     Params = BoomParams
     description = ("Telescopic boom with luffing cylinder (seed 000 eq. 1, 11-18): telescoping trapezoid law, "
                    "rigid or spring-damper cylinder, base reactions for the chassis")

@@ -126,6 +126,10 @@ class Model:
     default_solver: ClassVar[str | None] = None
     #: where :meth:`exact_step` has a closed form (said in the ``solver`` parameter's description)
     exact_scope: ClassVar[str] = ""
+    #: where the state moves, so that the internal solver runs (an adaptive one imports scipy there,
+    #: said in the pythonfmu FMU's host note): "" in every configuration, None in none (frozen), else the
+    #: switch setting, e.g. "model = bouc_wen" (tests/fmu/test_scipy_free.py proves it per FMU)
+    state_moves_when: ClassVar[str | None] = ""
 
     def __init__(self, params: Params):
         if not isinstance(params, self.Params):

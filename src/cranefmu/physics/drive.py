@@ -249,6 +249,7 @@ _STATES = ("M_e", "Theta", "phi_motor", "phi_clutch", "phi_gear", "phi_drum",
 
 
 class DriveModel(Model):
+    state_moves_when = "mode = motor"   # kinematic: frozen (:attr:`frozen`)
     Params = DriveParams
     description = ("Hoist drive: asynchronous motor (3-state Kloss model, seed 001 eq. 4) + torsional drivetrain "
                    "and drum (eq. 5), or a kinematic trapezoidal payout law (seed 000)")

@@ -211,6 +211,7 @@ def geometry(u: np.ndarray, p: RopeParams, length0: float | None = None
 
 class RopeModel(Model):
     Params = RopeParams
+    state_moves_when = "model = bouc_wen"   # Kelvin-Voigt: no state, or only the constant taken-up length
     description = "Hoist rope: Kelvin-Voigt (seed 001 eq. 8-9) or modified Bouc-Wen (eq. 1-3), slack-capable"
     inputs = (
         *_vec_signals("top", "position of the suspension point", "m", True),

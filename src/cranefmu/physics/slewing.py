@@ -104,6 +104,7 @@ _MOMENTS = tuple(n for n in _LOADS if n != "extension_command_dt2")   # the in-p
 
 
 class SlewingBoomModel(Model):
+    state_moves_when = None   # no state: the tip follows the laws and the inputs
     Params = SlewingBoomParams
     description = ("Telescopic boom on a slewing platform: the seed 000 boom (rigid luffing cylinder, telescoping "
                    "law) turned about the vertical axis by a slewing law, tip in 3-D, loads for a four-pad chassis")
