@@ -133,6 +133,7 @@ class GrowthAlarm:
         if steps == 0:
             return None
         c0, levels = self.count, []
+        running = np.fmax.accumulate(np.concatenate([np.array([self.carried], dtype=float), carried]), axis=0)[1:]
         below = None   # the level under this one: (count of its first block, blocks)
         for j in range(LEVELS):
             w = 1 << j
@@ -157,11 +158,10 @@ class GrowthAlarm:
                     if roundoff is not None:
                         test &= new > roundoff[counts - c0 - 1]
                 test &= (counts // w >= self.blocks + 1)[:, None]
-                if test.any():
+                if test.any() and self._any_grown(j, test, seq, len(old), running[counts - c0 - 1]):
                     return self._one_by_one(residual, carried, roundoff)
             levels.append((counts, new))
             below = ((c0 // w) * w, np.concatenate([np.array(old[-1:], dtype=float), new])) if len(old) else (first, new)
-        running = np.fmax.accumulate(np.concatenate([np.array([self.carried], dtype=float), carried]), axis=0)[1:]
         keep = self.blocks + 1
         for j, (counts, new) in enumerate(levels):
             self.done[j] = (self.done[j] + new[-keep:].tolist())[-keep:]
@@ -169,6 +169,18 @@ class GrowthAlarm:
         self.count = c0 + steps
         self.carried = running[-1].tolist()
         return None
+
+    def _any_grown(self, j: int, test: np.ndarray, seq: np.ndarray, n_old: int, scale_new: np.ndarray) -> bool:
+        """Whether :meth:`_grown` holds for any new block of level j and bond that passed the cheap test
+        (``test``), each judged on the blocks :meth:`update` would hold then (``seq``: the level's blocks
+        before the stretch, then the new ones) and the carried maxima at their ends."""
+        scale = np.concatenate([np.array(self.scale[j], dtype=float).reshape(n_old, seq.shape[1]), scale_new])
+        for p, k in zip(*np.nonzero(test)):
+            at = n_old + int(p)
+            done = seq[at - self.blocks:at + 1].tolist()
+            if self._grown(done, scale[at - self.blocks].tolist(), int(k), self.least[j]):
+                return True
+        return False
 
     def _one_by_one(self, residual: np.ndarray, carried: np.ndarray, roundoff: np.ndarray | None):
         rows = zip(residual.tolist(), carried.tolist(), roundoff.tolist() if roundoff is not None else
