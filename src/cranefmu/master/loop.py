@@ -18,12 +18,16 @@ from typing import Protocol
 
 import numpy as np
 
-from ..errors import CraneFmuError
 from .algorithms import Algorithm
 
 
 class Observer(Protocol):
-    """``values``: the row, an array the loop reuses for the next row (copy what you keep)."""
+    """``values``: the row, an array the loop reuses for the next row (copy what you keep).
+
+    Optional: ``batchable = True`` (rows may come after the fact, behind a compiled stretch);
+    ``steps_complete(times, hs, rows)``, the rows of a stretch at once (2-D, one per step), returning
+    (row index, reason or error) at the first row that stops or fails the run, or None; ``passive = True``
+    (never stops the run on a row's content: given its rows once the stop is known).  See :func:`_deliver`."""
 
     def simulation_initialized(self, t: float, values: np.ndarray) -> str | None:
         """The row at the start time [s]; a reason to stop at once, or None."""
@@ -75,8 +79,8 @@ class March:
     Where every step is taken as proposed on a fixed grid and every observer takes rows after the fact
     (``batchable``), a step may be a stretch of steps in one call of the algorithm
     (:meth:`~.algorithms.Algorithm.stretch`, the compiled Jacobi); the observers then see its rows in
-    order, and one that stops the run or fails it does so at its row (the FMUs have gone on to the end
-    of the stretch)."""
+    order (in one block each where they take blocks: :func:`_deliver`), and one that stops the run or
+    fails it does so at its row (the FMUs have gone on to the end of the stretch)."""
 
     def __init__(self, coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler,
                  observers: list[Observer], t: float):
@@ -196,7 +200,7 @@ def _observe(o, times: np.ndarray, hs: np.ndarray, rows: np.ndarray):
     for i in range(len(hs)):
         try:
             reason = o.step_complete(float(times[i]), float(hs[i]), rows[i])
-        except CraneFmuError as err:
+        except Exception as err:   # raised once the observers before it have seen the row (as row by row)
             return i, err
         if reason:
             return i, reason
