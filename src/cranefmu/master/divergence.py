@@ -132,8 +132,24 @@ class GrowthAlarm:
         steps = len(residual)
         if steps == 0:
             return None
-        c0, levels = self.count, []
+        c0 = self.count
         running = np.fmax.accumulate(np.concatenate([np.array([self.carried], dtype=float), carried]), axis=0)[1:]
+        with np.errstate(invalid="ignore", over="ignore"):
+            levels = self._levels(residual, running, roundoff)
+        if levels is None:   # growth found: the rows one by one, as update() takes them
+            return self._one_by_one(residual, carried, roundoff)
+        keep = self.blocks + 1
+        for j, (counts, new) in enumerate(levels):
+            self.done[j] = (self.done[j] + new[-keep:].tolist())[-keep:]
+            self.scale[j] = (self.scale[j] + running[counts[-keep:] - c0 - 1].tolist())[-keep:]
+        self.count = c0 + steps
+        self.carried = running[-1].tolist()
+        return None
+
+    def _levels(self, residual: np.ndarray, running: np.ndarray, roundoff: np.ndarray | None):
+        """Per level, (counts, blocks) of the blocks that end in the stretch; None if at one of them a bond
+        passes the cheap test and :meth:`_grown`."""
+        c0, steps, levels = self.count, len(residual), []
         below = None   # the level under this one: (count of its first block, blocks)
         for j in range(LEVELS):
             w = 1 << j
@@ -153,22 +169,17 @@ class GrowthAlarm:
                 seq = np.concatenate([np.array(old, dtype=float).reshape(len(old), new.shape[1]), new])
                 # the block before each new one (the first new block's, if it has none, is not tested)
                 before = seq[len(old) - 1:-1] if len(old) else np.concatenate([new[:1], new[:-1]])
-                with np.errstate(invalid="ignore", over="ignore"):
-                    test = new >= self.least[j] * before
-                    if roundoff is not None:
-                        test &= new > roundoff[counts - c0 - 1]
-                test &= (counts // w >= self.blocks + 1)[:, None]
+                test = new >= self.least[j] * before
+                if roundoff is not None:
+                    test &= new > roundoff[counts - c0 - 1]
+                young = (self.blocks + 1) * w - first   # blocks at counts below (blocks + 1) w are not judged
+                if young > 0:
+                    test[:young // w] = False
                 if test.any() and self._any_grown(j, test, seq, len(old), running[counts - c0 - 1]):
-                    return self._one_by_one(residual, carried, roundoff)
+                    return None
             levels.append((counts, new))
             below = ((c0 // w) * w, np.concatenate([np.array(old[-1:], dtype=float), new])) if len(old) else (first, new)
-        keep = self.blocks + 1
-        for j, (counts, new) in enumerate(levels):
-            self.done[j] = (self.done[j] + new[-keep:].tolist())[-keep:]
-            self.scale[j] = (self.scale[j] + running[counts[-keep:] - c0 - 1].tolist())[-keep:]
-        self.count = c0 + steps
-        self.carried = running[-1].tolist()
-        return None
+        return levels
 
     def _any_grown(self, j: int, test: np.ndarray, seq: np.ndarray, n_old: int, scale_new: np.ndarray) -> bool:
         """Whether :meth:`_grown` holds for any new block of level j and bond that passed the cheap test

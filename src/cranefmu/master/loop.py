@@ -179,8 +179,12 @@ def _deliver(stretch, algorithm: Algorithm, control: StepControl, sample: Sample
                 got = _observe(o, times[:n], hs[:n], block[:n])
                 if got is not None and isinstance(got[1], BaseException):
                     raise got[1]
-    for _ in range(seen):
-        algorithm.accepted()
+    many = getattr(algorithm, "accepted_many", None)
+    if many is not None:
+        many(seen)
+    else:
+        for _ in range(seen):
+            algorithm.accepted()
     if seen:
         t = control.advance_grid(ts, seen)
         _count_many(stats, hs[:seen])
