@@ -134,7 +134,7 @@ class GrowthAlarm:
             return None
         c0 = self.count
         running = np.fmax.accumulate(np.concatenate([np.array([self.carried], dtype=float), carried]), axis=0)[1:]
-        with np.errstate(invalid="ignore", over="ignore"):
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
             levels = self._levels(residual, running, roundoff)
         if levels is None:   # growth found: the rows one by one, as update() takes them
             return self._one_by_one(residual, carried, roundoff)
@@ -186,12 +186,21 @@ class GrowthAlarm:
         (``test``), each judged on the blocks :meth:`update` would hold then (``seq``: the level's blocks
         before the stretch, then the new ones) and the carried maxima at their ends."""
         scale = np.concatenate([np.array(self.scale[j], dtype=float).reshape(n_old, seq.shape[1]), scale_new])
-        for p, k in zip(*np.nonzero(test)):
-            at = n_old + int(p)
-            done = seq[at - self.blocks:at + 1].tolist()
-            if self._grown(done, scale[at - self.blocks].tolist(), int(k), self.least[j]):
-                return True
-        return False
+        p, k = np.nonzero(test)
+        at = n_old + p - self.blocks   # the oldest of the blocks each is judged on
+        least = self.least[j]
+        # _grown on arrays: the same comparisons and quotients (a failed one ends _grown early, which
+        # only skips quotients that no longer matter)
+        ok = seq[at, k] > self.floor * scale[at, k]
+        ratio = None
+        for m in range(self.blocks):
+            r = seq[at + m + 1, k] / seq[at + m, k]
+            good = ~(r < least)
+            if ratio is not None:
+                good &= (self.keep * ratio <= r) & (r <= self.rise * ratio)
+            ok &= good
+            ratio = r
+        return bool(ok.any())
 
     def _one_by_one(self, residual: np.ndarray, carried: np.ndarray, roundoff: np.ndarray | None):
         rows = zip(residual.tolist(), carried.tolist(), roundoff.tolist() if roundoff is not None else
