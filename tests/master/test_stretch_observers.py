@@ -92,6 +92,7 @@ def _both(**kw):
         loop.BATCH = batch
         try:
             r = run("elastic_pendulum", progress=False, fmus="native", **kw)
+            assert r.stats.kernel_calls < r.stats.steps / 10   # in stretches, not a call a step
             out.append((r.result.tobytes(), r.stats.steps, r.stats.bond_energy, r.stats.bond_carried, r.warnings))
         except SimulationError as err:
             out.append((str(err), len(err.result) if getattr(err, "result", None) is not None else None))
@@ -110,3 +111,43 @@ def test_an_alarm_in_a_block_fails_at_the_row_it_fails_row_by_row(built):
                         algorithm="jacobi", extrapolation=0)
     assert "power bond hook" in batch[0]
     assert batch == rows
+
+
+class _StopsAt:
+    """A caller's observer that takes rows after the fact but one by one (no ``steps_complete``): stops the
+    run, or fails it, at the first row at or after ``t_stop`` [s]."""
+
+    batchable = True
+
+    def __init__(self, t_stop: float, fail: bool):
+        self.t_stop, self.fail, self.seen = t_stop, fail, 0
+
+    def simulation_initialized(self, t, values):
+        return None
+
+    def step_complete(self, t, h, values):
+        self.seen += 1
+        if t >= self.t_stop:
+            if self.fail:
+                raise SimulationError(f"failed at t = {t:.9g} s")
+            return f"stopped at t = {t:.9g} s"
+        return None
+
+
+@pytest.mark.parametrize("fail", [False, True])
+def test_a_row_by_row_observer_in_a_block_stops_at_its_row(built, fail):
+    out = []
+    for batch in (True, False):
+        loop.BATCH = batch
+        watcher = _StopsAt(0.3105, fail)
+        try:
+            r = run("elastic_pendulum", stop_time=1.0, step_size=1e-3, progress=False, fmus="native",
+                    algorithm="jacobi", extrapolation=1, observers=(watcher,))
+            assert r.stats.kernel_calls < r.stats.steps / 10   # in stretches, not a call a step
+            out.append((r.result.tobytes(), r.stats.stopped, r.stats.steps, r.stats.bond_energy, watcher.seen))
+        except SimulationError as err:
+            out.append((str(err), err.result.tobytes(), watcher.seen))
+        finally:
+            loop.BATCH = True
+    assert out[0] == out[1]
+    assert out[0][-1] == 311   # rows t = 0.001 ... 0.311 s
