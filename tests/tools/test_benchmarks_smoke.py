@@ -35,6 +35,7 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
                            "{tmp}/sweep_overhead.md"], ["{tmp}/sweep_overhead.md"]),
     "kernel_call_cost.py": (["--calls", "2000", "--out", "{tmp}"], ["{tmp}/kernel_call_cost.md"]),
     "kinds_speed.py": (["--smoke"], ["benchmarks/results/kinds_speed_smoke.md"]),
+    "stretch_observers.py": (["--smoke"], ["benchmarks/results/stretch_observers_smoke.md"]),
     "cold_run_ab.py": (["--before", "HEAD", "--rounds", "1", "--scenes", "elastic_pendulum"],
                        ["benchmarks/results/cold_run_ab.md"]),
     "master_per_step.py": (["--steps", "200", "--rounds", "1", "--ks", "1", "--out", "{tmp}"],

@@ -54,6 +54,14 @@ def _counted_run(tmpdir: str, scene: str, kwargs: dict) -> dict:
         if self.count == STREAM_CHECK_AT and self.output is not None:
             seen["rows_on_disk_while_running"] = len(Path(self.path).read_text().splitlines()) - 1
     Recorder.record = watching
+    block = Recorder.steps_complete
+
+    def watching_blocks(self, *a, **kw):   # a compiled stretch's rows come in one call (master/loop.py)
+        block(self, *a, **kw)
+        if (self.count >= STREAM_CHECK_AT and self.output is not None
+                and "rows_on_disk_while_running" not in seen):
+            seen["rows_on_disk_while_running"] = len(Path(self.path).read_text().splitlines()) - 1
+    Recorder.steps_complete = watching_blocks
     out = {"error": None, "message": "", "rows": None}
     try:
         res = run(scene, isolate=False, **kwargs)

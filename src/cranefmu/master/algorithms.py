@@ -52,6 +52,12 @@ class Algorithm(ABC):
     def accepted(self) -> None:
         """The loop accepted the step just taken (a rejected one was rolled back instead)."""
 
+    def accepted_many(self, steps: int) -> None:
+        """:meth:`accepted` for each of the ``steps`` steps of a stretch."""
+        if type(self).accepted is not Algorithm.accepted:
+            for _ in range(steps):
+                self.accepted()
+
     def stretch(self, ts):
         """Take the steps of the grid ``ts`` (t, then each step's end) in one call, or return None (the
         default: step by step).  Returns (rows: time, outputs, discrete outputs per step; steps done;
@@ -337,6 +343,13 @@ class StartUp(Algorithm):
         current = self._current
         self.taken += 1
         current.accepted()
+
+    def accepted_many(self, steps: int) -> None:
+        if self.taken < self.p:
+            super().accepted_many(steps)
+            return
+        self.taken += steps
+        self.main.accepted_many(steps)
 
 
 def with_start_up(coupling: Coupling, algorithm: Algorithm, s) -> Algorithm:

@@ -123,6 +123,94 @@ class GrowthAlarm:
                         break
         return hit
 
+    def update_many(self, residual: np.ndarray, carried: np.ndarray, roundoff: np.ndarray | None = None):
+        """:meth:`update` for each row of a stretch (arrays of shape (steps, bonds)): (row index,
+        :class:`Growth`) at the first row that trips it, or None; the state as after the rows (up to the
+        tripping one).  The blocks of every level that end in the stretch are formed with arrays (the same
+        maxima, in the same pairs, as :meth:`update`); only where the cheap test passes somewhere do the
+        rows go through :meth:`update` one by one (almost never in a sound run)."""
+        steps = len(residual)
+        if steps == 0:
+            return None
+        c0 = self.count
+        running = np.fmax.accumulate(np.concatenate([np.array([self.carried], dtype=float), carried]), axis=0)[1:]
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+            levels = self._levels(residual, running, roundoff)
+        if levels is None:   # growth found: the rows one by one, as update() takes them
+            return self._one_by_one(residual, carried, roundoff)
+        keep = self.blocks + 1
+        for j, (counts, new) in enumerate(levels):
+            self.done[j] = (self.done[j] + new[-keep:].tolist())[-keep:]
+            self.scale[j] = (self.scale[j] + running[counts[-keep:] - c0 - 1].tolist())[-keep:]
+        self.count = c0 + steps
+        self.carried = running[-1].tolist()
+        return None
+
+    def _levels(self, residual: np.ndarray, running: np.ndarray, roundoff: np.ndarray | None):
+        """Per level, (counts, blocks) of the blocks that end in the stretch; None if at one of them a bond
+        passes the cheap test and :meth:`_grown`."""
+        c0, steps, levels = self.count, len(residual), []
+        below = None   # the level under this one: (count of its first block, blocks)
+        for j in range(LEVELS):
+            w = 1 << j
+            first = (c0 // w + 1) * w
+            if first > c0 + steps:
+                break
+            counts = np.arange(first, c0 + steps + 1, w)
+            if j == 0:
+                new = residual
+            else:
+                start, blocks = below
+                half = w >> 1
+                left, right = (counts - half - start) // half, (counts - start) // half
+                new = np.where(blocks[right] > blocks[left], blocks[right], blocks[left])
+            old = self.done[j]
+            if counts[-1] // w >= self.blocks + 1:
+                seq = np.concatenate([np.array(old, dtype=float).reshape(len(old), new.shape[1]), new])
+                # the block before each new one (the first new block's, if it has none, is not tested)
+                before = seq[len(old) - 1:-1] if len(old) else np.concatenate([new[:1], new[:-1]])
+                test = new >= self.least[j] * before
+                if roundoff is not None:
+                    test &= new > roundoff[counts - c0 - 1]
+                young = (self.blocks + 1) * w - first   # blocks at counts below (blocks + 1) w are not judged
+                if young > 0:
+                    test[:young // w] = False
+                if test.any() and self._any_grown(j, test, seq, len(old), running[counts - c0 - 1]):
+                    return None
+            levels.append((counts, new))
+            below = ((c0 // w) * w, np.concatenate([np.array(old[-1:], dtype=float), new])) if len(old) else (first, new)
+        return levels
+
+    def _any_grown(self, j: int, test: np.ndarray, seq: np.ndarray, n_old: int, scale_new: np.ndarray) -> bool:
+        """Whether :meth:`_grown` holds for any new block of level j and bond that passed the cheap test
+        (``test``), each judged on the blocks :meth:`update` would hold then (``seq``: the level's blocks
+        before the stretch, then the new ones) and the carried maxima at their ends."""
+        scale = np.concatenate([np.array(self.scale[j], dtype=float).reshape(n_old, seq.shape[1]), scale_new])
+        p, k = np.nonzero(test)
+        at = n_old + p - self.blocks   # the oldest of the blocks each is judged on
+        least = self.least[j]
+        # _grown on arrays: the same comparisons and quotients (a failed one ends _grown early, which
+        # only skips quotients that no longer matter)
+        ok = seq[at, k] > self.floor * scale[at, k]
+        ratio = None
+        for m in range(self.blocks):
+            r = seq[at + m + 1, k] / seq[at + m, k]
+            good = ~(r < least)
+            if ratio is not None:
+                good &= (self.keep * ratio <= r) & (r <= self.rise * ratio)
+            ok &= good
+            ratio = r
+        return bool(ok.any())
+
+    def _one_by_one(self, residual: np.ndarray, carried: np.ndarray, roundoff: np.ndarray | None):
+        rows = zip(residual.tolist(), carried.tolist(), roundoff.tolist() if roundoff is not None else
+                   [None] * len(residual))
+        for i, (r, c, f) in enumerate(rows):
+            hit = self.update(r, c, f)
+            if hit is not None:
+                return i, hit
+        return None
+
     def _grown(self, done: list[list[float]], carried: list[float], k: int, least: float) -> bool:
         first = done[0][k]
         if not first > self.floor * carried[k]:
@@ -161,6 +249,28 @@ class ImbalanceAlarm:
         for k, (d, c) in enumerate(zip(imbalance, capacity)):
             self.net[k] += d
             self.capacity[k] += c
+        return self._close()
+
+
+    def update_many(self, imbalance: np.ndarray, capacity: np.ndarray):
+        """:meth:`update` for each row of a stretch (arrays of shape (steps, bonds)): (row index,
+        :class:`Imbalance`) at the first row that trips it, or None.  Each window's sums are running sums
+        (one row added after another, as :meth:`update` adds them)."""
+        steps, at = len(imbalance), 0
+        while at < steps:
+            take = min(steps - at, self.window - self.count)
+            part = slice(at, at + take)
+            self.net = np.cumsum(np.concatenate([[self.net], imbalance[part]]), axis=0)[-1].tolist()
+            self.capacity = np.cumsum(np.concatenate([[self.capacity], capacity[part]]), axis=0)[-1].tolist()
+            self.count += take - 1
+            at += take
+            hit = self._close()
+            if hit is not None:
+                return at - 1, hit
+        return None
+
+    def _close(self) -> Imbalance | None:
+        """The row just added: count it, and judge the window if it is full."""
         self.count += 1
         if self.count < self.window:
             return None
@@ -239,6 +349,43 @@ class Watch:
         if alarm is not None:
             raise SimulationError(alarm)
 
+    def steps_complete(self, times: np.ndarray, hs: np.ndarray, rows: np.ndarray):
+        """The rows of a stretch at once (:func:`.loop.march`; the bond monitor's ``block`` measured them):
+        (row index, the alarm's :class:`~cranefmu.errors.SimulationError`) at the first row that trips
+        a detector, or None.  Each row goes through the detectors as in :meth:`update`."""
+        b, w = self.bonds, self.watched
+        block = b.block
+        cols = (block.residual, block.carried, block.roundoff, block.imbalance, block.capacity)
+        if w is not None:
+            cols = tuple(c[:, w] for c in cols)
+        residual, carried, roundoff, imbalance, capacity = cols
+        limit, alarm = len(hs), None
+        if self.growth is not None:   # at a row where both trip, growth is named (as in update)
+            g = self.growth.update_many(residual, carried, roundoff)
+            if g is not None:
+                limit, alarm = g[0], (g[0], SimulationError(self._grew(g[1], float(times[g[0]]))))
+        if self.imbalance is not None:
+            m = self.imbalance.update_many(imbalance[:limit], capacity[:limit])
+            if m is not None:
+                alarm = m[0], SimulationError(self._unbalanced(m[1], float(times[m[0]])))
+        return alarm
+
+    def _grew(self, g: Growth, t: float) -> str:
+        b, w = self.bonds, self.watched
+        g.bond = g.bond if w is None else w[g.bond]
+        return (f"power bond {b.names[g.bond]} (between {b.between(g.bond)}): its energy residual grew "
+                f"{g.factor:.3g} times in the last {g.steps} steps, by t = {t:.9g} s ({g.per_step():.4g} "
+                "per step, geometric): the explicit coupling is unstable at this step size. " + ADVICE)
+
+    def _unbalanced(self, m: Imbalance, t: float) -> str:
+        b, w = self.bonds, self.watched
+        m.bond = m.bond if w is None else w[m.bond]
+        return (f"power bond {b.names[m.bond]} (between {b.between(m.bond)}): in each of the last "
+                f"{m.steps // self.imbalance.window} windows of {self.imbalance.window} steps up to "
+                f"t = {t:.9g} s the coupling created or destroyed at least {m.ratio:.0%} of the energy "
+                "the bond's force and velocity can carry (|f| |v| h): the explicit coupling is unstable "
+                "(bounded by a slack or a stop) or far too coarse at this step size. " + ADVICE)
+
     def update(self, t: float, h: float) -> str | None:
         b, w = self.bonds, self.watched
         if self.growth is not None:
@@ -246,20 +393,12 @@ class Watch:
                  self.growth.update([b.residual_list[k] for k in w], [b.carried_list[k] for k in w],
                                     [b.roundoff_list[k] for k in w]))
             if g is not None:
-                g.bond = g.bond if w is None else w[g.bond]
-                return (f"power bond {b.names[g.bond]} (between {b.between(g.bond)}): its energy residual grew "
-                        f"{g.factor:.3g} times in the last {g.steps} steps, by t = {t:.9g} s ({g.per_step():.4g} "
-                        "per step, geometric): the explicit coupling is unstable at this step size. " + ADVICE)
+                return self._grew(g, t)
         if self.imbalance is not None:
             m = (self.imbalance.update(b.imbalance, b.capacity) if w is None else
                  self.imbalance.update([b.imbalance[k] for k in w], [b.capacity[k] for k in w]))
             if m is not None:
-                m.bond = m.bond if w is None else w[m.bond]
-                return (f"power bond {b.names[m.bond]} (between {b.between(m.bond)}): in each of the last "
-                        f"{m.steps // self.imbalance.window} windows of {self.imbalance.window} steps up to "
-                        f"t = {t:.9g} s the coupling created or destroyed at least {m.ratio:.0%} of the energy "
-                        "the bond's force and velocity can carry (|f| |v| h): the explicit coupling is unstable "
-                        "(bounded by a slack or a stop) or far too coarse at this step size. " + ADVICE)
+                return self._unbalanced(m, t)
         if self.increments is not None:
             s = self.system
             g = self.increments.update(s.values(), s.scale, h)
@@ -284,6 +423,24 @@ class ValueCheck:
         return None
 
     def step_complete(self, t: float, h: float, row: np.ndarray) -> None:
+        error = self.check(t, row, self.bonds.total)
+        if error is not None:
+            raise error
+
+    def steps_complete(self, times: np.ndarray, hs: np.ndarray, rows: np.ndarray):
+        """The rows of a stretch at once (:func:`.loop.march`): (row index, the error) at the first row
+        :meth:`step_complete` would fail, or None."""
+        bad = ~np.isfinite(rows).all(axis=1)
+        if self.energy_alarm is not None and self.bonds.bonds:
+            bad |= (self.bonds.block.total > self.energy_alarm).any(axis=1)
+        for i in np.flatnonzero(bad).tolist():
+            error = self.check(float(times[i]), rows[i], self.bonds.block.total[i] if self.bonds.bonds else None)
+            if error is not None:
+                return i, error
+        return None
+
+    def check(self, t: float, row: np.ndarray, total: np.ndarray) -> SimulationError | None:
+        """The error for the row at t [s] with the bonds' running totals ``total`` [J], or None."""
         system, bonds = self.system, self.bonds
         if not np.isfinite(row).all():
             i = int(np.flatnonzero(~np.isfinite(row))[0])
@@ -294,12 +451,13 @@ class ValueCheck:
             big = np.abs(row[:n])
             j = int(np.argmax(np.where(np.isfinite(big), big, -1.0)))
             grown = f" ({names[j]} = {row[j]:.3g})" if i >= n else ""
-            raise SimulationError(f"{what} became non-finite at t = {t:.9g} s{grown}: the coupling is unstable at "
-                                  "this step size. Try a smaller --step, --adaptive, or --algorithm iterative.")
+            return SimulationError(f"{what} became non-finite at t = {t:.9g} s{grown}: the coupling is unstable at "
+                                   "this step size. Try a smaller --step, --adaptive, or --algorithm iterative.")
         if self.energy_alarm is not None and bonds.bonds:
-            k = int(np.argmax(bonds.total))
-            if bonds.total[k] > self.energy_alarm:
-                raise SimulationError(f"power bond {bonds.names[k]} has put {bonds.total[k]:.6g} J of coupling error "
-                                      f"into the scene by t = {t:.9g} s (energy alarm {self.energy_alarm:g} J): the "
-                                      "coupling is unstable or too coarse. Try a smaller --step, --adaptive, or "
-                                      "--algorithm iterative.")
+            k = int(np.argmax(total))
+            if total[k] > self.energy_alarm:
+                return SimulationError(f"power bond {bonds.names[k]} has put {total[k]:.6g} J of coupling error "
+                                       f"into the scene by t = {t:.9g} s (energy alarm {self.energy_alarm:g} J): the "
+                                       "coupling is unstable or too coarse. Try a smaller --step, --adaptive, or "
+                                       "--algorithm iterative.")
+        return None

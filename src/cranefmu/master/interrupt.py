@@ -111,6 +111,11 @@ class Interrupt:
             return None
         return f"interrupted by {signal_name(self.signum)} at t = {t:.9g} s"
 
+    def steps_complete(self, times, hs, rows):
+        """The rows of a stretch at once (:func:`.loop.march`): a signal that arrived stops at the first."""
+        reason = self.step_complete(float(times[0]), float(hs[0]), rows[0]) if len(times) else None
+        return (0, reason) if reason else None
+
     def __enter__(self) -> "Interrupt":
         if threading.current_thread() is threading.main_thread():
             for s in self.signals:

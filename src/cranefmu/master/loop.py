@@ -22,7 +22,12 @@ from .algorithms import Algorithm
 
 
 class Observer(Protocol):
-    """``values``: the row, an array the loop reuses for the next row (copy what you keep)."""
+    """``values``: the row, an array the loop reuses for the next row (copy what you keep).
+
+    Optional: ``batchable = True`` (rows may come after the fact, behind a compiled stretch);
+    ``steps_complete(times, hs, rows)``, the rows of a stretch at once (2-D, one per step), returning
+    (row index, reason or error) at the first row that stops or fails the run, or None; ``passive = True``
+    (never stops the run on a row's content: given its rows once the stop is known).  See :func:`_deliver`."""
 
     def simulation_initialized(self, t: float, values: np.ndarray) -> str | None:
         """The row at the start time [s]; a reason to stop at once, or None."""
@@ -53,6 +58,7 @@ class Coupled(Protocol):
     def release(self, snapshot) -> None: ...
 
 
+BATCH = True    # a stretch's rows go to the observers in blocks (False: one by one, the reference)
 STRETCH = 256   # most macro steps one compiled call takes when no observer needs them one by one
 
 
@@ -73,8 +79,8 @@ class March:
     Where every step is taken as proposed on a fixed grid and every observer takes rows after the fact
     (``batchable``), a step may be a stretch of steps in one call of the algorithm
     (:meth:`~.algorithms.Algorithm.stretch`, the compiled Jacobi); the observers then see its rows in
-    order, and one that stops the run or fails it does so at its row (the FMUs have gone on to the end
-    of the stretch)."""
+    order (in one block each where they take blocks: :func:`_deliver`), and one that stops the run or
+    fails it does so at its row (the FMUs have gone on to the end of the stretch)."""
 
     def __init__(self, coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler,
                  observers: list[Observer], t: float):
@@ -86,7 +92,8 @@ class March:
         self.done = False   # the controller proposed no further step
         # a step nobody may reject and that needs no snapshot is taken directly (what _attempt does, without its calls)
         self.direct = not control.rolls_back and not control.judges
-        self.batched = (self.direct and hasattr(control, "upcoming") and isinstance(sample, Sampler)
+        self.batched = (self.direct and hasattr(control, "upcoming") and hasattr(control, "advance_grid")
+                        and isinstance(sample, Sampler)
                         and all(getattr(o, "batchable", False) for o in observers))
         if self.batched:
             sample.prepare_stretches()
@@ -114,7 +121,7 @@ class March:
                         ts = ts[:past[0] + 2]
                 got = algorithm.stretch(ts)
                 if got is not None:
-                    self.t, self.reason = _deliver(got, algorithm, control, sample, self.observers, self.stats, t)
+                    self.t, self.reason = _deliver(got, algorithm, control, sample, self.observers, self.stats, ts)
                     return True
             if self.direct and not algorithm.needs_snapshot:
                 h, iterations = algorithm.step(t, h, None)
@@ -139,9 +146,75 @@ class March:
 
 
 def _deliver(stretch, algorithm: Algorithm, control: StepControl, sample: Sampler, observers: list[Observer],
-             stats, t: float) -> tuple[float, str | None]:
-    """The rows of a stretch (rows, steps done, failure or None) to the observers, step by step as
-    :func:`march` gives them; then the stretch's failure, if it had one."""
+             stats, ts: np.ndarray) -> tuple[float, str | None]:
+    """The rows of a stretch (rows, steps done, failure or None) to the observers as :func:`march` gives
+    them step by step: every observer sees the rows up to the first that stops or fails the run, those
+    before the one that stops it see that row too; then the stretch's failure, if it had one.
+
+    An observer with ``steps_complete(times, hs, rows)`` takes the rows at once and returns (row index,
+    reason or error) at the first it stops or fails on (None: it took them all); the others take them
+    one by one.  Observers marked ``passive`` (they never stop a run on a row's content: the recorder, the
+    progress bar) take their rows last, once it is known where the run stops; the others in their order,
+    each over the rows before the first stop found so far (where a later observer stops before an
+    earlier one's stop, the earlier one has seen rows past it: the run is over, and only the rows, the
+    bonds and the statistics, all cut at the stop, are its result)."""
+    t = float(ts[0])
+    if not BATCH:
+        return _deliver_rows(stretch, algorithm, control, sample, observers, stats, t)
+    rows, done, failure = stretch
+    times, hs = ts[1:done + 1], np.diff(ts[:done + 1])
+    block = sample.take_block(rows[:done, 1:], hs)
+    limit, stop, who = done, None, len(observers)
+    for k, o in enumerate(observers):
+        if getattr(o, "passive", False) or not limit:
+            continue
+        got = _observe(o, times[:limit], hs[:limit], block[:limit])
+        if got is not None:
+            limit, stop, who = got[0], got[1], k
+    seen = limit + 1 if stop is not None else limit   # rows the run took: the stopping one too
+    for k, o in enumerate(observers):
+        if getattr(o, "passive", False):
+            n = seen if k < who else limit
+            if n:
+                got = _observe(o, times[:n], hs[:n], block[:n])
+                if got is not None and isinstance(got[1], BaseException):
+                    raise got[1]
+    many = getattr(algorithm, "accepted_many", None)
+    if many is not None:
+        many(seen)
+    else:
+        for _ in range(seen):
+            algorithm.accepted()
+    if seen:
+        t = control.advance_grid(ts, seen)
+        _count_many(stats, hs[:seen])
+        sample.commit_block(block, seen)
+    if isinstance(stop, BaseException):
+        raise stop
+    if stop is None and failure is not None:
+        raise failure
+    return t, stop
+
+
+def _observe(o, times: np.ndarray, hs: np.ndarray, rows: np.ndarray):
+    """(row index, reason or error) where ``o`` stops or fails on the rows, or None."""
+    batch = getattr(o, "steps_complete", None)
+    if batch is not None:
+        return batch(times, hs, rows)
+    for i in range(len(hs)):
+        try:
+            reason = o.step_complete(float(times[i]), float(hs[i]), rows[i])
+        except Exception as err:   # raised once the observers before it have seen the row (as row by row)
+            return i, err
+        if reason:
+            return i, reason
+    return None
+
+
+def _deliver_rows(stretch, algorithm: Algorithm, control: StepControl, sample: Sampler,
+                  observers: list[Observer], stats, t: float) -> tuple[float, str | None]:
+    """:func:`_deliver` one row at a time, each through every observer's ``step_complete`` (the reference,
+    and the path before batches: ``BATCH = False``)."""
     rows, done, failure = stretch
     reason = None
     for i in range(done):
@@ -186,6 +259,17 @@ def _first(reasons) -> str | None:
         if reason:
             return reason
     return None
+
+
+def _count_many(stats, hs: np.ndarray) -> None:
+    """:func:`_count` of one iteration for each step of ``hs`` [s]."""
+    first = stats.steps == 0
+    stats.steps += len(hs)
+    stats.iterations += len(hs)
+    stats.max_iterations = max(stats.max_iterations, 1)
+    least, most = float(hs.min()), float(hs.max())
+    stats.min_step = least if first else min(stats.min_step, least)
+    stats.max_step = max(stats.max_step, most)
 
 
 def _count(stats, h: float, iterations: int) -> None:
@@ -234,6 +318,28 @@ class Sampler:
             self.bonds.measure_values(values[n:], h)
             row[n:] = self.bonds.row
         return row
+
+    def take_block(self, values: np.ndarray, hs: np.ndarray) -> np.ndarray:
+        """The rows of a stretch's steps hs [s] (as :meth:`take` gives them, one per step) from its rows
+        ``values``; the bonds measured over them (:attr:`block`), not yet committed (:meth:`commit_block`)."""
+        n = self.n
+        rows = np.empty((len(hs), len(self.row_)))
+        rows[:, :n] = values[:, :n]
+        if self.bonds.bonds:
+            self.bonds.block = b = self.bonds.measure_block(values[:, n:], hs)
+            rows[:, n::2] = b.residual
+            rows[:, n + 1::2] = b.total
+        return rows
+
+    def commit_block(self, rows: np.ndarray, taken: int) -> None:
+        """The sampler and the bonds as :meth:`take` leaves them after the first ``taken`` rows."""
+        last = rows[taken - 1]
+        self.row_[:] = last
+        if self.has_flags:
+            flags = self.system.flag_value
+            flags[:] = last[self.n - len(flags):self.n]
+        if self.bonds.bonds:
+            self.bonds.commit(self.bonds.block, taken)
 
     def row(self) -> np.ndarray:
         row = self.system.fill_outputs(self.row_)

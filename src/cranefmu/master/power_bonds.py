@@ -127,6 +127,33 @@ def resolve(system, bonds: list[tuple[str, list[dict]]]) -> list[Bond]:
     return out
 
 
+class BondBlock:
+    """What :meth:`BondMonitor.measure_block` measured over a stretch, one row per step, one column per
+    bond [J]: residual, carried, imbalance, capacity, roundoff as the monitor keeps them for one step,
+    and the running totals after each step (total, carried_total, impulse)."""
+
+    steps: int
+    residual: np.ndarray
+    carried: np.ndarray
+    imbalance: np.ndarray
+    capacity: np.ndarray
+    roundoff: np.ndarray
+    total: np.ndarray
+    carried_total: np.ndarray
+    impulse: np.ndarray
+
+
+def _larger(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Python's max(a, b) elementwise (a unless b > a: a NaN in b is not taken, one in a is kept)."""
+    return np.where(b > a, b, a)
+
+
+def _running(start: np.ndarray, steps: np.ndarray) -> np.ndarray:
+    """start + steps[0], then + steps[1], ... per column (one addition after another, as a running float
+    total adds them), shape of ``steps``."""
+    return np.cumsum(np.concatenate([start[None, :], steps]), axis=0)[1:]
+
+
 class BondMonitor:
     """Observer of the power bonds: per step dE and running total per bond; optional alarm."""
 
@@ -197,6 +224,64 @@ class BondMonitor:
         if self._has_inputs:
             v[self._in_v] = values[at:]
         self._compute(h)
+
+    def measure_block(self, values: np.ndarray, hs: np.ndarray) -> "BondBlock":
+        """:meth:`measure_values` for every row of a stretch at once (``values``: the rows' bond values,
+        shape (steps, ...); ``hs``: each step [s]), without changing the monitor: :meth:`commit` does.
+        The same operations in the same order as :meth:`_compute` on each row (elementwise products and
+        sums, running totals accumulated one row after another), so the same bits."""
+        steps, nb = len(hs), len(self.bonds)
+        b = BondBlock()
+        b.steps = steps
+        if nb == 0:
+            b.residual = b.carried = b.imbalance = b.capacity = b.roundoff = np.zeros((steps, 0))
+            b.total = b.carried_total = b.impulse = np.zeros((steps, 0))
+            return b
+        v = np.empty((steps, len(self._v)))
+        order = [vpos for _, vpos, _ in self._reads] + ([self._in_v] if self._has_inputs else [])
+        v[:, np.concatenate(order)] = values
+        power, capacity, force = [], [], []
+        with np.errstate(over="ignore", invalid="ignore"):
+            for off, n, sign in self._sides:
+                p, ff, uu = np.zeros(steps), np.zeros(steps), np.zeros(steps)
+                for i in range(off, off + n):
+                    f, u = v[:, i], v[:, i + n]
+                    p += f * u
+                    ff += f * f
+                    uu += u * u
+                power.append(sign * p)
+                capacity.append(np.sqrt(ff * uu))
+                force.append(ff)
+            h = hs[:, None]
+            pa, pb = np.stack(power[0::2], axis=1), np.stack(power[1::2], axis=1)
+            b.residual = np.abs(pa - pb) * h
+            b.carried = _larger(np.abs(pa), np.abs(pb)) * h
+            b.imbalance = (pa - pb) * h
+            b.capacity = _larger(np.stack(capacity[0::2], axis=1), np.stack(capacity[1::2], axis=1)) * h
+            impulse = np.sqrt(_larger(np.stack(force[0::2], axis=1), np.stack(force[1::2], axis=1))) * h
+            b.roundoff = ROUNDOFF_SPEED * impulse
+            b.total = _running(self.total, b.residual)
+            b.carried_total = _running(self.carried_total, b.carried)
+            b.impulse = _running(np.array(self.impulse, dtype=float), impulse)
+        return b
+
+    def commit(self, block: "BondBlock", rows: int) -> None:
+        """The monitor as :meth:`measure_values` leaves it after the first ``rows`` rows of ``block``."""
+        if rows == 0 or not self.bonds:
+            return
+        i = rows - 1
+        residual, carried = block.residual[i], block.carried[i]
+        self.residual[:] = residual
+        self.carried[:] = carried
+        self.residual_list, self.carried_list = residual.tolist(), carried.tolist()
+        self.roundoff_list = block.roundoff[i].tolist()
+        self.imbalance = block.imbalance[i].tolist()
+        self.capacity = block.capacity[i].tolist()
+        self.impulse = block.impulse[i].tolist()
+        self.total[:] = block.total[i]
+        self.carried_total[:] = block.carried_total[i]
+        self.row[0::2] = self.residual
+        self.row[1::2] = self.total
 
     def _compute(self, h: float) -> None:
         x = self._v.tolist()

@@ -9,6 +9,7 @@ class Progress:
     """Shows a bar after ``delay`` seconds of wall time, if stderr is a terminal; never steers."""
 
     batchable = True   # takes rows after the fact: a stretch of compiled steps may precede it (loop.march)
+    passive = True     # never stops the run on a row's content: takes a stretch's rows once its stop is known
 
     def __init__(self, start: float, stop: float, enabled: bool | None = None, delay: float = 3.0):
         self.start, self.stop = start, stop
@@ -23,6 +24,11 @@ class Progress:
 
     def step_complete(self, t: float, h: float, values) -> None:
         self.update(t)
+
+    def steps_complete(self, times, hs, rows) -> None:
+        """The rows of a stretch at once (:func:`.loop.march`): the bar moves to the last."""
+        if len(times):
+            self.update(float(times[-1]))
 
     def update(self, t: float) -> None:
         if not self.enabled:

@@ -25,6 +25,7 @@ class Recorder:
     """
 
     batchable = True   # takes rows after the fact: a stretch of compiled steps may precede it (loop.march)
+    passive = True     # never stops the run on a row's content: takes a stretch's rows once its stop is known
 
     BLOCK = 1024   # rows per preallocated block in memory
 
@@ -74,6 +75,45 @@ class Recorder:
             self._pending += 1
             if self.count == 1 or self._pending >= self._flush_every:
                 self.flush()
+
+    def steps_complete(self, times: np.ndarray, hs: np.ndarray, rows: np.ndarray) -> None:
+        """The rows of a stretch at once (:func:`.loop.march`): as :meth:`record` of each, flushed at the
+        same rows."""
+        data = np.empty((len(times), len(self.columns)))
+        data[:, 0] = times
+        data[:, 1:] = rows
+        at, n = 0, len(data)
+        while at < n:
+            take = n - at
+            if self.fd is not None:   # up to the next flush
+                take = min(take, 1 if self.count == 0 else max(1, self._flush_every - self._pending))
+            chunk = data[at:at + take]
+            self._store(chunk)
+            self.count += take
+            self.last_time = float(chunk[-1, 0])
+            at += take
+            if self.fd is not None:
+                self._writer.writerows(chunk.tolist())
+                self._pending += take
+                if self.count == take or self._pending >= self._flush_every:
+                    self.flush()
+
+    def _store(self, chunk: np.ndarray) -> None:
+        """Rows into the blocks in memory (without ``keep``: the last one)."""
+        if not self.keep:
+            self._block[0] = chunk[-1]
+            self._at = 1
+            return
+        at = 0
+        while at < len(chunk):
+            if self._at == len(self._block):
+                self._blocks.append(self._block)
+                self._block = np.empty_like(self._block)
+                self._at = 0
+            take = min(len(chunk) - at, len(self._block) - self._at)
+            self._block[self._at:self._at + take] = chunk[at:at + take]
+            self._at += take
+            at += take
 
     def flush(self) -> None:
         """Write the buffered rows; on failure cut the file back to its last whole row and raise."""

@@ -87,10 +87,12 @@ class FixedSteps:
     def upcoming(self, t: float, most: int) -> np.ndarray:
         """t and the next grid times after it (at most ``most`` steps), as :meth:`propose` gives them."""
         steps = min(most, self.count - self.n)
-        ts = [t] + [self.start + (self.n + i) * self.step for i in range(1, steps + 1)]
+        ts = np.empty(steps + 1)
+        ts[0] = t
+        ts[1:] = self.start + np.arange(self.n + 1, self.n + steps + 1) * self.step   # each as propose()
         if self.n + steps == self.count:
             ts[-1] = self.stop
-        return np.array(ts)
+        return ts
 
     def prepare(self, t: float, h: float, algorithm) -> None:
         pass
@@ -100,6 +102,13 @@ class FixedSteps:
 
     def advance(self, t: float, h: float) -> float:
         self.n += 1
+        return self.t_next
+
+    def advance_grid(self, ts: np.ndarray, steps: int) -> float:
+        """:meth:`propose` and :meth:`advance` for each of the first ``steps`` steps of ``ts`` (from
+        :meth:`upcoming`); returns the time reached [s]."""
+        self.n += steps
+        self.t_next = float(ts[steps])
         return self.t_next
 
     def accepted(self, h: float, bonds) -> None:

@@ -16,6 +16,8 @@ the scene's list; an empty list runs on.
 """
 from __future__ import annotations
 
+import numpy as np
+
 
 from ..errors import SceneError, SettingsError
 
@@ -54,6 +56,17 @@ class StopWatch:
 
     def step_complete(self, t: float, h: float, values) -> str | None:
         return self.check(t, values)
+
+    def steps_complete(self, times: np.ndarray, hs: np.ndarray, rows: np.ndarray):
+        """The rows of a stretch at once (:func:`.loop.march`): (row index, reason) at the first row
+        that stops the run, or None."""
+        if not self.watched:
+            return None
+        hit = (rows[:, [i for i, _, _ in self.watched]] != 0.0).any(axis=1)
+        if not hit.any():
+            return None
+        i = int(np.argmax(hit))
+        return i, self.check(float(times[i]), rows[i])
 
     def check(self, t: float, row) -> str | None:
         """Why the run stops at ``t`` [s], or None to go on."""
