@@ -216,22 +216,22 @@ def scene_fmus(scene_dir: Path, fmu_dir: Path | None = None) -> list[Path]:
     ssd = Path(scene_dir) / "SystemStructure.ssd"
     if not ssd.is_file() and _compose().has_source(scene_dir):   # a new scene source, its SSD not written yet
         return sorted({fmu_dir / c.fmu_file for c in _compose().read_source(scene_dir).components})
-    try:
-        key = (str(scene_dir), str(fmu_dir), ssd.stat().st_mtime_ns)
+    try:   # the FMUs' file names, read once a process per SSD (the pythonfmu and native checks share them)
+        key = (str(scene_dir), ssd.stat().st_mtime_ns)
     except OSError:
         key = None
     if key is None or key not in _SCENE_FMUS:
         from .master.scene import read_scene_folder
 
-        found = sorted({c.fmu for c in read_scene_folder(scene_dir, fmu_dir).components})
+        names = sorted({c.fmu.name for c in read_scene_folder(scene_dir, fmu_dir).components})
         if key is None:
-            return found
-        _SCENE_FMUS[key] = found
-    return list(_SCENE_FMUS[key])
+            return [fmu_dir / n for n in names]
+        _SCENE_FMUS[key] = names
+    return [fmu_dir / n for n in _SCENE_FMUS[key]]
 
 
 # a run checks its scene for staleness: the SSD is parsed once per version of the file (~5 ms a parse)
-_SCENE_FMUS: dict[tuple[str, str, int], list[Path]] = {}
+_SCENE_FMUS: dict[tuple[str, int], list[str]] = {}   # (scene folder, SSD mtime) -> its FMUs' file names
 
 
 def ssp_is_stale(scene_dir: Path) -> bool:

@@ -141,10 +141,16 @@ def native_reason(scene: str) -> str | None:
     missing = [n for n in names if not has_c_model(n)]
     if missing:
         return f"no C model of {', '.join(missing)} yet (cranefmu/native/models/)"
-    if (staged / "SystemStructure.ssd").is_file() and not native_ssp_is_stale(staged) \
-            and not any(native_fmu_is_stale(n) for n in names):
+    if _native_current(staged, names):
         return None
     return compiler_reason()
+
+
+def _native_current(staged: Path, names: list[str]) -> bool:
+    """True if the native scene built from ``staged`` (its FMUs ``names``, each with a C model) and its FMUs
+    are built and current."""
+    return (staged / "SystemStructure.ssd").is_file() and not native_ssp_is_stale(staged) \
+        and not any(native_fmu_is_stale(n) for n in names)
 
 
 def build_native(force: bool = False, verbose: bool = True, only: list[str] | None = None) -> list[Path]:
@@ -219,6 +225,11 @@ def scene_path(name: str, fmus: str | None = None) -> Path:
         b.build(verbose=False, only=[name])
     if fmus == "python":
         return b.SSP_DIR / f"{name}.ssp"
+    staged = b._staged_path(next(d for d in b.scene_dirs() if d.name == name))
+    if (staged / "SystemStructure.ssd").is_file():   # built and current: checked once, not again below
+        names = [f.stem for f in b.scene_fmus(staged)]
+        if all(has_c_model(n) for n in names) and _native_current(staged, names):
+            return native_ssp_dir() / f"{name}.ssp"
     reason = native_reason(name)
     if reason is not None:
         if fmus == "native":
@@ -228,7 +239,6 @@ def scene_path(name: str, fmus: str | None = None) -> Path:
             _TOLD.add(name)
             print(f"cranefmu: scene {name} runs with the pythonfmu FMUs: {reason}", file=sys.stderr, flush=True)
         return b.SSP_DIR / f"{name}.ssp"
-    staged = b._staged_path(next(d for d in b.scene_dirs() if d.name == name))
     if any(native_fmu_is_stale(f.stem) for f in b.scene_fmus(staged)) or native_ssp_is_stale(staged):
         print(f"cranefmu: building scene {name} with native FMUs into {native_ssp_dir()}", file=sys.stderr,
               flush=True)

@@ -44,16 +44,27 @@ class SceneFolders(Mapping):
 
     def __init__(self) -> None:
         self._loaded: dict[str, SceneInfo] | None = None
+        self._one: dict[str, SceneInfo] = {}   # those read one by one (a run's summary reads only its own)
 
     def _scenes(self) -> dict[str, SceneInfo]:
         if self._loaded is None:
             from .sources import scene_dirs
 
-            self._loaded = {d.name: scene_info(d) for d in scene_dirs() if (d / ANALYSIS).is_file()}
+            self._loaded = {d.name: self._one.get(d.name) or scene_info(d) for d in scene_dirs()
+                            if (d / ANALYSIS).is_file()}
         return self._loaded
 
     def __getitem__(self, name: str) -> SceneInfo:
-        return self._scenes()[name]
+        if self._loaded is not None:
+            return self._loaded[name]
+        if name not in self._one:   # only this scene's folder: reading all five costs a cold run ~5 ms
+            from .sources import scene_dirs
+
+            folder = next((d for d in scene_dirs() if d.name == name and (d / ANALYSIS).is_file()), None)
+            if folder is None:
+                raise KeyError(name)
+            self._one[name] = scene_info(folder)
+        return self._one[name]
 
     def __iter__(self):
         return iter(self._scenes())

@@ -164,8 +164,10 @@ def test_a_native_fmu_is_stale_when_its_sources_or_tables_change(tmp_path, monke
         assert not fmu_kinds.native_fmu_is_stale("Girder")
         assert fmu.stat().st_mtime > 1e9                                   # renewed: not assembled again
         os.utime(fmu, (1e9, 1e9))
-        real = nb.model_header
-        monkeypatch.setattr(nb, "model_header", lambda *a, **k: real(*a, **k) + "\n/* changed table */\n")
+        import cranefmu.native.tables as nt   # imported by assemble_source_fmu when it runs
+
+        real = nt.model_header
+        monkeypatch.setattr(nt, "model_header", lambda *a, **k: real(*a, **k) + "\n/* changed table */\n")
         assert fmu_kinds.native_fmu_is_stale("Girder")
     finally:
         b.set_build_dirs(*before)

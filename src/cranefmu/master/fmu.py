@@ -139,6 +139,9 @@ def fmu_switch_names(fmu: Path) -> dict[str, dict[str, int]]:
         return switch_names(check_xml(zf.read("modelDescription.xml"), f"{Path(fmu).name}/modelDescription.xml"))
 
 
+NOT_EXTRACTED = ("sources/",)   # FMU folders a run never reads: not unzipped (FMI 2.0 and 3.0 name it so)
+
+
 class FmuComponent:
     """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages (an
     FMI 3.0 one through the FMI 2.0 calls of :mod:`.fmi3`)."""
@@ -169,9 +172,11 @@ class FmuComponent:
         and the switch names (:func:`switch_names`)."""
         from .untrusted import safe_extract
 
-        # fmpy.extract lets zipfile rewrite '../' entries silently; ours refuses the archive instead
+        # fmpy.extract lets zipfile rewrite '../' entries silently; ours refuses the archive instead.  A run
+        # needs modelDescription.xml, binaries/ and resources/: the C sources of a source FMU (sources/, most of
+        # a native FMU's files) are checked but not written (measured: 7 ms of CPU an FMU, 2 ms without them)
         try:
-            safe_extract(fmu_path, unzipdir)
+            safe_extract(fmu_path, unzipdir, skip=NOT_EXTRACTED)
         except SceneError as err:
             raise SceneError(f"component {name!r}: {err}") from None
         except Exception as err:

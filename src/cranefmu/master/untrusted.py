@@ -104,9 +104,10 @@ def check_sizes(zf: zipfile.ZipFile, label: str) -> None:
                              f"(refused as a possible zip bomb); set {RATIO_ENV} to raise it")
 
 
-def safe_extract(archive: Path, target: Path) -> None:
+def safe_extract(archive: Path, target: Path, skip: tuple[str, ...] = ()) -> None:
     """Extract a zip, refusing members that would land outside ``target`` (absolute, ``..``, links),
-    an archive over the size limits (:func:`check_sizes`) and a file that is not a zip archive."""
+    an archive over the size limits (:func:`check_sizes`) and a file that is not a zip archive.
+    Members whose names start with one of ``skip`` (e.g. ``"sources/"``) are checked but not written."""
     target = target.resolve()
     try:
         with zipfile.ZipFile(archive) as zf:
@@ -118,6 +119,6 @@ def safe_extract(archive: Path, target: Path) -> None:
                 if (info.external_attr >> 16) & 0o170000 == 0o120000:
                     raise SceneError(f"{archive.name}: entry {info.filename!r} is a symbolic link; refusing the archive")
             check_sizes(zf, archive.name)
-            zf.extractall(target)
+            zf.extractall(target, [i for i in zf.infolist() if not i.filename.startswith(skip)] if skip else None)
     except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, NotImplementedError, zlib.error) as err:
         raise SceneError(f"{archive} is not a readable zip archive ({err}): an .ssp or .fmu must be one") from None

@@ -32,8 +32,6 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from .tables import model_header
-
 HERE = Path(__file__).resolve().parent
 LAYER_DIR = HERE / "fmi2"
 INCLUDE_DIR = HERE / "include"
@@ -107,8 +105,10 @@ def assemble_source_fmu(name: str, unzipdir: Path, *, script: Path | None = None
 
     ``script`` (default ``fmus/<name>.py``) holds the pythonfmu slave class ``name``; ``model_c``
     (default ``models/<name>.c``) its C model (tests pass their own)."""
-    # here, not at the top: the generator imports the pythonfmu adapter, which a run's build check never needs
+    # here, not at the top: the generator imports the pythonfmu adapter, and the tables the physics package
+    # (about 10 ms of a cold run's CPU), which a run's build check never needs
     from .description import native_description, slave_class, variables_header
+    from .tables import model_header
 
     cls = slave_class(name, script)
     model_c = model_c or model_source(name)
