@@ -1,23 +1,23 @@
 """The cheapest run settings per scene that meet 1 % of range on its key outputs and keep every listed
 mode (issue 24): the scene defaults, and each scene's fidelity ladder.
 
-For each scene: its key outputs (``cranefmu.converge.key_outputs``) against the monolithic reference
-(``cranefmu.converge.monolithic_reference``, rtol 1e-10, cached in /tmp) over the scene's default stop
+For each scene: its key outputs (``cranefmu.analysis.converge.key_outputs``) against the monolithic reference
+(``cranefmu.analysis.converge.monolithic_reference``, rtol 1e-10, cached in /tmp) over the scene's default stop
 time (at most 10 s; truck_telescope 30 s, truck_slewing 20 s: the whole slew).  Candidates: jacobi x0/x1/x2
 and gauss-seidel x1 at H = 50, 20, 10, 5, 4, 3, 2, 1 ms (each series from coarse to fine, stopping at the first
 H that passes, since a finer one costs more), jacobi x1 with the hook bond implicit (elastic_pendulum, hook_sway; the
 truck: every bond, x1 and x2) on the same steps, and jacobi x1 adaptive.  A candidate passes when
 
-- every listed mode (:data:`cranefmu.modal.MODES`, fitted from its probe run against the monolith's)
-  is within 0.5 % in frequency and 5 % in damping ratio (:func:`cranefmu.modal.check_setting`),
+- every listed mode (:data:`cranefmu.analysis.modal.MODES`, fitted from its probe run against the monolith's)
+  is within 0.5 % in frequency and 5 % in damping ratio (:func:`cranefmu.analysis.modal.check_setting`),
 - its worst error is <= MARGIN (0.5 %) of the key output's range (the target is 1 %),
 - the instability alarm (on, as by default) did not stop it,
 - it adds no energy: every power bond's total residual <= RESIDUAL_WARNING of the energy the bond
   carried (the run's own warning), and on hook_sway (a swing without excitation) the payload sway
   amplitude of the last 2 s relative to the first 2 s does not exceed the reference's ratio by more
   than 0.2 % (the beat of hook and payload modes moves it in the exact solution too),
-- it answers the scene's question over its natural length (:data:`cranefmu.scene_questions.NATURAL`:
-  hook_sway 30 s, the others their stop time) as the monolith does (:func:`cranefmu.scene_questions.answers`:
+- it answers the scene's question over its natural length (:data:`cranefmu.analysis.scene_questions.NATURAL`:
+  hook_sway 30 s, the others their stop time) as the monolith does (:func:`cranefmu.analysis.scene_questions.answers`:
   hook_sway's swing energy lost within 5 % of the monolith's loss; the other scenes' levels and extremes
   within 1 % of their scale, tipping and lifted pads equal).
 
@@ -52,13 +52,13 @@ from pathlib import Path
 
 import numpy as np
 
-from cranefmu import modal, scene_questions
-from cranefmu.converge import key_outputs, monolithic_reference
+from cranefmu.analysis import modal, scene_questions
+from cranefmu.analysis.converge import key_outputs, monolithic_reference
 from cranefmu.errors import CraneFmuError, SimulationError
 from cranefmu.master.power_bonds import RESIDUAL_WARNING
 from cranefmu.master.run import run
-from cranefmu.scene_questions import NATURAL, answers
-from cranefmu.scene_questions import worst as worst_answer
+from cranefmu.analysis.scene_questions import NATURAL, answers
+from cranefmu.analysis.scene_questions import worst as worst_answer
 from cranefmu.scenes import hook_sway_metrics
 
 SCENES = ("elastic_pendulum", "hook_sway", "overhead_lift", "truck_telescope", "truck_slewing")
@@ -143,7 +143,7 @@ def candidate(scene: str, stop: float, ref, keys, algorithm: str, extrapolation:
     """One run against the reference; ``parameter_set`` and ``parameters`` override the scene's defaults,
     ``settings`` are further run settings (e.g. implicit, coupling_tolerance).  The run spans ``natural`` [s]
     (at least ``stop``; ``ref`` covers it): range errors of its first ``stop`` seconds, the scene's question
-    (:func:`cranefmu.scene_questions.answers`, with the scene's parameter values ``params``) over all of it."""
+    (:func:`cranefmu.analysis.scene_questions.answers`, with the scene's parameter values ``params``) over all of it."""
     label = label or f"{algorithm} x{extrapolation} " + (f"adaptive tol {tolerance:g}" if tolerance
                                                          else f"H {h * 1e3:g} ms")
     extra = dict(adaptive=True, tolerance=tolerance) if tolerance else {}
@@ -321,11 +321,11 @@ def table(scene: str, rows: list[dict], facts: dict) -> list[str]:
                    f"{'yes' if r['adds_energy'] else 'no'} | {'yes' if r['ok'] else 'no'} | {q} |")
     modes = modal.specs(scene)
     if modes:
-        out += ["", "Listed modes (cranefmu.modal; errors against the monolith fitted over the same probe run): "
+        out += ["", "Listed modes (cranefmu.analysis.modal; errors against the monolith fitted over the same probe run): "
                 + "; ".join(f"{m.name} in {m.column} ({m.span:g} s" + (f", probe {m.probe}" if m.probe else "") + ")"
                             for m in modes) + "."]
     else:
-        out += ["", "No listed modes (cranefmu.modal.MODES has none for this scene yet): range and bonds only."]
+        out += ["", "No listed modes (cranefmu.analysis.modal.MODES has none for this scene yet): range and bonds only."]
     ladder = fidelity_ladder(rows, best)
     out += ["", "Fidelity ladder (fastest -> most faithful):", "",
             "| setting | RTF | range err | f err | zeta err | meets all |", "| --- | --- | --- | --- | --- | --- |"]
@@ -603,7 +603,7 @@ def main(argv: list[str] | None = None) -> int:
                     + ", ".join(f"{a}-x{x}" for a, x in SERIES) + ", implicit, implicit-x2, adaptive (default: all); a "
                     "restricted study chooses among what it ran")
     ap.add_argument("--natural", type=float, default=None, help="the span [s] of every candidate run and of the "
-                    "scene's question (default: cranefmu.scene_questions.NATURAL, at least the window)")
+                    "scene's question (default: cranefmu.analysis.scene_questions.NATURAL, at least the window)")
     ap.add_argument("--fmus", default="native", choices=("native", "python"), help="the FMUs that run (default "
                     "%(default)s; the exchange is the default: compiled where a compiler exists)")
     ap.add_argument("--from-table", default=None, metavar="FILE.md", help="no runs: re-derive the choice and "
@@ -643,7 +643,7 @@ def main(argv: list[str] | None = None) -> int:
              f"damping ratio (relative to max(zeta_ref, {modal.ZETA_FLOOR:g})) of the monolith's over its probe run "
              "(checked where the range error is <= 1 %). Each fixed-step series stops at its first passing H. "
              "CPU includes setup (loading the FMUs). The scene's question over the natural length: "
-             "cranefmu.scene_questions (hook_sway: swing energy lost within "
+             "cranefmu.analysis.scene_questions (hook_sway: swing energy lost within "
              f"{scene_questions.DECAY_LIMIT:g} of the monolith's loss; the others' levels within "
              f"{scene_questions.RANGE_LIMIT:g} of their scale, counts equal).", ""]
     sections, summary = [], ["## Summary", "",

@@ -90,7 +90,7 @@ def _question(r: dict) -> str:
 
 def mode_lines(name: str) -> list[str]:
     """``cranefmu info`` lines: the listed modes with their closed form at the default parameters."""
-    from . import modal
+    from .analysis import modal
 
     specs = modal.specs(name)
     if not specs:

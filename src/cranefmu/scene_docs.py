@@ -6,7 +6,7 @@ models, beside its ``scene.toml``), then what the folder and the built scene say
 bonds, parameter sets with their changes from the default set, key outputs and figures, fidelity switches,
 the stored run settings (the scene file's, and a set's own), the measured choice and fidelity ladder
 (``fidelity.json``, written by ``benchmarks/scene_defaults.py``) and the listed modes with their closed forms at
-the default parameters (``[[modes]]`` of ``analysis.toml``, :data:`cranefmu.modal.MODES`).  Nothing volatile is written.
+the default parameters (``[[modes]]`` of ``analysis.toml``, :data:`cranefmu.analysis.modal.MODES`).  Nothing volatile is written.
 
     python -m cranefmu.scene_docs [--output docs/scenes_catalog.md] [--check]
 """
@@ -131,7 +131,7 @@ def _stored(name: str, scene) -> list[str]:
 
 def mode_rows(name: str) -> list[str]:
     """One table row per listed mode of scene ``name``: its closed form at the default parameters."""
-    from . import modal
+    from .analysis import modal
 
     specs = modal.specs(name)
     if not specs:
@@ -191,7 +191,7 @@ def scene_section(name: str, scene, scene_dir: Path | None) -> list[str]:
 
 
 def _limits() -> str:
-    from . import modal
+    from .analysis import modal
 
     return (f"frequency error <= {_num(100 * modal.FREQ_LIMIT)} %, damping-ratio error <= "
             f"{_num(100 * modal.DAMP_LIMIT)} % of max(zeta_ref, {_num(modal.ZETA_FLOOR)})")
@@ -234,7 +234,7 @@ def render(scenes: dict | None = None) -> str:
         "",
         "A stored setting is the cheapest measured (`benchmarks/scene_defaults.py`) whose key outputs stay within "
         "1 % of range of the monolithic solve and that keeps every listed mode: each mode is fitted from a run's "
-        "output by a matrix pencil (`cranefmu.modal.fit_modes`) and compared with the monolith fitted over the "
+        "output by a matrix pencil (`cranefmu.analysis.modal.fit_modes`) and compared with the monolith fitted over the "
         f"same run ({_limits()}); no power bond's residual may exceed 10 % of the energy it carried. A mode the "
         "scene's own run does not excite has a probe: parameter changes that start it as a free vibration. How "
         "the settings were chosen over time: [benchmarks/results/history.md](../benchmarks/results/history.md).",
@@ -249,11 +249,11 @@ def render(scenes: dict | None = None) -> str:
         "- `cranefmu.scenes.summary(name, result)`: the summary lines `cranefmu run` prints; `metrics(name, result)` "
         "the numbers; `plot_groups(name, columns)` the figures of `--plot`. A result is the master's structured "
         "array or `reference.solve`'s dict.",
-        "- `cranefmu.reference.solve(scene, stop_time, times, parameter_set=\"default\", parameters=None)`: the "
+        "- `cranefmu.analysis.reference.solve(scene, stop_time, times, parameter_set=\"default\", parameters=None)`: the "
         "same physics models wired into one ODE, solved with scipy (Radau by default), cut into smooth segments at "
         "the drive's clock breakpoints and the rope's regime switches; the reference of `cranefmu converge`, the "
         "stored settings and the validation report (`tests/scenes/test_reference.py`).",
-        "- `cranefmu.modal`: `fit_modes(t, y, n)`, `check_setting(scene, settings)` (probe runs against the "
+        "- `cranefmu.analysis.modal`: `fit_modes(t, y, n)`, `check_setting(scene, settings)` (probe runs against the "
         "monolith), `check_settings(...)`; in a sweep the metrics `freq:COLUMN[~HZ]` and `damping:COLUMN[~HZ]`.",
         "- `benchmarks/validation_report.py` writes [docs/validation.md](validation.md) (`--quick` for a smoke run).",
         "",

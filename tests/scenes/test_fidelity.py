@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from cranefmu import modal
+from cranefmu.analysis import modal
 from cranefmu.master.run import preview, resolve_scene
 from cranefmu.master.scene import load_scene
 from cranefmu.scene_catalog import fidelity

@@ -1,5 +1,5 @@
 """A scene is one folder: ssp/<scene>/analysis.toml holds its question, key outputs, plots, roles and listed
-modes; cranefmu.scenes and cranefmu.modal read it and hold no per-scene literal data (issue 36)."""
+modes; cranefmu.scenes and cranefmu.analysis.modal read it and hold no per-scene literal data (issue 36)."""
 from __future__ import annotations
 
 import ast
@@ -8,9 +8,11 @@ from pathlib import Path
 
 import pytest
 
-from cranefmu import modal, scenes
+from cranefmu import scenes
+
+from cranefmu.analysis import modal
 from cranefmu.errors import SceneError, SettingsError
-from cranefmu.reference import Monolith
+from cranefmu.analysis.reference import Monolith
 from cranefmu.sources import PACKAGE_DIR, scene_dirs, scene_files
 
 FOLDERS = scene_dirs()
@@ -56,7 +58,7 @@ def _strings(nodes) -> set[str]:
     return {n.value for node in nodes for n in ast.walk(node) if isinstance(n, ast.Constant) and isinstance(n.value, str)}
 
 
-@pytest.mark.parametrize("module", ["scenes.py", "modal.py"])
+@pytest.mark.parametrize("module", ["scenes.py", "analysis/modal.py"])
 def test_no_per_scene_literal_data_in_the_code(module):
     """No module-level table mentions a scene (the old SCENES and MODES literals), and no question, listed mode's
     name or formula is written anywhere in the code: they are the folders'.  (Code for one scene, e.g.

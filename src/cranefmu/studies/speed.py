@@ -74,7 +74,7 @@ def on_grid(got: dict, grid: float, stop: float) -> dict:
 
 def accuracy(scene: str, got: dict, stop: float, grid: float) -> float:
     """Worst error / range of the key outputs against the monolith at rtol 1e-10, on the grid's times."""
-    from ..reference import solve
+    from ..analysis.reference import solve
 
     got = on_grid(got, grid, stop)
     t = got["time"]
@@ -151,7 +151,7 @@ def page(rows: list[dict], ran: list[str]) -> list[str]:
     lines = ["Every method on the same output grid (every stored macro step H of the scene; the monolith evaluated "
              "at those times), accuracy = worst max |y - y_ref| / range(y_ref) over the key outputs on that grid, "
              f"y_ref = monolith at rtol {REF_RTOL:g}.  ours: our master with the scene's stored settings "
-             f"(`cranefmu run SCENE`), in-process; monolith: `cranefmu.reference.solve` (Radau, rtol {MONO_RTOL:g}); "
+             f"(`cranefmu run SCENE`), in-process; monolith: `cranefmu.analysis.reference.solve` (Radau, rtol {MONO_RTOL:g}); "
              "libcosim: libcosimpy, plain Jacobi at a fixed step, the .ssp started from our settled inputs (it "
              "exchanges nothing in initialization mode); ecos: ecospy, plain Jacobi at a fixed step, the .ssp's "
              "bound parameter set (its start values are the settled start), its outputs read by a Python "
