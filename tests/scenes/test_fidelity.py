@@ -1,4 +1,4 @@
-"""The measured settings (src/cranefmu/fidelity.json, written by benchmarks/scene_defaults.py): the
+"""The measured settings (ssp/<scene>/fidelity.json, written by benchmarks/scene_defaults.py): the
 stored setting of a measured scene is the one the measurement chose, its ladder runs from the fastest
 to the most faithful, and `cranefmu info` shows both with their errors."""
 import tempfile

@@ -3,6 +3,7 @@ modes; cranefmu.scenes and cranefmu.analysis.modal read it and hold no per-scene
 from __future__ import annotations
 
 import ast
+import json
 import shutil
 from pathlib import Path
 
@@ -12,6 +13,7 @@ from cranefmu import scenes
 
 from cranefmu.analysis import modal
 from cranefmu.errors import SceneError, SettingsError
+from cranefmu.scene_catalog import FIDELITY, fidelity
 from cranefmu.analysis.reference import Monolith
 from cranefmu.sources import PACKAGE_DIR, scene_dirs, scene_files
 
@@ -40,6 +42,17 @@ def test_the_folder_holds_question_key_outputs_and_modes(folder):
     assert specs and all(s.column in columns and s.scene == folder.name for s in specs)
     for spec in specs:
         Monolith(folder.name, parameters=spec.probe)   # every probe names parameters of the scene
+
+
+def test_the_measured_settings_are_in_the_folder():
+    """Each scene's measured choice and fidelity ladder is its folder's fidelity.json (shipped with the scene,
+    read by info), not a table of all scenes beside the code (src/cranefmu/fidelity.json, before issue 36)."""
+    assert not (PACKAGE_DIR / FIDELITY).exists()
+    for folder in FOLDERS:
+        assert folder / FIDELITY in scene_files(folder)
+        stored = json.loads((folder / FIDELITY).read_text())
+        assert fidelity(folder.name) == stored and stored["ladder"] and stored["span"] > 0
+    assert fidelity("no_such_scene") is None
 
 
 def test_a_closed_form_from_the_folder_gives_the_physics():
