@@ -22,6 +22,7 @@ import re
 import shutil
 import sys
 import tempfile
+import types
 import zipfile
 from pathlib import Path
 
@@ -550,3 +551,13 @@ def _choose_build_dirs(checkout_writable: bool | None = None) -> tuple[Path, Pat
 
 
 set_build_dirs(*_choose_build_dirs())
+
+
+class _CallableModule(types.ModuleType):
+    # cranefmu.build is the function build() (cranefmu.__all__), but importing this module binds the name to the
+    # module: calling the module builds, so cranefmu.build() works either way (as cranefmu.sweep)
+    def __call__(self, *args, **kwargs) -> list[Path]:
+        return build(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

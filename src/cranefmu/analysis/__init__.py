@@ -8,4 +8,9 @@ scene's question judged over its natural length), :mod:`.sway_envelope` (the hoo
 fit-boucwen``: the hysteretic rope fitted to a hoist loop) and :mod:`.seed_figures` (the seeds' printed and
 measured figures the pages compare with).  This file imports nothing: the master and the CLI import only the
 module they need.
+
+Public: the modules ``__all__`` names.  Internal: :mod:`.converge` (public as ``cranefmu converge``),
+:mod:`.scene_questions` and :mod:`.seed_figures` (what the benchmarks and the generated pages read).
 """
+
+__all__ = ["reference", "modal", "sway_envelope", "stability", "fit_boucwen"]
