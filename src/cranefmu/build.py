@@ -249,10 +249,9 @@ def ssp_is_stale(scene_dir: Path) -> bool:
 
 def ssp_generators() -> list[Path]:
     """The package files that write an .ssp (the component bindings are generated): a change to them
-    makes every .ssp stale."""
-    measured = [host_steps_module.STORE] if host_steps_module.STORE.is_file() else []   # the steps annotated
+    makes every .ssp stale (the steps annotated, ssp/<scene>/host_steps.json, are a file of the scene)."""
     return [PACKAGE_DIR / "build.py", PACKAGE_DIR / "master" / "scene.py", PACKAGE_DIR / "settled_start.py",
-            PACKAGE_DIR / "host_steps.py", *measured,
+            PACKAGE_DIR / "host_steps.py",
             PACKAGE_DIR / "master" / "initialization.py", *sorted((PACKAGE_DIR / "compose").glob("*.py"))]
 
 

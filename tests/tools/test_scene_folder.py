@@ -55,6 +55,21 @@ def test_the_measured_settings_are_in_the_folder():
     assert fidelity("no_such_scene") is None
 
 
+def test_the_host_steps_are_in_the_folder():
+    """Each scene's plain-Jacobi steps (what the build writes into its .ssp for libcosim and ecos) are its folder's
+    host_steps.json, a source of the scene: the .ssp is stale when it changes and the wheel ships it."""
+    from cranefmu.host_steps import FILE, measured
+
+    assert not (PACKAGE_DIR / FILE).exists()
+    for folder in FOLDERS:
+        assert folder / FILE in scene_files(folder)
+        stored = json.loads((folder / FILE).read_text())
+        assert "default" in stored and list(measured(folder.name))[0] == "default"
+        assert all(measured(folder.name)[s]["step"] == stored[s]["step"] <= stored[s]["stored_step"]
+                   for s in measured(folder.name))
+    assert measured("no_such_scene") == {}
+
+
 def test_a_closed_form_from_the_folder_gives_the_physics():
     """elastic_pendulum's axial mode: f = sqrt(c/M)/(2 pi), c = E A / L for one line (seed 001 eq. 8)."""
     import math
