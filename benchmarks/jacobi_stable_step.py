@@ -210,7 +210,7 @@ def main(argv: list[str] | None = None) -> int:
     text = "\n".join(lines) + "\n"
     print(text)
     table.write_text(text)
-    print(f"saved {table} and {store}")
+    print(f"saved {table} and " + (str(smoke_store) if args.smoke else f"{SSP}/<scene>/{FILE}"))
     return 0
 
 
