@@ -4,7 +4,7 @@ Stable: every scene and parameter set at the default step (1 ms, jacobi, order 0
 stop time, alarm on: no alarm, and the largest window ratio r of the imbalance detector per bond
 (the alarm needs r > 0.5 in 3 consecutive windows).  Unstable: the 1-D pendulum of elastic_pendulum
 (load 30 % of the static stretch below rest, rope axial mode only) and the 2-D scene beyond the
-Jacobi zero-order-hold limit omega H = 4 z (cranefmu.stability): where the alarm stops the run,
+Jacobi zero-order-hold limit omega H = 4 z (cranefmu.analysis.stability): where the alarm stops the run,
 and the peak rope tension against static with the alarm and without it.
 
 Writes benchmarks/results/alarm_margins.md.
@@ -69,7 +69,7 @@ def child(*args) -> dict:
 def pendulum_cases() -> list[tuple[str, dict, float]]:
     """(label, run keywords, static tension [N]) beyond the limit of the rope's axial mode."""
     from cranefmu.physics.rope import RopeParams, damping, stiffness
-    from cranefmu.stability import stability_limit
+    from cranefmu.analysis.stability import stability_limit
 
     mass, length = 1000.0, 10.0
     p = RopeParams(length=length, E=1e11, A=5.655e-5, zeta=0.07)

@@ -15,11 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from cranefmu.converge import key_outputs
+from cranefmu.analysis.converge import key_outputs
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
 from scene_defaults import publish   # benchmarks/ is on the path of a script run from it
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 from cranefmu.scenes import overhead_lift_metrics
 
 STOP = 6.0

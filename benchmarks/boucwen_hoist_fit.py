@@ -1,10 +1,10 @@
 """Bouc-Wen parameters of the hoist rope fitted as seed 001 did (a load-unload loop of the rope), and the dynamic
 factors of overhead_lift with the fitted and the default (constructed) set against Table 7's 1.31 / 1.55.
 
-The loop is :func:`cranefmu.fit_boucwen.hoist_loop` (seed 001 Table 6's rope: E_l A_l per line, zeta = 0.07 at the
+The loop is :func:`cranefmu.analysis.fit_boucwen.hoist_loop` (seed 001 Table 6's rope: E_l A_l per line, zeta = 0.07 at the
 rope-load mode, cycled 0 -> the largest measured line force; seed 001's own test loops are not published).  The
-fit is :func:`cranefmu.fit_boucwen.fit_boucwen` from its default start.  Each dynamic factor is a monolithic solve
-(cranefmu.reference, Radau, rtol 1e-6) of the scene as shipped with ``rope.model = bouc_wen`` and the nine values
+fit is :func:`cranefmu.analysis.fit_boucwen.fit_boucwen` from its default start.  Each dynamic factor is a monolithic solve
+(cranefmu.analysis.reference, Radau, rtol 1e-6) of the scene as shipped with ``rope.model = bouc_wen`` and the nine values
 of the set passed explicitly.  Writes benchmarks/results/boucwen_hoist_loop.csv (the loop, for
 ``cranefmu fit-boucwen``) and benchmarks/results/boucwen_hoist_fit.md.
 
@@ -23,9 +23,9 @@ import numpy as np
 
 from result_table import ROOT, save, stamp
 
-from cranefmu.fit_boucwen import fit_boucwen, hoist_loop, simulate_loop, write_loop_csv
+from cranefmu.analysis.fit_boucwen import fit_boucwen, hoist_loop, simulate_loop, write_loop_csv
 from cranefmu.physics.boucwen import BoucWenParams, small_amplitude_stiffness, z_bound
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 from cranefmu.scenes import overhead_lift_metrics
 
 MEASURED = {"tight": 1.31, "loose": 1.55}   # seed 001 Table 7 (its Bouc-Wen model: within 2 % of both)
@@ -52,7 +52,7 @@ def main(smoke: bool = False) -> None:
     fit = fit_boucwen(x, f, max_nfev=3) if smoke else fit_boucwen(x, f)
     sets = {"default (constructed, BoucWenParams())": BoucWenParams(), "fitted to the hoist loop": fit.params}
     lines = ["# overhead_lift: Bouc-Wen rope fitted on the hoist's loop (seed 001)", "",
-             f"{stamp('boucwen_hoist_fit.py')}; loop: cranefmu.fit_boucwen.hoist_loop, "
+             f"{stamp('boucwen_hoist_fit.py')}; loop: cranefmu.analysis.fit_boucwen.hoist_loop, "
              f"{len(x)} samples, 0 -> {1e3 * x.max():.4f} mm -> 0 three times, largest force {f.max():.1f} N; "
              f"written to benchmarks/results/boucwen_hoist_loop.csv).", "",
              f"Fit: RMS error {fit.rms:.2f} N = {100 * fit.rms_relative:.3f} % of the force range, "

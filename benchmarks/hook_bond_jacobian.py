@@ -1,6 +1,6 @@
 """Prototype of the design change that would lift hook_sway's step: the rope's Jacobian handed across the hook bond.
 
-Not the master: the scene's equations (``cranefmu.reference.Monolith``) stepped as a co-simulation of
+Not the master: the scene's equations (``cranefmu.analysis.reference.Monolith``) stepped as a co-simulation of
 the pendulum against the rope, to measure what the coupling scheme gives before building it.  Every
 macro step H the rope is evaluated at the hook's state (p_n, v_n): force F_n and its Jacobian
 K = dF/d(p, v) (finite differences, 1e-6 relative; the rope is stateless, the boom at rest).  The
@@ -27,9 +27,9 @@ from pathlib import Path
 import numpy as np
 import scene_defaults as sd
 
-from cranefmu.converge import key_outputs
+from cranefmu.analysis.converge import key_outputs
 from cranefmu.adapter.integrators import rk4_list
-from cranefmu.reference import Monolith
+from cranefmu.analysis.reference import Monolith
 
 SCENE, STOP, GRID = "hook_sway", 10.0, 1e-3
 RESULTS = Path(__file__).parent / "results" / "hook_bond_jacobian.md"

@@ -6,7 +6,7 @@ Three readings of seed 002's length statement, each measured:
 A. Its theory (Figs. 3-4: the undamped Lagrange model "solved for the time of one second"): the payload's
    sway envelope (line tip -> payload) falls from the release to its first minimum at half the beat period;
    depth |a - b| / (a + b) and time pi / (w2 - w1) from the linear double pendulum
-   (:func:`cranefmu.sway_envelope.double_pendulum_modes`), the depth after 1 s.
+   (:func:`cranefmu.analysis.sway_envelope.double_pendulum_modes`), the depth after 1 s.
 B. A hook-pin damper (c_pin, 30 s and longer): the slow mode's decay rate sigma1 = c_pin r^2 / (2 M1)
    (derived: modal damping of M q'' + C q' + K q = 0 with C = c_pin [[1, -1], [-1, 1]], the shape q =
    (a, 1) scaled to a unit payload angle, r = |1 - a| the hook-payload relative rotation, M1 = q^T M q the
@@ -20,7 +20,7 @@ B. A hook-pin damper (c_pin, 30 s and longer): the slow mode's decay rate sigma1
 C. Its experiment (a release "with zero velocity off a definite location", accelerometer on the load, 30 s):
    the payload held at the same point for every hook (horizontal offset d from its rest position, held by a
    horizontal force H: static angles theta_h = H / ((m_h + m_p) g), theta_p = H / (m_p g)) starts a longer
-   hook at smaller angles.  Monolithic solve (cranefmu.reference, DOP853 / Radau with the damper, rtol 1e-8),
+   hook at smaller angles.  Monolithic solve (cranefmu.analysis.reference, DOP853 / Radau with the damper, rtol 1e-8),
    released in the working plane, largest payload sway (tip -> payload) in the first and last 2 s of 30 s,
    with and without the pin damper of the scene's set pin_damper (2 N m s/rad).
 
@@ -40,9 +40,9 @@ import numpy as np
 
 from result_table import save, stamp
 
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 from cranefmu.scenes import hook_sway_metrics, hook_sway_parameters
-from cranefmu.sway_envelope import double_pendulum_modes
+from cranefmu.analysis.sway_envelope import double_pendulum_modes
 
 G, M_P, L_P = 9.81, 10.0, 0.5
 MASSES, LENGTHS = (3.0, 4.0, 5.0), (0.40, 0.45, 0.50)

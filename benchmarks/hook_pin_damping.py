@@ -22,7 +22,7 @@ import numpy as np
 
 from result_table import save, stamp
 
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 from cranefmu.scenes import hook_sway_metrics, hook_sway_parameters
 
 G, M_P, L_P = 9.81, 10.0, 0.5

@@ -25,7 +25,7 @@ from pathlib import Path
 import scene_defaults as sd
 import speed_accuracy as sa
 
-from cranefmu.converge import key_outputs
+from cranefmu.analysis.converge import key_outputs
 from cranefmu.scenes import hook_sway_metrics
 
 SCENE, STOP, TARGET_RTF = "hook_sway", 10.0, 40.0

@@ -32,7 +32,7 @@ GRID = 0.01   # [s] the reference's grid
 
 def reference(path: Path, stop: float) -> dict[str, np.ndarray]:
     """The monolithic solve on the 10 ms grid, from ``path`` if it holds this stop time, else computed and saved."""
-    from cranefmu.converge import key_outputs, monolithic_reference
+    from cranefmu.analysis.converge import key_outputs, monolithic_reference
 
     if path.exists():
         data = dict(np.load(path))

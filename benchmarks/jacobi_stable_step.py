@@ -9,7 +9,7 @@ without the instability alarm (``cranefmu.master.divergence``: growth or imbalan
 energy) and with finite key outputs is the variant's stable step.  A step is never above the stored
 one: the stored step is what our own run chose for accuracy; a host should not go coarser.
 
-Writes ``src/cranefmu/host_steps.json`` (scene -> set -> step [s], span [s], the steps that failed and
+Writes each scene's ``ssp/<scene>/host_steps.json`` (set -> step [s], span [s], the steps that failed and
 how), which the build binds into every .ssp (an ``org.cranefmu.hosts`` annotation, and libcosim's
 ``osp:FixedStepAlgorithm baseStepSize``) and ``cranefmu info`` shows, and the table
 ``benchmarks/results/jacobi_stable_step.md``.
@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))   # cra
 
 ROOT = Path(__file__).resolve().parent.parent
 LADDER = (0.02, 0.01, 0.005, 0.004, 0.002, 0.001, 5e-4, 2.5e-4, 1e-4)   # [s]
-STORE = ROOT / "src" / "cranefmu" / "host_steps.json"
+SSP = ROOT / "ssp"   # ssp/<scene>/host_steps.json (cranefmu.host_steps.FILE), this checkout's
 TABLE = ROOT / "benchmarks" / "results" / "jacobi_stable_step.md"
 
 
@@ -148,6 +148,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--resume", action="store_true", help="keep the variants an interrupted run measured")
     args = p.parse_args(argv)
     from cranefmu import build as b
+    from cranefmu.host_steps import FILE
     from cranefmu.studies.hosts import scene_variants
 
     b.build(verbose=False)
@@ -157,9 +158,10 @@ def main(argv: list[str] | None = None) -> int:
     elif args.scenes:
         wanted = args.scenes.split(",")
         variants = [v for v in variants if v[0] in wanted]
-    store = TABLE.with_name("host_steps_smoke.json") if args.smoke else STORE
+    smoke_store = TABLE.with_name("host_steps_smoke.json")   # --smoke: every scene in one file beside the table
     table = TABLE.with_name("jacobi_stable_step_smoke.md") if args.smoke else TABLE
-    found = json.loads(store.read_text()) if store.is_file() else {}
+    found = (json.loads(smoke_store.read_text()) if smoke_store.is_file() else {}) if args.smoke else \
+        {p.parent.name: json.loads(p.read_text()) for p in sorted(SSP.glob(f"*/{FILE}"))}
     partial = table.with_suffix(".partial.json")   # each variant as measured (--resume skips those)
     done = json.loads(partial.read_text()) if args.resume and partial.is_file() else {}
     for scene, pset in variants:
@@ -169,8 +171,14 @@ def main(argv: list[str] | None = None) -> int:
         found.setdefault(scene, {})[pset] = done[scene][pset]
     for scene, pset in variants:
         cap_at_default(found[scene], pset, scene, fmpy=not args.smoke)
-    # written once at the end: the build reads the file, so a change makes every .ssp stale (no rebuild mid-study)
-    store.write_text(json.dumps(found, indent=1, sort_keys=True) + "\n")
+    # written once at the end: the build reads the files, so a change makes the scene's .ssp stale (no rebuild
+    # mid-study); a scene's file is rewritten only where its steps changed
+    if args.smoke:
+        smoke_store.write_text(json.dumps(found, indent=1, sort_keys=True) + "\n")
+    for scene in [] if args.smoke else sorted({s for s, _ in variants}):
+        path, text = SSP / scene / FILE, json.dumps(found[scene], indent=1, sort_keys=True) + "\n"
+        if not path.is_file() or path.read_text() != text:
+            path.write_text(text)
     partial.unlink(missing_ok=True)
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                             text=True).stdout.strip()
@@ -184,7 +192,7 @@ def main(argv: list[str] | None = None) -> int:
              "instability alarm, key outputs finite, to the span or, ended by the scene's stop condition, within "
              f"{END_TOLERANCE:.0%} of the end of our run at the stored setting (the crane tips).  A named set's step "
              "is at most the default set's (a set started at rest can hide a growing mode: fmpy's kicked start "
-             "wakes it, checked where the cap lowers a step).  Stored in src/cranefmu/host_steps.json; every built or "
+             "wakes it, checked where the cap lowers a step).  Stored in ssp/<scene>/host_steps.json; every built or "
              "exported .ssp carries it and `cranefmu info` shows it.", "",
              "| scene | set | stored step [ms] | stable plain-Jacobi step [ms] | span [s] | steps that failed |",
              "|---|---|---|---|---|---|"]
@@ -202,7 +210,7 @@ def main(argv: list[str] | None = None) -> int:
     text = "\n".join(lines) + "\n"
     print(text)
     table.write_text(text)
-    print(f"saved {table} and {store}")
+    print(f"saved {table} and " + (str(smoke_store) if args.smoke else f"{SSP}/<scene>/{FILE}"))
     return 0
 
 

@@ -1,4 +1,4 @@
-"""overhead_lift's listed hoist modes (cranefmu.modal.MODES: the hoist held, the load hung 3 m up and sent up
+"""overhead_lift's listed hoist modes (cranefmu.analysis.modal.MODES: the hoist held, the load hung 3 m up and sent up
 at 5 cm/s) under candidate run settings against the monolith: frequency and damping-ratio errors and the
 bond residual, per setting (issue 24).  The range errors of the scene's own lift are scene_defaults.py's.
 
@@ -17,7 +17,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from cranefmu import modal
+from cranefmu.analysis import modal
 
 CANDIDATES = (
     ("jacobi x0 H 1 ms", dict(algorithm="jacobi", extrapolation=0, step_size=1e-3, implicit=[])),

@@ -3,7 +3,7 @@ modulus, the slack, the damping, the hook's inertia and the motor's start-up ram
 and both rope models.
 
 Each row changes one thing from the scene as shipped (ssp/overhead_lift: girder.mass_model = beam, m1 = 17/35 x
-5000 kg; 0.1 m slack in the loose set) and solves the monolith (cranefmu.reference, Radau, rtol 1e-6); the
+5000 kg; 0.1 m slack in the loose set) and solves the monolith (cranefmu.analysis.reference, Radau, rtol 1e-6); the
 dynamic factor is max rope tension / (T(0) + N(0)).  Writes benchmarks/results/overhead_sensitivity.md.
 
     nice -n 10 .venv/bin/python benchmarks/overhead_sensitivity.py
@@ -18,7 +18,7 @@ import numpy as np
 from result_table import save, stamp
 
 from cranefmu.errors import CraneFmuError
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 from cranefmu.scenes import overhead_lift_metrics
 
 MEASURED = {"tight": 1.31, "loose": 1.55}   # seed 001 Table 7, the values its Bouc-Wen model met within 2 %

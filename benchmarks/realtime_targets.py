@@ -64,7 +64,7 @@ def stored_step(scene: str) -> dict:
 
 
 def measure_scene(scene: str, repeats: int, say) -> dict:
-    from cranefmu import converge as cv
+    from cranefmu.analysis import converge as cv
 
     stop, target = TARGETS[scene]
     keys = cv.key_outputs(scene)

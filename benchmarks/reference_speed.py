@@ -1,4 +1,4 @@
-"""Wall time of the monolithic reference (cranefmu.reference.solve) per scene and solver method.
+"""Wall time of the monolithic reference (cranefmu.analysis.reference.solve) per scene and solver method.
 
     .venv/bin/python benchmarks/reference_speed.py [--quick] [--methods Radau LSODA]
 
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 
 OUT = Path(__file__).resolve().parent / "results" / "reference_speed.md"
 CASES = [  # (label, scene, parameter set, parameters, stop time [s], key outputs)

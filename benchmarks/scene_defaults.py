@@ -1,23 +1,23 @@
 """The cheapest run settings per scene that meet 1 % of range on its key outputs and keep every listed
 mode (issue 24): the scene defaults, and each scene's fidelity ladder.
 
-For each scene: its key outputs (``cranefmu.converge.key_outputs``) against the monolithic reference
-(``cranefmu.converge.monolithic_reference``, rtol 1e-10, cached in /tmp) over the scene's default stop
+For each scene: its key outputs (``cranefmu.analysis.converge.key_outputs``) against the monolithic reference
+(``cranefmu.analysis.converge.monolithic_reference``, rtol 1e-10, cached in /tmp) over the scene's default stop
 time (at most 10 s; truck_telescope 30 s, truck_slewing 20 s: the whole slew).  Candidates: jacobi x0/x1/x2
 and gauss-seidel x1 at H = 50, 20, 10, 5, 4, 3, 2, 1 ms (each series from coarse to fine, stopping at the first
 H that passes, since a finer one costs more), jacobi x1 with the hook bond implicit (elastic_pendulum, hook_sway; the
 truck: every bond, x1 and x2) on the same steps, and jacobi x1 adaptive.  A candidate passes when
 
-- every listed mode (:data:`cranefmu.modal.MODES`, fitted from its probe run against the monolith's)
-  is within 0.5 % in frequency and 5 % in damping ratio (:func:`cranefmu.modal.check_setting`),
+- every listed mode (:data:`cranefmu.analysis.modal.MODES`, fitted from its probe run against the monolith's)
+  is within 0.5 % in frequency and 5 % in damping ratio (:func:`cranefmu.analysis.modal.check_setting`),
 - its worst error is <= MARGIN (0.5 %) of the key output's range (the target is 1 %),
 - the instability alarm (on, as by default) did not stop it,
 - it adds no energy: every power bond's total residual <= RESIDUAL_WARNING of the energy the bond
   carried (the run's own warning), and on hook_sway (a swing without excitation) the payload sway
   amplitude of the last 2 s relative to the first 2 s does not exceed the reference's ratio by more
   than 0.2 % (the beat of hook and payload modes moves it in the exact solution too),
-- it answers the scene's question over its natural length (:data:`cranefmu.scene_questions.NATURAL`:
-  hook_sway 30 s, the others their stop time) as the monolith does (:func:`cranefmu.scene_questions.answers`:
+- it answers the scene's question over its natural length (:data:`cranefmu.analysis.scene_questions.NATURAL`:
+  hook_sway 30 s, the others their stop time) as the monolith does (:func:`cranefmu.analysis.scene_questions.answers`:
   hook_sway's swing energy lost within 5 % of the monolith's loss; the other scenes' levels and extremes
   within 1 % of their scale, tipping and lifted pads equal).
 
@@ -29,7 +29,7 @@ least CPU; CPU times within TIE (10 %) of the least count as equal, and of those
 chosen; a run under 0.5 s of CPU is repeated and its least CPU kept.  Prints and writes
 benchmarks/results/scene_defaults.md, and stores each scene's chosen setting and fidelity ladder (up to
 four settings of the front of wall against the worst error over its limit, :func:`fidelity_ladder`)
-with their measured errors in src/cranefmu/fidelity.json, which ``cranefmu info SCENE`` shows.
+with their measured errors in ssp/<scene>/fidelity.json, which ``cranefmu info SCENE`` shows.
 
     nice .venv/bin/python benchmarks/scene_defaults.py [--scenes hook_sway,...] [--stop S] [--steps H,...]
         [--series jacobi-x1,implicit,...] [--rtol 1e-8]
@@ -52,13 +52,14 @@ from pathlib import Path
 
 import numpy as np
 
-from cranefmu import modal, scene_questions
-from cranefmu.converge import key_outputs, monolithic_reference
+from cranefmu.analysis import modal, scene_questions
+from cranefmu.analysis.converge import key_outputs, monolithic_reference
 from cranefmu.errors import CraneFmuError, SimulationError
 from cranefmu.master.power_bonds import RESIDUAL_WARNING
 from cranefmu.master.run import run
-from cranefmu.scene_questions import NATURAL, answers
-from cranefmu.scene_questions import worst as worst_answer
+from cranefmu.analysis.scene_questions import NATURAL, answers
+from cranefmu.analysis.scene_questions import worst as worst_answer
+from cranefmu.scene_catalog import FIDELITY
 from cranefmu.scenes import hook_sway_metrics
 
 SCENES = ("elastic_pendulum", "hook_sway", "overhead_lift", "truck_telescope", "truck_slewing")
@@ -73,7 +74,7 @@ IMPLICIT = {"elastic_pendulum": {"implicit": ["hook"]}, "hook_sway": {"implicit"
 # the implicit group's extrapolation degrees (series "implicit" is x1, "implicit-x2" x2): the truck's group
 # interpolates its inputs quadratically with x2, which keeps its modes at twice x1's step (truck_modes.md)
 IMPLICIT_DEGREES = {"truck_telescope": (1, 2)}
-FIDELITY = Path(__file__).parents[1] / "src" / "cranefmu" / "fidelity.json"   # chosen + ladder, read by info
+SSP = Path(__file__).parents[1] / "ssp"   # ssp/<scene>/fidelity.json: chosen + ladder, read by info (this checkout's)
 STEPS = (0.05, 0.02, 0.01, 0.005, 0.004, 0.003, 0.002, 0.001)
 ADAPTIVE = ((0.01, 1e-3),)      # (first step, tolerance), jacobi x1
 MARGIN = 0.005                  # of range: half the 1 % target
@@ -143,7 +144,7 @@ def candidate(scene: str, stop: float, ref, keys, algorithm: str, extrapolation:
     """One run against the reference; ``parameter_set`` and ``parameters`` override the scene's defaults,
     ``settings`` are further run settings (e.g. implicit, coupling_tolerance).  The run spans ``natural`` [s]
     (at least ``stop``; ``ref`` covers it): range errors of its first ``stop`` seconds, the scene's question
-    (:func:`cranefmu.scene_questions.answers`, with the scene's parameter values ``params``) over all of it."""
+    (:func:`cranefmu.analysis.scene_questions.answers`, with the scene's parameter values ``params``) over all of it."""
     label = label or f"{algorithm} x{extrapolation} " + (f"adaptive tol {tolerance:g}" if tolerance
                                                          else f"H {h * 1e3:g} ms")
     extra = dict(adaptive=True, tolerance=tolerance) if tolerance else {}
@@ -321,11 +322,11 @@ def table(scene: str, rows: list[dict], facts: dict) -> list[str]:
                    f"{'yes' if r['adds_energy'] else 'no'} | {'yes' if r['ok'] else 'no'} | {q} |")
     modes = modal.specs(scene)
     if modes:
-        out += ["", "Listed modes (cranefmu.modal; errors against the monolith fitted over the same probe run): "
+        out += ["", "Listed modes (cranefmu.analysis.modal; errors against the monolith fitted over the same probe run): "
                 + "; ".join(f"{m.name} in {m.column} ({m.span:g} s" + (f", probe {m.probe}" if m.probe else "") + ")"
                             for m in modes) + "."]
     else:
-        out += ["", "No listed modes (cranefmu.modal.MODES has none for this scene yet): range and bonds only."]
+        out += ["", "No listed modes (cranefmu.analysis.modal.MODES has none for this scene yet): range and bonds only."]
     ladder = fidelity_ladder(rows, best)
     out += ["", "Fidelity ladder (fastest -> most faithful):", "",
             "| setting | RTF | range err | f err | zeta err | meets all |", "| --- | --- | --- | --- | --- | --- |"]
@@ -378,32 +379,31 @@ def record(r: dict) -> dict:
 
 def write_fidelity(scene: str, rows: list[dict], facts: dict, commit: str, command: str,
                    when: str | None = None) -> None:
-    """Store the chosen setting and the ladder of ``scene`` in src/cranefmu/fidelity.json."""
+    """Store the chosen setting and the ladder of ``scene`` in ssp/<scene>/fidelity.json (read by info)."""
     import json
 
-    data = json.loads(FIDELITY.read_text()) if FIDELITY.is_file() else {}
     best = chosen(rows)
     when = when or f"{datetime.datetime.utcnow():%Y-%m-%d %H:%M}"
     ran = next((r for r in rows if r.get("fmus")), {})
-    data[scene] = {"measured": f"{when} UTC, commit {commit}, `{command}`",
-                   "span": facts["stop"], "chosen": record(best) if best else None,
-                   "ladder": [record(r) for r in fidelity_ladder(rows, best)]}
+    entry = {"measured": f"{when} UTC, commit {commit}, `{command}`",
+             "span": facts["stop"], "chosen": record(best) if best else None,
+             "ladder": [record(r) for r in fidelity_ladder(rows, best)]}
     if facts.get("natural"):   # the cost basis of rtf (an older entry: wall of the span, pythonfmu FMUs)
-        data[scene].update(natural=facts["natural"], cost=f"CPU, {ran.get('fmus')} FMUs, {ran.get('exchange')} "
-                                                          f"exchange, over {facts['natural']:g} s")
-    FIDELITY.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+        entry.update(natural=facts["natural"], cost=f"CPU, {ran.get('fmus')} FMUs, {ran.get('exchange')} "
+                                                f"exchange, over {facts['natural']:g} s")
+    (SSP / scene / FIDELITY).write_text(json.dumps(entry, indent=1, sort_keys=True) + "\n")
 
 
 DOCS = Path(__file__).parents[1] / "docs" / "scenes.md"
-LADDER_BEGIN = "<!-- fidelity ladders: generated by benchmarks/scene_defaults.py from src/cranefmu/fidelity.json -->"
+LADDER_BEGIN = "<!-- fidelity ladders: generated by benchmarks/scene_defaults.py from ssp/<scene>/fidelity.json -->"
 LADDER_END = "<!-- end of the generated fidelity ladders -->"
 
 
 def ladder_section() -> list[str]:
-    """docs/scenes.md's ladders, one table per measured scene, from src/cranefmu/fidelity.json."""
+    """docs/scenes.md's ladders, one table per measured scene, from ssp/<scene>/fidelity.json."""
     import json
 
-    data = json.loads(FIDELITY.read_text()) if FIDELITY.is_file() else {}
+    data = {p.parent.name: json.loads(p.read_text()) for p in sorted(SSP.glob(f"*/{FIDELITY}"))}
 
     def pct(x):
         return "-" if x is None else f"{100 * x:.2g} %"
@@ -603,7 +603,7 @@ def main(argv: list[str] | None = None) -> int:
                     + ", ".join(f"{a}-x{x}" for a, x in SERIES) + ", implicit, implicit-x2, adaptive (default: all); a "
                     "restricted study chooses among what it ran")
     ap.add_argument("--natural", type=float, default=None, help="the span [s] of every candidate run and of the "
-                    "scene's question (default: cranefmu.scene_questions.NATURAL, at least the window)")
+                    "scene's question (default: cranefmu.analysis.scene_questions.NATURAL, at least the window)")
     ap.add_argument("--fmus", default="native", choices=("native", "python"), help="the FMUs that run (default "
                     "%(default)s; the exchange is the default: compiled where a compiler exists)")
     ap.add_argument("--from-table", default=None, metavar="FILE.md", help="no runs: re-derive the choice and "
@@ -643,7 +643,7 @@ def main(argv: list[str] | None = None) -> int:
              f"damping ratio (relative to max(zeta_ref, {modal.ZETA_FLOOR:g})) of the monolith's over its probe run "
              "(checked where the range error is <= 1 %). Each fixed-step series stops at its first passing H. "
              "CPU includes setup (loading the FMUs). The scene's question over the natural length: "
-             "cranefmu.scene_questions (hook_sway: swing energy lost within "
+             "cranefmu.analysis.scene_questions (hook_sway: swing energy lost within "
              f"{scene_questions.DECAY_LIMIT:g} of the monolith's loss; the others' levels within "
              f"{scene_questions.RANGE_LIMIT:g} of their scale, counts equal).", ""]
     sections, summary = [], ["## Summary", "",

@@ -76,7 +76,7 @@ def warm_run_once(scene: str, stop: float, h: float, tol, algorithm: str, extrap
     """converge.run_once after a run of 5 steps of the same settings in this process: the measured
     wall is a second run's (load, instantiate, initialize, step), with the process's imports and
     the scene's extraction done, as the monolithic sweep solves 0.01 s before it times a tolerance."""
-    from cranefmu import converge as cv
+    from cranefmu.analysis import converge as cv
 
     if algorithm is not None:   # a named algorithm means its explicit form, not the scene's stored implicit group
         options.setdefault("implicit", [])
@@ -88,7 +88,7 @@ def warm_run_once(scene: str, stop: float, h: float, tol, algorithm: str, extrap
 def master_runs(scene: str, settings: list, stop: float, algorithm: str, extrapolation: int, say,
                 **options) -> tuple[list, list]:
     """:func:`warm_run_once` for each (H, tolerance), each in a guarded child (isolate=False inside it)."""
-    from cranefmu import converge as cv
+    from cranefmu.analysis import converge as cv
 
     runs, results = [], []
     for h, tol in settings:
@@ -155,7 +155,7 @@ def fmpy_run(ssp: str, scene: str, stop: float, h: float, keys: tuple[str, ...])
 
 # --- the monolithic solve at a sweep of tolerances ----------------------------------------------------
 def mono_sweep(scene: str, stop: float, times: np.ndarray, reference, keys, rtols=MONO_RTOLS) -> list[dict]:
-    from cranefmu.converge import monolithic_reference
+    from cranefmu.analysis.converge import monolithic_reference
 
     rows = []
     exact = reference.at(times)
@@ -483,7 +483,7 @@ def libcosim_once(scene: str, keys, stop: float, h: float, abs_tolerance: float 
     ``abs_tolerance`` [J]; ``start``: initial values of the connected inputs (our settled start,
     :func:`cranefmu.studies.timing.settled_start`); returns (ConvergenceRun, result array or None)."""
     from cranefmu import build as b
-    from cranefmu.converge import ConvergenceRun
+    from cranefmu.analysis.converge import ConvergenceRun
     from cranefmu.master.run import resolve_scene
     from cranefmu.studies.hosts import libcosim_timed
 
@@ -748,7 +748,7 @@ def study_scene(scene: str, quick: bool, say, stop: float | None = None, steps: 
     """Every run of one scene against one monolithic reference; ``fmpy``: fmpy's simulate_ssp at each
     H; ``libcosim``: the side-by-side runs (ours with ECCO step control, libcosim fixed and ECCO),
     their walls the median of ``repeats``."""
-    from cranefmu import converge as cv
+    from cranefmu.analysis import converge as cv
     from cranefmu.master.run import ALGORITHMS, resolve_scene
 
     keys = cv.key_outputs(scene)
@@ -1014,11 +1014,11 @@ def merge_side_results(done: list[dict], notes: list[str]) -> None:
 
 
 def plot_scene(s: dict, path: Path) -> None:
-    from cranefmu.converge import plot
+    from cranefmu.analysis.converge import plot
 
     series = {f"master {a} x{e}": runs for (a, e), (runs, _) in s["series"].items()}
     series["fmpy simulate_ssp"] = s["fmpy"]
-    from cranefmu.converge import ConvergenceRun
+    from cranefmu.analysis.converge import ConvergenceRun
 
     mono = []
     for m in s["mono"]:
@@ -1055,7 +1055,7 @@ def rtf_target_report(say, hot: dict, scene: str = "truck_telescope", stop: floa
     """Issue 6's speed target: the scene over ``stop`` s within ``level`` of each key output's range, as
     fast as possible (each (algorithm, extrapolation, H) of ``settings``; the error against the finest
     run, Jacobi x1 at the smallest H / 4)."""
-    from cranefmu import converge as cv
+    from cranefmu.analysis import converge as cv
 
     keys = cv.key_outputs(scene)
     runs, results, labels, notes = [], [], [], []

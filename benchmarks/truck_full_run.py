@@ -19,7 +19,7 @@ from result_table import save, stamp
 
 from cranefmu.errors import SimulationError
 from cranefmu.master.run import run
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 from cranefmu.scenes import metrics
 
 STOP = 40.0

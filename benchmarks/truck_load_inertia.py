@@ -6,7 +6,7 @@ volume 0.318 m^3), turning in the working plane about its centre (x-y plane, axi
   * a long block 2.0 m x 0.399 m x 0.399 m, long axis along x:  J_1 = m (2.0^2 + 0.399^2) / 12 = 866 kg m^2.
 The load turns with the rope (seed 000 eq. 19: T_1 = 0.5 m_1 v_1^2 + 0.5 J_1 theta'^2): ``pendulum.J_hook``.
 Linear estimate: the swing's inertia grows from m s^2 to m s^2 + J_1 (s = 9.09 m of rope), the frequency falls by
-sqrt(1 + J_1 / (m s^2)) - 1.  Each row is the monolithic solve (cranefmu.reference, Radau, rtol 1e-6) of the
+sqrt(1 + J_1 / (m s^2)) - 1.  Each row is the monolithic solve (cranefmu.analysis.reference, Radau, rtol 1e-6) of the
 default set (0.35 m/s, 60 deg, 2.5 t), 30 s.  Writes benchmarks/results/truck_load_inertia.md.
 
     nice -n 10 .venv/bin/python benchmarks/truck_load_inertia.py [--smoke]
@@ -23,7 +23,7 @@ import numpy as np
 
 from result_table import save, stamp
 
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 from cranefmu.scenes import truck_telescope_metrics
 
 M, RHO, ROPE = 2500.0, 7850.0, 9.09

@@ -1,7 +1,7 @@
 """Why the truck crane's co-simulation missed the damping of its axial and chassis modes at first order
-(issue 24), measured: the candidates one by one on the modal probe of cranefmu.modal (telescope and winch
+(issue 24), measured: the candidates one by one on the modal probe of cranefmu.analysis.modal (telescope and winch
 held at 10.5 m, the load sent up at 5 cm/s, 3 s), each mode fitted by the matrix pencil as
-cranefmu.modal.identify does and compared with the monolith's fit.
+cranefmu.analysis.modal.identify does and compared with the monolith's fit.
 
 (a) the fit: the SAME monolithic run (rtol 1e-10, 1 ms output) fitted at 1, 2, 5, 10, 20 ms output and
     from 0, 0.1, 0.3 s on;
@@ -38,10 +38,10 @@ import numpy as np
 
 from result_table import write
 
-from cranefmu import modal
+from cranefmu.analysis import modal
 from cranefmu.master import coupling as coupling_module
 from cranefmu.master.run import run
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 
 SCENE = "truck_telescope"
 SPAN = 3.0
@@ -138,14 +138,14 @@ def header(title: str, argv: list[str] | None) -> list[str]:
 def parameter_sets(argv: list[str] | None, output: Path, settings: dict | None = None,
                    only: list[str] | None = None) -> int:
     """Each parameter set of the scene (``only`` these) at its stored setting (or ``settings``): the listed
-    modes (cranefmu.modal.check_setting, the probes of cranefmu.modal.MODES) and the monolith's linearised
+    modes (cranefmu.analysis.modal.check_setting, the probes of cranefmu.analysis.modal.MODES) and the monolith's linearised
     modes beside them."""
     from cranefmu.master.run import preview
 
     stored = settings or preview(SCENE).settings
     lines = header("Truck crane: every parameter set's listed modes at the " + ("given" if settings else "stored")
                    + " setting", argv)
-    lines += [f"{'Given' if settings else 'Stored'} setting: {stored}. Probes as cranefmu.modal.MODES (telescope and winch held at 10.5 m; "
+    lines += [f"{'Given' if settings else 'Stored'} setting: {stored}. Probes as cranefmu.analysis.modal.MODES (telescope and winch held at 10.5 m; "
               f"the luffing set also holds its luffing angle: {HOLD['luffing']}); errors against the monolith's fit "
               "over the same probe; limits 0.5 % in frequency, 5 % in damping ratio.", ""]
     names = only or sorted(p.stem for p in SETS.glob("*.ssv"))

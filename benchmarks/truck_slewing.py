@@ -19,7 +19,7 @@ import numpy as np
 from result_table import save, stamp
 
 from cranefmu.master.run import run
-from cranefmu.reference import Monolith, solve
+from cranefmu.analysis.reference import Monolith, solve
 from cranefmu.scenes import metrics, pad_tipping_load_tilt_free, static_pad_reactions
 
 STOP = 30.0

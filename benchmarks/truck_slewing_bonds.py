@@ -115,7 +115,7 @@ def cells(rows, end: str, mono: dict | None) -> str:
 
 def main(stop: float, result: str) -> int:
     from cranefmu import build as b
-    from cranefmu.reference import solve
+    from cranefmu.analysis.reference import solve
     from cranefmu.scenes import metrics
 
     t0 = time.time()

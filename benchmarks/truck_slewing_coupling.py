@@ -1,5 +1,5 @@
 """truck_slewing (Chassis4 under a SlewingBoom): the boom's loads on the chassis held over each step or
-interpolated, measured against the monolith (cranefmu.reference.solve, rtol 1e-10) at the scene's stored
+interpolated, measured against the monolith (cranefmu.analysis.reference.solve, rtol 1e-10) at the scene's stored
 setting (jacobi x1) and at 20, 10, 5, 2.5 ms.
 
 Chassis4's carried boom inertia inputs (m_boom, Sx_boom, Sz_boom, Jp_boom, Jr_boom, Jpr_boom) took no rates;
@@ -32,7 +32,7 @@ from truck_modes import held, order  # noqa: E402
 
 from cranefmu.master import coupling as coupling_module  # noqa: E402
 from cranefmu.master.run import run  # noqa: E402
-from cranefmu.reference import solve  # noqa: E402
+from cranefmu.analysis.reference import solve  # noqa: E402
 
 SCENE = "truck_slewing"
 SPAN = 3.0

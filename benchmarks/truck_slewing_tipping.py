@@ -12,7 +12,7 @@ import math
 
 from result_table import save, stamp
 
-from cranefmu.reference import Monolith
+from cranefmu.analysis.reference import Monolith
 from cranefmu.scenes import pad_tipping_load, pad_tipping_load_tilt_free, static_pad_reactions
 
 DIRECTIONS = (("over the rear", 0.0), ("45 deg", 45.0), ("over the side", 90.0), ("over the front", 180.0))

@@ -6,7 +6,7 @@ import math
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-from cranefmu.reference import MODELS
+from cranefmu.analysis.reference import MODELS
 from cranefmu.scenes import truck_telescope_parameters
 
 HEAD = '''<?xml version="1.0" encoding="UTF-8"?>

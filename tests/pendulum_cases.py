@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from cranefmu.physics.rope import RopeParams, damping, stiffness
-from cranefmu.stability import stability_limit
+from cranefmu.analysis.stability import stability_limit
 
 G = 9.81
 LENGTH, AREA = 10.0, 5.655e-5  # the scene's rope

@@ -1,6 +1,6 @@
 """One monolithic reference solve per argument set, shared by every test of the session.
 
-:func:`cranefmu.reference.solve` is deterministic: the same scene, parameter set, parameters, stop time,
+:func:`cranefmu.analysis.reference.solve` is deterministic: the same scene, parameter set, parameters, stop time,
 output times, rtol and method give the same arrays.  Tests that need the same reference (the listed modes
 sharing one probe run, a mode fit and a setting check) call :func:`solve` here instead, and the second
 call returns copies of the first call's arrays without solving again.  :data:`SOLVES` counts the solves.
@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from cranefmu import modal
-from cranefmu import reference
+from cranefmu.analysis import modal
+from cranefmu.analysis import reference
 
 _CACHE: dict[tuple, dict] = {}
 SOLVES: list[tuple] = []   # the keys actually solved, in order (for the cache's own test)
@@ -27,7 +27,7 @@ def _key(scene: str, stop_time: float, times: np.ndarray | None, parameter_set: 
 
 def solve(scene: str, stop_time: float, times: np.ndarray | None = None, parameter_set: str = "default",
           parameters: dict | None = None, rtol: float = 1e-10, method: str = "Radau") -> dict[str, np.ndarray]:
-    """:func:`cranefmu.reference.solve` with the same arguments, solved once per session; the caller gets
+    """:func:`cranefmu.analysis.reference.solve` with the same arguments, solved once per session; the caller gets
     its own copies of the arrays (it may change them)."""
     key = _key(scene, stop_time, times, parameter_set, parameters, rtol, method)
     if key not in _CACHE:
@@ -38,7 +38,7 @@ def solve(scene: str, stop_time: float, times: np.ndarray | None = None, paramet
 
 
 class References(modal.References):
-    """:class:`cranefmu.modal.References` whose solves go through the session cache (same arguments)."""
+    """:class:`cranefmu.analysis.modal.References` whose solves go through the session cache (same arguments)."""
 
     def at(self, probe: dict, span: float) -> dict:
         times = np.linspace(0.0, span, int(round(span / modal.REF_GRID)) + 1)

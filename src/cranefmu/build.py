@@ -22,6 +22,7 @@ import re
 import shutil
 import sys
 import tempfile
+import types
 import zipfile
 from pathlib import Path
 
@@ -248,10 +249,9 @@ def ssp_is_stale(scene_dir: Path) -> bool:
 
 def ssp_generators() -> list[Path]:
     """The package files that write an .ssp (the component bindings are generated): a change to them
-    makes every .ssp stale."""
-    measured = [host_steps_module.STORE] if host_steps_module.STORE.is_file() else []   # the steps annotated
+    makes every .ssp stale (the steps annotated, ssp/<scene>/host_steps.json, are a file of the scene)."""
     return [PACKAGE_DIR / "build.py", PACKAGE_DIR / "master" / "scene.py", PACKAGE_DIR / "settled_start.py",
-            PACKAGE_DIR / "host_steps.py", *measured,
+            PACKAGE_DIR / "host_steps.py",
             PACKAGE_DIR / "master" / "initialization.py", *sorted((PACKAGE_DIR / "compose").glob("*.py"))]
 
 
@@ -550,3 +550,13 @@ def _choose_build_dirs(checkout_writable: bool | None = None) -> tuple[Path, Pat
 
 
 set_build_dirs(*_choose_build_dirs())
+
+
+class _CallableModule(types.ModuleType):
+    # cranefmu.build is the function build() (cranefmu.__all__), but importing this module binds the name to the
+    # module: calling the module builds, so cranefmu.build() works either way (as cranefmu.sweep)
+    def __call__(self, *args, **kwargs) -> list[Path]:
+        return build(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

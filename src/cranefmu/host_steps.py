@@ -4,8 +4,8 @@ re-read feedthrough outputs) and may blow up there (overhead_lift at its stored 
 tests/tools/test_hosts_as_loaded.py).
 
 Measured per scene and parameter set by ``benchmarks/jacobi_stable_step.py`` (our ``jacobi-plain``, which
-equals libcosim's run to 3e-12; stable = the run ends without the instability alarm) into
-``host_steps.json``.  The build writes it into every .ssp it makes (:func:`annotate`): the System's
+equals libcosim's run to 3e-12; stable = the run ends without the instability alarm) into the scene
+folder's ``host_steps.json`` (``ssp/<scene>/host_steps.json``, a source of the scene's .ssp).  The build writes it into every .ssp it makes (:func:`annotate`): the System's
 ``org.cranefmu.hosts`` annotation (every set's step, the span it was measured over and the stored step)
 and, for the file's bound set, libcosim's own ``osp:FixedStepAlgorithm baseStepSize`` in the
 DefaultExperiment, which ``CosimExecution.from_ssp_file(path)`` (no step given) runs with.
@@ -14,11 +14,11 @@ DefaultExperiment, which ``CosimExecution.from_ssp_file(path)`` (no step given) 
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 from .master.host_steps import ANNOTATION, CF_NS, read  # noqa: F401 - the reader is the master's (a scene file's part)
+from .sources import SSP_SOURCES
 
-STORE = Path(__file__).with_name("host_steps.json")   # written by benchmarks/jacobi_stable_step.py
+FILE = "host_steps.json"   # in each scene folder, written by benchmarks/jacobi_stable_step.py
 OSP_ANNOTATION = "com.opensimulationplatform"          # libcosim's ssp_parser reads it (prefix "osp:" literally)
 OSP_NS = "http://opensimulationplatform.com/SSP/OSPAnnotations"
 
@@ -26,9 +26,10 @@ OSP_NS = "http://opensimulationplatform.com/SSP/OSPAnnotations"
 def measured(scene: str) -> dict[str, dict]:
     """Set name -> {"step": [s], "span": [s], "stored_step": [s]} of scene ``scene``: the sets whose
     stable step was found on the ladder; {} for a scene not measured."""
-    if not STORE.is_file():
+    store = SSP_SOURCES / scene / FILE
+    if not store.is_file():
         return {}
-    sets = json.loads(STORE.read_text()).get(scene, {})
+    sets = json.loads(store.read_text())
     order = sorted(sets, key=lambda name: (name != "default", name))   # the default set first
     return {name: {k: sets[name][k] for k in ("step", "span", "stored_step")} for name in order
             if sets[name].get("step")}

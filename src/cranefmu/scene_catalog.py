@@ -37,14 +37,21 @@ def resolve(name: str, fmus: str | None = None) -> Path:
     return scene_path(name, fmus)
 
 
-FIDELITY = Path(__file__).with_name("fidelity.json")   # written by benchmarks/scene_defaults.py
+FIDELITY = "fidelity.json"   # in each scene folder, written by benchmarks/scene_defaults.py
+
+
+def fidelity_file(name: str) -> Path:
+    """``ssp/<name>/fidelity.json``: where scene ``name``'s measured settings are stored (in an installed
+    wheel the copy under ``cranefmu/_sources/ssp/<name>/``, :mod:`cranefmu.sources`)."""
+    from .sources import SSP_SOURCES
+
+    return SSP_SOURCES / name / FIDELITY
 
 
 def fidelity(name: str) -> dict | None:
     """The measured settings of scene ``name`` (its chosen setting and fidelity ladder), None if unmeasured."""
-    if not FIDELITY.is_file():
-        return None
-    return json.loads(FIDELITY.read_text()).get(name)
+    path = fidelity_file(name)
+    return json.loads(path.read_text()) if path.is_file() else None
 
 
 def _errors(r: dict) -> str:
@@ -90,7 +97,7 @@ def _question(r: dict) -> str:
 
 def mode_lines(name: str) -> list[str]:
     """``cranefmu info`` lines: the listed modes with their closed form at the default parameters."""
-    from . import modal
+    from .analysis import modal
 
     specs = modal.specs(name)
     if not specs:

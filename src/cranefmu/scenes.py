@@ -5,7 +5,7 @@ from; docs/composition.md): :data:`SCENES` is read from there.  This module hold
 (:data:`MEASURES`) a scene names there and the parameter sets computed from the seeds' data.
 
 A result is anything indexable by column name with a ``time`` column: the master's structured
-array or :func:`cranefmu.reference.solve`'s dict.
+array or :func:`cranefmu.analysis.reference.solve`'s dict.
 """
 from __future__ import annotations
 

@@ -69,8 +69,8 @@ def source_digest() -> str:
     # the .ssp's SSD is generated (component bindings) by these, its settled start (cranefmu.settled_start)
     # computed by our initialization (as build.ssp_generators lists them)
     files += [(PACKAGE_DIR / rel, Path(rel)) for rel in ("build.py", "master/scene.py", "settled_start.py",
-                                                         "master/initialization.py", "host_steps.py",
-                                                         "host_steps.json") if (PACKAGE_DIR / rel).is_file()]
+                                                         "master/initialization.py", "host_steps.py")
+              if (PACKAGE_DIR / rel).is_file()]
     for path, rel in files:
         digest.update(rel.as_posix().encode() + b"\0")
         digest.update(path.read_bytes() + b"\0")

@@ -52,7 +52,7 @@ RTOL = 1e-9
 
 def hand_placed_start() -> dict[str, str]:
     """The scene's derived start as coordinates for the default start = 'position' (module docstring)."""
-    from cranefmu.reference import Monolith
+    from cranefmu.analysis.reference import Monolith
 
     mono = Monolith(SCENE)
     row = dict(zip(mono.columns, mono.output_row(0.0, mono.initial_state(0.0))))

@@ -3,7 +3,7 @@ its degree, the rest of the system explicit and unchanged; bad names refused by 
 import numpy as np
 import pytest
 
-from cranefmu.converge import key_outputs
+from cranefmu.analysis.converge import key_outputs
 from cranefmu.errors import SettingsError, SimulationError
 from cranefmu.master.run import run
 from cranefmu_support.oscillator.runs import DAMPED, X0, Z0, go, jacobi_limit

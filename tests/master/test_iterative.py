@@ -187,7 +187,7 @@ def test_stiff_rope_iterative_matches_the_monolith_at_the_tolerance_level(built)
     2 sqrt(3) of the linear-acceleration method it amounts to) runs through and follows the monolithic
     solve: swing and hook position to 1e-6 of their range (measured 7.5e-8 over 1 s), tension to 1e-8 of
     its size."""
-    from cranefmu.reference import solve
+    from cranefmu.analysis.reference import solve
     stop = 0.5
     res = run("elastic_pendulum", stop_time=stop, step_size=1e-3, algorithm="iterative", extrapolation=1,
               parameters=STIFF).result
@@ -211,7 +211,7 @@ def test_issue_stiff_rope_at_10_ms_runs_through_and_converges_first_order(built)
     (7.2e-3 and 3.6e-3 of its range, 8e-5 of m g); 5 s runs through as well (6.8e-4 rad, 1.8 N).
     Bound: omega H of the swing amplitude (8.7e-4 rad) and of the tension's range (1.1 N) at 10 ms;
     order: the error ratio between 10 and 5 ms within 2 +- 0.3."""
-    from cranefmu.reference import solve
+    from cranefmu.analysis.reference import solve
     stop = 3.0
     ref = solve("elastic_pendulum", stop, np.linspace(0.0, stop, 601), parameters=STIFF, rtol=1e-8)
     errors = {}
@@ -234,7 +234,7 @@ def test_issue_stiff_rope_at_10_ms_runs_past_where_reused_secants_diverged(built
     phase error grows with time: measured over 10 s 2.03e-3 rad of swing and 2.91 N of tension
     (3.3 times the 3 s values); bound: the 3 s bound (omega H of the amplitude, of the tension's
     range) times stop / 3 s."""
-    from cranefmu.reference import solve
+    from cranefmu.analysis.reference import solve
     stop = 10.0
     res = run("elastic_pendulum", stop_time=stop, step_size=1e-2, algorithm="iterative", extrapolation=0,
               parameters=STIFF)

@@ -9,7 +9,7 @@ import pytest
 from cranefmu import build as b
 from cranefmu.errors import ParameterSetError, SceneError
 from cranefmu.master.scene import load_scene, read_scene_folder, read_ssd
-from cranefmu.reference import Monolith
+from cranefmu.analysis.reference import Monolith
 
 SSD = """<?xml version="1.0" encoding="UTF-8"?>
 <ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription"

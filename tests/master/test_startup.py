@@ -106,9 +106,9 @@ def test_overhead_lifts_held_hoist_probe_starts_and_follows_the_monolith(built, 
     """The probe of issue 24 (overhead_lift's listed modes, ssp/overhead_lift/analysis.toml) over 0.1 s: each run starts (the old start-up
     failed at t = 0) and follows the monolith: the rope tension within 2 % of its range, the load's vertical
     speed within 8 % (measured: 1.2 % and 5.0 % for x1 at 2 ms, either order; 0.15 % and 0.7 % for x2 at 1 ms)."""
-    from cranefmu import modal
+    from cranefmu.analysis import modal
     from cranefmu.master.run import run
-    from cranefmu.reference import solve
+    from cranefmu.analysis.reference import solve
 
     probe = modal.specs("overhead_lift")[0].probe
     assert probe["drive.payout_speed"] == 0.0 and probe["pendulum.vy0"] == 0.05   # the held hoist, sent up

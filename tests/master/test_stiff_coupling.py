@@ -30,7 +30,7 @@ def test_stiff_hook_iterative_follows_the_monolith_first_order(built):
     """Degree 0 (the end value held over the step) is first order in H: measured over 1 s against the
     monolith (rtol 1e-8) the hook angle is off by 0.0108 rad at 5 ms and 0.0056 at 2.5 ms (3.5 % and
     1.8 % of its range), Fz_hook by 0.51 and 0.26 N; bound 5 % of range at 5 ms, ratio 2 +- 0.3."""
-    from cranefmu.reference import solve
+    from cranefmu.analysis.reference import solve
     stop = 1.0
     ref = solve("hook_sway", stop, np.linspace(0.0, stop, 201), parameters=STIFF_HOOK, rtol=1e-8)
     errors = {}

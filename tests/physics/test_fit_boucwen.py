@@ -9,7 +9,7 @@ import os
 import numpy as np
 import pytest
 
-from cranefmu.fit_boucwen import (LoopFileError, fit_boucwen, hoist_loop, main, make_example_loop, read_loop_csv,
+from cranefmu.analysis.fit_boucwen import (LoopFileError, fit_boucwen, hoist_loop, main, make_example_loop, read_loop_csv,
                                   synthetic_loop)
 from cranefmu.physics.boucwen import BoucWenParams, simulate_path, z_bound
 
@@ -111,7 +111,7 @@ def _stored_bouc_wen_set() -> BoucWenParams:
 def test_stored_overhead_set_reproduces_the_fitted_hoist_loop() -> None:
     # the nine values ssp/overhead_lift/default.ssv stores are the fit of the hoist loop: refitting gives them
     # back, and they trace the loop to the fit's RMS error (0.854 % of the force range)
-    from cranefmu.fit_boucwen import simulate_loop
+    from cranefmu.analysis.fit_boucwen import simulate_loop
 
     stored = _stored_bouc_wen_set()
     x, f = hoist_loop()

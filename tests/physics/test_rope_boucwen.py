@@ -130,7 +130,7 @@ def test_inadmissible_bouc_wen_sets_are_refused(change, name):
         RopeParams(model="kelvin_voigt", **change)
 
 
-# --- regimes for event-located solvers (cranefmu.reference) -------------------------------------
+# --- regimes for event-located solvers (cranefmu.analysis.reference) -------------------------------------
 
 def _states_in_each_regime():
     """(regime, z, hook y, hook vy) samples inside each regime's domain of the unpinned law."""

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from cranefmu.master.run import run
-from cranefmu.reference import elastic_pendulum as reference
+from cranefmu.analysis.reference import elastic_pendulum as reference
 
 G = 9.81
 E, A, L, M = 1.0e11, 5.655e-5, 10.0, 1000.0

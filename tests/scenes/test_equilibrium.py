@@ -18,7 +18,7 @@ from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 from cranefmu.master.run import run
-from cranefmu.reference import Monolith
+from cranefmu.analysis.reference import Monolith
 from cranefmu.scenes import static_outrigger_loads
 
 G = 9.81
@@ -50,7 +50,7 @@ def start(scene: str, parameters: dict, parameter_set: str = "default"):
 
 
 def same_start_as_the_monolith(scene: str, parameters: dict, res, parameter_set: str = "default") -> None:
-    """The monolithic reference (cranefmu.reference) initializes to the co-simulation's first row."""
+    """The monolithic reference (cranefmu.analysis.reference) initializes to the co-simulation's first row."""
     mono = Monolith(scene, parameter_set, parameters)
     row = dict(zip(mono.columns, mono.output_row(0.0, mono.initial_state(0.0))))
     for c in ("pendulum.x", "pendulum.y", "pendulum.z", "rope.tension", "rope.elongation"):

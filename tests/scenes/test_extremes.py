@@ -22,8 +22,8 @@ from cranefmu.master.results import read_csv
 from cranefmu.master.run import ALGORITHMS, run
 from cranefmu.physics.boom import BoomModel, BoomParams
 from cranefmu.physics.chassis import ChassisModel, ChassisParams
-from cranefmu.reference import elastic_pendulum as monolithic
-from cranefmu.stability import spectral_radius, stability_limit, zoh_limit
+from cranefmu.analysis.reference import elastic_pendulum as monolithic
+from cranefmu.analysis.stability import spectral_radius, stability_limit, zoh_limit
 
 from pendulum_cases import AREA, G, LENGTH, POSITION, THETA0, at_rest_on_rope, axial, one_d_pendulum
 from scene_edit import scene_ssp

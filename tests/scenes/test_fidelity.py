@@ -1,4 +1,4 @@
-"""The measured settings (src/cranefmu/fidelity.json, written by benchmarks/scene_defaults.py): the
+"""The measured settings (ssp/<scene>/fidelity.json, written by benchmarks/scene_defaults.py): the
 stored setting of a measured scene is the one the measurement chose, its ladder runs from the fastest
 to the most faithful, and `cranefmu info` shows both with their errors."""
 import tempfile
@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from cranefmu import modal
+from cranefmu.analysis import modal
 from cranefmu.master.run import preview, resolve_scene
 from cranefmu.master.scene import load_scene
 from cranefmu.scene_catalog import fidelity

@@ -1,10 +1,10 @@
-"""The listed modes of the scenes (cranefmu.modal.MODES): the monolith's free vibrations identified by
+"""The listed modes of the scenes (cranefmu.analysis.modal.MODES): the monolith's free vibrations identified by
 the modal fit agree with their closed forms, and the co-simulation's distortion of a mode is measured
 (the old elastic_pendulum setting, Jacobi x2 at 20 ms, is the issue's case)."""
 import numpy as np
 import pytest
 
-from cranefmu import modal
+from cranefmu.analysis import modal
 from reference_cache import References, solve   # one solve per argument set in the session
 
 # the probes of ssp/<scene>/analysis.toml: the overhead crane's held hoist, the truck's axial kick
@@ -168,7 +168,7 @@ def test_the_luffing_cylinder_mode_is_the_boom_models_own_linearisation():
     at 60 deg, against the eigenvalues of the Boom model's own psi equation (foot fixed, tip unloaded), whose
     gravity and lever terms the closed form leaves out (3.8031 Hz, zeta 0.03987: 0.05 %)."""
     from cranefmu.physics.boom import BoomModel, BoomParams
-    from cranefmu.reference import build_params
+    from cranefmu.analysis.reference import build_params
 
     values = modal.scene_values("truck_telescope", "luffing")
     f, zeta = modal.luffing_cylinder(values)

@@ -1,4 +1,4 @@
-"""The co-simulation converges to the monolithic solve of the same models (cranefmu.reference)."""
+"""The co-simulation converges to the monolithic solve of the same models (cranefmu.analysis.reference)."""
 from pathlib import Path
 
 import numpy as np
@@ -6,7 +6,7 @@ import pytest
 
 from cranefmu.master.run import run
 from cranefmu.physics.boucwen import BoucWenParams
-from cranefmu.reference import Monolith
+from cranefmu.analysis.reference import Monolith
 
 from reference_cache import solve   # one solve per argument set in the session
 

@@ -1,9 +1,9 @@
 """The session cache of monolithic references (tests/reference_cache.py) returns the arrays a direct
-cranefmu.reference.solve gives, solves once per argument set, and keeps different arguments apart."""
+cranefmu.analysis.reference.solve gives, solves once per argument set, and keeps different arguments apart."""
 import numpy as np
 
 import reference_cache
-from cranefmu.reference import solve
+from cranefmu.analysis.reference import solve
 
 STOP = 0.05
 TIMES = np.linspace(0.0, STOP, 11)

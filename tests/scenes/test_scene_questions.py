@@ -1,4 +1,4 @@
-"""cranefmu.scene_questions: each scene's question over its natural length, the ladder's criterion beside range
+"""cranefmu.analysis.scene_questions: each scene's question over its natural length, the ladder's criterion beside range
 and modes (issue 34). Checked on motions with a closed form: a rigid double pendulum at rest and a single
 swing of known amplitude (hook at rest below the tip, payload on the sling), no simulation."""
 import math
@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from cranefmu.scene_questions import DECAY_LIMIT, answers, swing_energy, swing_energy_loss, worst
+from cranefmu.analysis.scene_questions import DECAY_LIMIT, answers, swing_energy, swing_energy_loss, worst
 from cranefmu.scenes import G
 
 M_HOOK, M_PAYLOAD, L_SLING, HANG = 3.0, 10.0, 0.5, 0.4

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from cranefmu.master.run import run
-from cranefmu.reference import Monolith
+from cranefmu.analysis.reference import Monolith
 from cranefmu.scenes import (SCENES, hook_sway_parameters, metrics, plot_groups, static_outrigger_loads, summary,
                              truck_telescope_parameters)
 

@@ -11,13 +11,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cranefmu import cli, modal
-from cranefmu.converge import key_outputs, monolithic_reference
+from cranefmu import cli
+
+from cranefmu.analysis import modal
+from cranefmu.analysis.converge import key_outputs, monolithic_reference
 from cranefmu.errors import SceneError
 from cranefmu.master.power_bonds import RESIDUAL_WARNING
 from cranefmu.master.run import preview, resolve_scene, run
 from cranefmu.master.scene import load_scene
-from cranefmu.modal import MODES
+from cranefmu.analysis.modal import MODES
 from cranefmu.scene_info import describe
 from cranefmu.scenes import hook_sway_metrics
 from reference_cache import References
@@ -54,7 +56,7 @@ def test_run_without_settings_uses_the_scene_settings_and_meets_one_percent(buil
 
 @pytest.mark.parametrize("scene", sorted(MODES))
 def test_the_stored_settings_keep_every_listed_mode(built, scene):
-    """Issue 24: each listed mode (cranefmu.modal.MODES) within 0.5 % in frequency and 5 % in damping
+    """Issue 24: each listed mode (cranefmu.analysis.modal.MODES) within 0.5 % in frequency and 5 % in damping
     ratio of the monolith's over its probe run, and every bond's residual within 10 % of the energy it
     carried (the old elastic_pendulum setting, jacobi x2 at 20 ms, raised the axial damping by 38 %)."""
     check = modal.check_setting(scene, {}, references=References(scene, None, None))   # test_modes' solves

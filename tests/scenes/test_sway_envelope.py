@@ -1,11 +1,11 @@
-"""Payload sway envelope of hook_sway against the linear double-pendulum modes (cranefmu.sway_envelope)."""
+"""Payload sway envelope of hook_sway against the linear double-pendulum modes (cranefmu.analysis.sway_envelope)."""
 import math
 
 import numpy as np
 import pytest
 
 from cranefmu.errors import CraneFmuError
-from cranefmu.sway_envelope import (air_drag_decay, double_pendulum_modes, envelope, initial_lengths, payload_sway_envelope,
+from cranefmu.analysis.sway_envelope import (air_drag_decay, double_pendulum_modes, envelope, initial_lengths, payload_sway_envelope,
                                     quadratic_drag_amplitude, simulate_hook_sway)
 
 SMALL = {"pendulum.theta_payload0": 0.01, "pendulum.phi_payload0": 0.005}   # linear range, 3-D release

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from cranefmu.master.run import run
-from cranefmu.reference import Monolith
+from cranefmu.analysis.reference import Monolith
 from cranefmu.scenes import pad_tipping_load, pad_tipping_load_tilt_free, static_pad_reactions
 
 G = 9.81
@@ -150,7 +150,7 @@ def test_the_pad_reactions_and_the_hook_converge_at_second_order_to_the_monolith
     inertia took rates) the pad reactions' and the hook's height errors fell at order 1.1-1.2 and were
     324 N / 676 N at 10 ms; interpolated, order 1.9-2.0 and 165 N / 267 N
     (benchmarks/results/truck_slewing_coupling.md)."""
-    from cranefmu.reference import solve
+    from cranefmu.analysis.reference import solve
 
     probe = {"pendulum.vy0": 0.05}
     ref = solve("truck_slewing", 3.0, np.linspace(0.0, 3.0, 601), parameters=probe)

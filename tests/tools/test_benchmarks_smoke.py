@@ -3,7 +3,7 @@ interface change that breaks a benchmark fails CI instead of the next measuremen
 
 Each runs in a scratch copy of the checkout's writable parts (benchmarks/ with its results, docs/, ssp/
 and src/ copied; everything else linked; git still answers for the checkout), so no script writes into
-the checkout's benchmarks/results/, docs/, ssp/ or src/cranefmu/fidelity.json.  A script passes when
+the checkout's benchmarks/results/, docs/, ssp/ (each scene's fidelity.json).  A script passes when
 it exits 0 and writes its result files (newer than the start).  Numbers at smoke size mean nothing:
 they are not checked here, and the tables are thrown away.
 """

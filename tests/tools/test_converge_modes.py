@@ -7,7 +7,7 @@ from contextlib import redirect_stdout
 import pytest
 
 from cranefmu.cli import main
-from cranefmu.converge import format_report, study, write_outputs
+from cranefmu.analysis.converge import format_report, study, write_outputs
 
 
 def test_the_coarsest_step_meeting_the_target_is_recommended(built, tmp_path):

@@ -12,7 +12,7 @@ from cranefmu.experiments.metrics import REGISTRY
 from cranefmu.experiments.reader import ExperimentError, load
 
 # two modes released together, psi = a cos(w1 t) + b cos(w2 t): the envelope
-# sqrt(a^2 + b^2 + 2 a b cos((w2 - w1) t)) falls to |a - b| at pi / (w2 - w1) (cranefmu.sway_envelope)
+# sqrt(a^2 + b^2 + 2 a b cos((w2 - w1) t)) falls to |a - b| at pi / (w2 - w1) (cranefmu.analysis.sway_envelope)
 A, B, W1, W2 = 0.7, 0.3, 2 * math.pi * 0.55, 2 * math.pi * 2.1
 T_MIN = math.pi / (W2 - W1)
 RATIO = abs(A - B) / (A + B)

@@ -204,7 +204,7 @@ def test_reference_solve_gives_the_checkout_solution(installed, tmp_path):
     # out since (the solve repeated in one process, compared bit for bit): denormals flushed (MXCSR FTZ/DAZ
     # set), the x87 unit at 53 bits or rounding to zero, two threads busy in BLAS meanwhile, and in-process
     # co-simulations of all four scenes before it.  The cause is still not found.
-    code = f"import numpy as np; from cranefmu.reference import solve; np.savez('ref.npz', **solve({SCENE!r}, {STOP}))"
+    code = f"import numpy as np; from cranefmu.analysis.reference import solve; np.savez('ref.npz', **solve({SCENE!r}, {STOP}))"
     res = installed.run(str(installed.python), "-c", code)
     assert res.returncode == 0, res.stderr
     here = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=300)

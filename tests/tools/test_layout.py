@@ -48,3 +48,16 @@ def test_the_shipped_package_never_imports_the_support_package():
                      [a.name for a in node.names] if isinstance(node, ast.Import) else [])
             wrong += [f"{path.relative_to(ROOT)}:{node.lineno}" for n in names if n.split(".")[0] == "cranefmu_support"]
     assert not wrong, wrong
+
+
+ANALYSES = ("reference", "modal", "converge", "scene_questions", "sway_envelope", "stability", "fit_boucwen",
+            "seed_figures")
+
+
+def test_the_crane_analyses_are_one_package():
+    """The analyses (the monolith, modes, convergence, a scene's question, sway envelope, stability limit, Bouc-Wen
+    fit, the seeds' figures) are cranefmu.analysis, not loose among the top-level modules (issue 36)."""
+    package = ROOT / "src" / "cranefmu"
+    assert "cranefmu.analysis" in _packages()
+    assert all((package / "analysis" / f"{m}.py").is_file() for m in ANALYSES)
+    assert not [m for m in ANALYSES if (package / f"{m}.py").exists()]

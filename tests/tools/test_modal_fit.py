@@ -1,11 +1,11 @@
-"""The modal fit (cranefmu.modal.fit_modes, matrix pencil): recovers known frequencies and damping
+"""The modal fit (cranefmu.analysis.modal.fit_modes, matrix pencil): recovers known frequencies and damping
 ratios from synthetic free vibrations, several modes at once, with noise, drift and coarse sampling."""
 import math
 
 import numpy as np
 import pytest
 
-from cranefmu.modal import ModalFitError, fit_modes, uniform
+from cranefmu.analysis.modal import ModalFitError, fit_modes, uniform
 
 
 def free_vibration(t, f, zeta, amplitude, phase):

@@ -15,7 +15,7 @@ from cranefmu.master.run_process import choose
 
 # the run path of a native scene never needs these (a module here costs every cold command its import)
 NOT_ON_THE_RUN_PATH = ("scipy", "matplotlib", "pythonfmu", "dask", "distributed", "cranefmu.sweep",
-                       "cranefmu.studies", "cranefmu.compose", "cranefmu.export", "cranefmu.fit_boucwen",
+                       "cranefmu.studies", "cranefmu.compose", "cranefmu.export", "cranefmu.analysis.fit_boucwen",
                        "cranefmu.adapter.fmi_adapter", "cranefmu.report.page", "cranefmu.report.drawing")
 
 WORKER_CPU = 0.05   # [s] a worker process (an interpreter importing numpy and fmpy) costs more than this

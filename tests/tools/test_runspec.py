@@ -111,7 +111,7 @@ def test_converge_runs_and_its_finest_reference_are_one_form(built, monkeypatch)
     from dataclasses import replace
 
     import cranefmu.master.run as master_run
-    from cranefmu import converge
+    from cranefmu.analysis import converge
     from cranefmu.errors import CraneFmuError, SimulationError
 
     seen = {}
@@ -194,7 +194,7 @@ def test_the_reference_solves_the_scene_a_run_read(built):
 
     from cranefmu.master.extracted import extracted_scene
     from cranefmu.master.scene_names import resolve_scene
-    from cranefmu.reference import solve
+    from cranefmu.analysis.reference import solve
 
     _, scene = extracted_scene(resolve_scene("elastic_pendulum"))
     times = np.linspace(0.0, 0.5, 11)

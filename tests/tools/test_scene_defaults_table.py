@@ -1,6 +1,7 @@
 """benchmarks/scene_defaults.py re-derives the choice and the ladder from a results file it wrote
 (``--from-table``): every candidate row is read back, the implicit group's among them."""
 import importlib.util
+import json
 from pathlib import Path
 
 SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "scene_defaults.py"
@@ -42,3 +43,24 @@ def test_a_bond_at_rest_adds_no_energy():
     assert sd.worst_bond_ratio({"hook": 8e-5, "drum": 0.0}, {"hook": 234.0, "drum": 0.0}) == 8e-5 / 234.0
     assert sd.worst_bond_ratio({"hook": 8e-5, "drum": 1e-9}, {"hook": 234.0, "drum": 0.0}) == float("inf")
     assert sd.worst_bond_ratio({}, {}) == 0.0
+
+
+def test_the_measurement_is_stored_in_the_scene_folder(tmp_path):
+    """write_fidelity writes ssp/<scene>/fidelity.json (one file per scene, the entry alone: no other scene's
+    table touched), and the docs' ladders are read back from the folders."""
+    sd = load()
+    sd.SSP = tmp_path
+    (tmp_path / "elastic_pendulum").mkdir()
+    (tmp_path / "hook_sway").mkdir()
+    (tmp_path / "hook_sway" / "fidelity.json").write_text('{"untouched": 1}\n')
+    row = {"scene": "elastic_pendulum", "label": "jacobi x1 H 2 ms", "algorithm": "jacobi", "extrapolation": 1, "step_size": 0.002, "rtf": 40.0,
+           "worst": 0.001, "freq_err": 0.0001, "damp_err": 0.01, "cpu": 0.25, "ok": True, "fmus": "native", "exchange": "compiled"}
+    sd.write_fidelity("elastic_pendulum", [row], {"stop": 10.0, "natural": 30.0}, "abc1234", "scene_defaults.py",
+                      when="2026-11-28 17:00")
+    stored = json.loads((tmp_path / "elastic_pendulum" / "fidelity.json").read_text())
+    assert stored["chosen"]["label"] == "jacobi x1 H 2 ms" and stored["span"] == 10.0 and stored["natural"] == 30.0
+    assert [r["label"] for r in stored["ladder"]] == ["jacobi x1 H 2 ms"]
+    assert json.loads((tmp_path / "hook_sway" / "fidelity.json").read_text()) == {"untouched": 1}
+    assert set(stored) == {"measured", "span", "chosen", "ladder", "natural", "cost"}   # the entry, not a table
+    (tmp_path / "hook_sway" / "fidelity.json").unlink()
+    assert "`elastic_pendulum` (10 s; chosen: jacobi x1 H 2 ms;" in "\n".join(sd.ladder_section())

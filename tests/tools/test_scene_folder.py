@@ -1,16 +1,20 @@
 """A scene is one folder: ssp/<scene>/analysis.toml holds its question, key outputs, plots, roles and listed
-modes; cranefmu.scenes and cranefmu.modal read it and hold no per-scene literal data (issue 36)."""
+modes; cranefmu.scenes and cranefmu.analysis.modal read it and hold no per-scene literal data (issue 36)."""
 from __future__ import annotations
 
 import ast
+import json
 import shutil
 from pathlib import Path
 
 import pytest
 
-from cranefmu import modal, scenes
+from cranefmu import scenes
+
+from cranefmu.analysis import modal
 from cranefmu.errors import SceneError, SettingsError
-from cranefmu.reference import Monolith
+from cranefmu.scene_catalog import FIDELITY, fidelity
+from cranefmu.analysis.reference import Monolith
 from cranefmu.sources import PACKAGE_DIR, scene_dirs, scene_files
 
 FOLDERS = scene_dirs()
@@ -40,6 +44,32 @@ def test_the_folder_holds_question_key_outputs_and_modes(folder):
         Monolith(folder.name, parameters=spec.probe)   # every probe names parameters of the scene
 
 
+def test_the_measured_settings_are_in_the_folder():
+    """Each scene's measured choice and fidelity ladder is its folder's fidelity.json (shipped with the scene,
+    read by info), not a table of all scenes beside the code (src/cranefmu/fidelity.json, before issue 36)."""
+    assert not (PACKAGE_DIR / FIDELITY).exists()
+    for folder in FOLDERS:
+        assert folder / FIDELITY in scene_files(folder)
+        stored = json.loads((folder / FIDELITY).read_text())
+        assert fidelity(folder.name) == stored and stored["ladder"] and stored["span"] > 0
+    assert fidelity("no_such_scene") is None
+
+
+def test_the_host_steps_are_in_the_folder():
+    """Each scene's plain-Jacobi steps (what the build writes into its .ssp for libcosim and ecos) are its folder's
+    host_steps.json, a source of the scene: the .ssp is stale when it changes and the wheel ships it."""
+    from cranefmu.host_steps import FILE, measured
+
+    assert not (PACKAGE_DIR / FILE).exists()
+    for folder in FOLDERS:
+        assert folder / FILE in scene_files(folder)
+        stored = json.loads((folder / FILE).read_text())
+        assert "default" in stored and list(measured(folder.name))[0] == "default"
+        assert all(measured(folder.name)[s]["step"] == stored[s]["step"] <= stored[s]["stored_step"]
+                   for s in measured(folder.name))
+    assert measured("no_such_scene") == {}
+
+
 def test_a_closed_form_from_the_folder_gives_the_physics():
     """elastic_pendulum's axial mode: f = sqrt(c/M)/(2 pi), c = E A / L for one line (seed 001 eq. 8)."""
     import math
@@ -56,7 +86,7 @@ def _strings(nodes) -> set[str]:
     return {n.value for node in nodes for n in ast.walk(node) if isinstance(n, ast.Constant) and isinstance(n.value, str)}
 
 
-@pytest.mark.parametrize("module", ["scenes.py", "modal.py"])
+@pytest.mark.parametrize("module", ["scenes.py", "analysis/modal.py"])
 def test_no_per_scene_literal_data_in_the_code(module):
     """No module-level table mentions a scene (the old SCENES and MODES literals), and no question, listed mode's
     name or formula is written anywhere in the code: they are the folders'.  (Code for one scene, e.g.

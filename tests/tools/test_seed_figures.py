@@ -1,6 +1,6 @@
 """One value per seed figure (issue 37: seed 001's loose-rope factor was 1.55 on docs/studies/dynamic_factor.md
 and 1.517 on docs/studies/validation.md): every generated page and every experiment quotes the figure of
-``cranefmu.seed_figures``; docs/validation.md keeps its hand-written sections when it is regenerated."""
+``cranefmu.analysis.seed_figures``; docs/validation.md keeps its hand-written sections when it is regenerated."""
 from __future__ import annotations
 
 import importlib.util
@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from cranefmu import seed_figures as seed
+from cranefmu.analysis import seed_figures as seed
 from cranefmu.studies import dynamic_factor, validation
 
 try:

@@ -228,8 +228,8 @@ def test_dynamic_factor_names_its_extrapolation_not_the_scenes_stored_one(tmp_pa
 def test_convergence_page_shows_the_modal_check_its_recommendation_rests_on():
     """A run within the range target whose listed mode is off is not recommended: the page says why (before,
     it said 'the cheapest run within 0.01' and showed hook_sway's 4 ms run, 0.0058 of range, unrecommended)."""
-    from cranefmu.converge import ConvergenceRun, Study
-    from cranefmu.modal import ModalCheck, ModeError
+    from cranefmu.analysis.converge import ConvergenceRun, Study
+    from cranefmu.analysis.modal import ModalCheck, ModeError
     from cranefmu.studies import convergence
 
     coarse = ConvergenceRun(4e-3, None, rel_err={"pendulum.theta": 0.0058}, steps=1250, wall_time=0.5, simulated=5.0)

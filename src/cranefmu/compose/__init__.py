@@ -4,6 +4,8 @@ A scene source names its components (FMU and parameter values), the ``.ssv`` fil
 set, its connect lines (two ports joined with ``=``, variables with ``->``), its stored run settings
 and stop conditions (docs/composition.md).  The build writes the SSD from it (:func:`write_ssd`);
 the SSD stays committed beside it, so every reader of scenes keeps reading SSDs.
+
+Internal: no module here is public API (its face: ``cranefmu compose`` and the build; docs/architecture.md).
 """
 from __future__ import annotations
 

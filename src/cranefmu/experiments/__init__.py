@@ -5,4 +5,6 @@
 profiles, input shapers), :mod:`.expressions` (the safe evaluator), :mod:`.assertions`, :mod:`.runner`,
 :mod:`.crane_commands` (the boom's telescope / luff / slew commands bound to its command inputs),
 :mod:`.command` (the command line).
+
+Internal: no module here is public API (its face: ``cranefmu check``, ``cranefmu run FILE.toml``; docs/architecture.md).
 """

@@ -11,7 +11,7 @@ A ``metric`` turns the rows of ``always``/``during`` into one number:
 - ``dynamic_factor``: max / static, static = ``static`` (an expression) or the column's first row
   of the run (the scene starts at rest, so its first row is the static value);
 - ``frequency`` [Hz], ``damping`` [1]: of mode ``mode`` (lowest frequency first) among the
-  ``n_modes`` strongest of the column, fitted by :func:`cranefmu.modal.fit_modes` (matrix pencil);
+  ``n_modes`` strongest of the column, fitted by :func:`cranefmu.analysis.modal.fit_modes` (matrix pencil);
 - the metrics registered in :mod:`.metrics` (``envelope_first_minimum``, ``envelope_min_ratio``,
   ``envelope_fall_rate``: the Hilbert envelope of a released sway).
 
@@ -105,7 +105,7 @@ def metric(a: AssertionSpec, t: np.ndarray, y: np.ndarray, values: dict, first: 
         return float(np.max(y) / static)
     if m in REGISTRY:
         return float(REGISTRY[m](t, y))
-    from ..modal import fit_modes
+    from ..analysis.modal import fit_modes
 
     modes = fit_modes(t, y, a.n_modes)
     mode = modes[a.mode - 1]

@@ -29,8 +29,8 @@ def register(name: str) -> Callable[[Metric], Metric]:
 
 
 def _first_minimum(t: np.ndarray, y: np.ndarray):
-    """The Hilbert envelope of the rows (:func:`cranefmu.sway_envelope.envelope`) with a first minimum."""
-    from ..sway_envelope import SwayEnvelopeError, envelope
+    """The Hilbert envelope of the rows (:func:`cranefmu.analysis.sway_envelope.envelope`) with a first minimum."""
+    from ..analysis.sway_envelope import SwayEnvelopeError, envelope
 
     try:
         env = envelope(t, y)
@@ -45,7 +45,7 @@ def _first_minimum(t: np.ndarray, y: np.ndarray):
 @register("envelope_first_minimum")
 def envelope_first_minimum(t: np.ndarray, y: np.ndarray) -> float:
     """Time [s] of the first minimum of the envelope of a signed sway released from rest at t[0]
-    (the Hilbert envelope of :func:`cranefmu.sway_envelope.envelope`; for two modes w1 < w2 at half
+    (the Hilbert envelope of :func:`cranefmu.analysis.sway_envelope.envelope`; for two modes w1 < w2 at half
     the beat period, pi / (w2 - w1) after the release).  The rows must be equally spaced."""
     return _first_minimum(t, y).first_min_time
 
@@ -60,6 +60,6 @@ def envelope_min_ratio(t: np.ndarray, y: np.ndarray) -> float:
 @register("envelope_fall_rate")
 def envelope_fall_rate(t: np.ndarray, y: np.ndarray) -> float:
     """How fast the envelope falls to its first minimum [1/s]: (1 - min ratio) / (t_min - t[0])
-    (docs/validation.md's 'fall rate', :func:`cranefmu.sway_envelope.hook_sway_table`)."""
+    (docs/validation.md's 'fall rate', :func:`cranefmu.analysis.sway_envelope.hook_sway_table`)."""
     env = _first_minimum(t, y)
     return (1.0 - env.min_ratio) / (env.first_min_time - float(t[0]))

@@ -1,7 +1,7 @@
 """Default alarm for an unstable explicit coupling: the master's watch over every run.
 
 Beyond its stability limit an explicit coupling multiplies its error by the spectral radius
-rho > 1 of the step recurrence every macro step (:mod:`cranefmu.stability`).  A connection that
+rho > 1 of the step recurrence every macro step (:mod:`cranefmu.analysis.stability`).  A connection that
 can only pull (a rope) bounds the blow-up and leaves finite nonsense, so waiting for a non-finite
 value is not enough.  Three detectors, chosen by :class:`Watch` for the run:
 

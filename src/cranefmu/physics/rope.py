@@ -49,7 +49,7 @@ reeving (Kelvin-Voigt eps = load / (n E A); Bouc-Wen the virgin curve, same stra
     L_u(0) = (chord - (L_e - L_u) eps(load)) / (1 + eps(load)) + start_slack.
     The unstretched length at zero payout is then a state (constant, derivative 0), not ``length``.
 
-Regimes (for a solver that locates events, :mod:`cranefmu.reference`)
+Regimes (for a solver that locates events, :mod:`cranefmu.analysis.reference`)
 ---------------------------------------------------------------------
 The law above switches between three smooth regimes; on its own domain each one is exactly the
 law the FMU integrates (derived from the rules above):

@@ -3,6 +3,7 @@ as plots linked to the time slider, the bond energy residuals, settings, statist
 
 ``write_report(path, result, scene=...)`` from Python; ``cranefmu run SCENE --report FILE`` and
 ``cranefmu report RESULT.csv --output FILE`` from the command line (docs/report.md).
+Public: the names ``__all__`` lists; the modules of this package are internal.
 """
 from __future__ import annotations
 

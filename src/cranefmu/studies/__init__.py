@@ -5,6 +5,8 @@ generated part of docs/studies/), at a size: ``smoke`` (a small grid through eve
 ``default`` or ``full``.  Runs go through the sweep engine (one table per sweep under
 ``OUTPUT/runs/SIZE/``, so an interrupted study resumes); speed and start-up time fresh processes.
 A study with failed points lists them on its page and in the table, and the command exits 1.
+
+Internal: no module here is public API (its face is ``cranefmu study``; docs/architecture.md).
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Coupling-step convergence of every scene: the worst error of its key outputs against the monolithic
 solve of the same equations, the observed order between neighbouring steps and the wall time of each
-run (``cranefmu.converge.study``; its runs are one sweep on the shared cluster)."""
+run (``cranefmu.analysis.converge.study``; its runs are one sweep on the shared cluster)."""
 from __future__ import annotations
 
 import math
@@ -23,7 +23,7 @@ def cases(ctx: Context) -> list[tuple[str, list[float], float]]:
 
 
 def run(ctx: Context) -> None:
-    from ..converge import study
+    from ..analysis.converge import study
 
     rows, studies = [], []
     for scene, steps, stop in cases(ctx):
@@ -45,7 +45,7 @@ def run(ctx: Context) -> None:
 
 
 def modes_columns(check) -> dict:
-    """The worst listed-mode errors of one run against the monolith (``cranefmu.modal.ModalCheck``; None:
+    """The worst listed-mode errors of one run against the monolith (``cranefmu.analysis.modal.ModalCheck``; None:
     the scene lists no mode) as the table's columns."""
     if check is None:
         return {"modes_freq_err": None, "modes_damp_err": None, "modes_meet": None}
@@ -63,14 +63,14 @@ def modes_cell(check) -> str:
 
 
 def page(studies: list) -> list[str]:
-    from ..modal import DAMP_LIMIT, FREQ_LIMIT
+    from ..analysis.modal import DAMP_LIMIT, FREQ_LIMIT
 
     lines = ["Co-simulation (Jacobi, extrapolation 1) at halving macro steps against the monolithic solve of the "
-             "same equations (`cranefmu.reference`, the scene's physics in one ODE) at the run's own output times.  "
+             "same equations (`cranefmu.analysis.reference`, the scene's physics in one ODE) at the run's own output times.  "
              f"Error = max |y - y_ref| / range of y_ref over the key outputs (the worst one named).  Observed order "
              "p = ln(e_i / e_i+1) / ln(H_i / H_i+1).  Wall time: the run's own master loop on a sweep worker "
              f"(a worker's first run also loads the FMU code: not a warm timing).  Listed modes: the worst "
-             "frequency and damping-ratio error of the scene's listed modes (`cranefmu.modal`) against the monolith's, "
+             "frequency and damping-ratio error of the scene's listed modes (`cranefmu.analysis.modal`) against the monolith's, "
              f"limits {100 * FREQ_LIMIT:g} % and {100 * DAMP_LIMIT:g} %.  Recommended: the run of fewest steps within "
              f"{TARGET:g} of range whose listed modes are within their limits.  Table: convergence.csv.", "",
              "| scene | H [s] | worst error / range | worst output | observed order (worst output) | listed modes | "

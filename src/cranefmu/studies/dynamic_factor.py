@@ -14,13 +14,13 @@ import math
 
 import numpy as np
 
-from ..seed_figures import HOOK_SPEED, table7
+from ..analysis.seed_figures import HOOK_SPEED, table7
 from .common import Context, pyplot, write_csv, write_page
 
 EN13001 = {"HC1": (0.17, 1.05), "HC2": (0.34, 1.10), "HC3": (0.51, 1.15), "HC4": (0.68, 1.20)}  # beta2 [s/m], phi2,min
 V_NOMINAL = HOOK_SPEED  # seed 001 Table 6 V_p: hook speed at the nominal supply frequency [m/s]
 OMEGA_S = 314.15       # nominal supply angular frequency [rad/s] (drive.Omega_s)
-# seed 001 Table 7 at 0.208 m/s, the mean of its three tests (cranefmu.seed_figures): tight, loose (0.1 m slack)
+# seed 001 Table 7 at 0.208 m/s, the mean of its three tests (cranefmu.analysis.seed_figures): tight, loose (0.1 m slack)
 MEASURED = {0.0: table7("tight"), 0.1: table7("loose")}
 # Bouc-Wen loose converges only below 1e-4 s (validation); Kelvin-Voigt: with the girder's beam mass
 # (issue 26, m1 = 17/35 M) the hook bond's explicit coupling tripped the alarm at 5e-4 s at v_h = 0.104

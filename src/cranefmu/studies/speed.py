@@ -95,7 +95,7 @@ def on_grid(got: dict, grid: float, stop: float) -> dict:
 
 def reference(scene: str, stop: float, grid: float) -> dict:
     """The monolith at rtol ``REF_RTOL`` on the grid k * grid up to ``stop`` (solved once per process)."""
-    from ..reference import solve
+    from ..analysis.reference import solve
 
     key = (scene, stop, grid)
     if key not in _REFERENCES:
@@ -126,7 +126,7 @@ def accuracy(scene: str, got: dict, stop: float, grid: float) -> float:
 def equal_rtol(scene: str, stop: float, grid: float, target: float) -> tuple[float, float]:
     """(rtol, its error / range): the loosest rtol of ``MONO_RTOLS`` whose monolithic solve is as accurate as
     ``target`` on the grid, else the tightest tried (untimed, in this process)."""
-    from ..reference import solve
+    from ..analysis.reference import solve
 
     n = int(np.floor(stop / grid + 1e-9)) + 1
     tried = (math.nan, math.inf)
@@ -281,7 +281,7 @@ def page(rows: list[dict], ran: list[str], start_load=(math.nan,) * 3, end_load=
              "evaluated at those times); accuracy = worst max |y - y_ref| / range(y_ref) over the key outputs on "
              f"that grid, y_ref = the monolith at rtol {REF_RTOL:g}.  **ours**: our master with the scene's stored "
              "settings, with the native C FMUs (the default) and with the pythonfmu FMUs (`--fmus python`).  "
-             "**monolith**: `cranefmu.reference.solve` (Radau) at equal accuracy: the loosest rtol of "
+             "**monolith**: `cranefmu.analysis.reference.solve` (Radau) at equal accuracy: the loosest rtol of "
              f"{', '.join(f'{r:g}' for r in MONO_RTOLS)} whose error is at most ours with native FMUs (column "
              "'step / rtol').  **libcosim**: libcosimpy, plain Jacobi at a fixed step, the native FMUs' .ssp "
              "(`ssp/native/SCENE.ssp`) started from our settled inputs (it exchanges nothing in initialization "

@@ -9,7 +9,7 @@ run is smaller than over the first quarter and the rope never went slack, the ru
 20 axial periods and 200 macro steps; a run that fails (non-finite values) is unstable.
 
 Beside each measured limit: the analytic limit of the linear mass on a spring-damper coupled by a
-sampled force (cranefmu.stability: spectral radius of the step matrix; zero-order hold in closed form
+sampled force (cranefmu.analysis.stability: spectral radius of the step matrix; zero-order hold in closed form
 omega H < min(4 z, 1/z)), z = b / (2 sqrt(c m)) from the rope's own damping law.
 
 Each bisection round is one sweep (every open row at once); every run is a row of
@@ -23,7 +23,7 @@ import numpy as np
 
 from ..master.settings import ALGORITHMS
 from ..physics.rope import RopeParams, damping, stiffness
-from ..stability import stability_limit
+from ..analysis.stability import stability_limit
 from .common import Context, finish, pyplot, write_csv, write_page
 
 G = 9.81
@@ -33,7 +33,7 @@ AREA = 5.655e-5  # rope.A [m2]
 ZETA = 0.07      # rope.zeta
 AMPLITUDE = 0.3  # initial axial offset, fraction of the static stretch (keeps the rope taut)
 ORDERS = {"jacobi-plain": (0,)}
-ANALYTIC = ("jacobi", "gauss-seidel")   # the schemes whose step matrix cranefmu.stability models   # libcosim's zero-order hold refuses extrapolation; the others 0, 1, 2
+ANALYTIC = ("jacobi", "gauss-seidel")   # the schemes whose step matrix cranefmu.analysis.stability models   # libcosim's zero-order hold refuses extrapolation; the others 0, 1, 2
 
 
 def axial(E: float) -> tuple[float, float, float]:
@@ -155,7 +155,7 @@ def page(rows: list[dict], stiffnesses: list[float], algorithms: list[str], rel_
              f"stiffnesses x {len(algorithms)} algorithms, {len(rows)} rows, {sum(r['runs'] for r in rows)} runs) "
              f"against rope stiffness E (c = E A / L, A = {AREA} m2, L = {LENGTH} m, load {MASS:.0f} kg, rope.zeta "
              f"= {ZETA}; z = b / (2 sqrt(c m)) is the damping ratio on the load).  Analytic: spectral radius of the "
-             "step matrix of the linear mass + sampled spring-damper force (src/cranefmu/stability.py); order 0 "
+             "step matrix of the linear mass + sampled spring-damper force (src/cranefmu/analysis/stability.py); order 0 "
              "in closed form omega H < min(4 z, 1/z).  Table: stability_map.csv; runs: "
              "runs/<size>/stability_map_runs.csv.", "",
              "| E [Pa] | omega [rad/s] | algorithm | order | H stable [s] | H unstable [s] | omega H measured | "

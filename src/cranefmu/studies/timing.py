@@ -24,7 +24,7 @@ MONO_RTOL = 1e-6
 
 
 def keys(scene: str) -> tuple[str, ...]:
-    from ..converge import key_outputs
+    from ..analysis.converge import key_outputs
 
     return key_outputs(scene)
 
@@ -44,7 +44,7 @@ def _ours(scene: str, stop: float, step: float, kind: str | None = None, rtol: f
 def _monolith(scene: str, stop: float, step: float, kind: str | None = None, rtol: float = MONO_RTOL):
     import numpy as np
 
-    from ..reference import solve
+    from ..analysis.reference import solve
 
     # the macro step's grid k * step up to stop (a step that does not divide stop, hook_sway's 3 ms in 10 s, gave
     # linspace's 3.0003 ms before: no time on the grid the accuracy is read at)
@@ -99,7 +99,7 @@ def child(method: str, scene: str, stop: float, step: float, out: str, kind: str
     if method == "ours":
         import cranefmu.master.run  # noqa: F401 - timed as the import
     elif method == "monolith":
-        import cranefmu.reference  # noqa: F401
+        import cranefmu.analysis.reference  # noqa: F401
     elif method == "ecos":
         import ecospy  # noqa: F401
     else:

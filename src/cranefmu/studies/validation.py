@@ -9,11 +9,11 @@ import math
 import numpy as np
 
 from ..errors import CraneFmuError
-from ..seed_figures import table7
+from ..analysis.seed_figures import table7
 from .common import Context, finish, pyplot, write_csv, write_page
 from .dynamic_factor import STEPS
 
-START = {"default": "tight", "loose": "loose"}   # parameter set -> seed 001 Table 7's start (cranefmu.seed_figures)
+START = {"default": "tight", "loose": "loose"}   # parameter set -> seed 001 Table 7's start (cranefmu.analysis.seed_figures)
 RTOL = 1e-6   # monolithic solve
 
 
@@ -25,7 +25,7 @@ def cases(ctx: Context) -> tuple[list[tuple[str, str]], float]:
 
 def monolith(model: str, parameter_set: str, stop: float) -> dict:
     """Dynamic factor and lift-off of the monolithic solve (an error as its message)."""
-    from ..reference import solve
+    from ..analysis.reference import solve
     from ..scenes import overhead_lift_metrics
 
     try:
@@ -71,9 +71,9 @@ def _f(x) -> str:
 def page(rows: list[dict], stop: float) -> list[str]:
     lines = ["overhead_lift: 1800 kg load and 30 kg hook on the ground, motor SZUDe 56b started at 0.2 s; "
              f"{stop:g} s simulated.  Co-simulation: Jacobi, Kelvin-Voigt H = {STEPS['kelvin_voigt']:g} s, "
-             f"Bouc-Wen H = {STEPS['bouc_wen']:g} s.  Monolith: `cranefmu.reference.solve` (Radau, rtol {RTOL:g}), "
+             f"Bouc-Wen H = {STEPS['bouc_wen']:g} s.  Monolith: `cranefmu.analysis.reference.solve` (Radau, rtol {RTOL:g}), "
              "the same equations without coupling error.  Measured: seed 001 Table 7, the mean of its three tests "
-             "(`cranefmu.seed_figures`).  Table: validation.csv.",
+             "(`cranefmu.analysis.seed_figures`).  Table: validation.csv.",
              "", "| rope | start | measured | monolith | co-simulation | co-simulation - measured |",
              "| --- | --- | --- | --- | --- | --- |"]
     for r in rows:

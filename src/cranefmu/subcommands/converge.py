@@ -1,5 +1,5 @@
 """``cranefmu converge SCENE``: the key outputs' error against a reference at several steps
-(:mod:`cranefmu.converge`), and the cheapest setting meeting --target."""
+(:mod:`cranefmu.analysis.converge`), and the cheapest setting meeting --target."""
 from __future__ import annotations
 
 import argparse
@@ -29,12 +29,12 @@ def add_parser(sub) -> None:
     c.add_argument("--output", default=None, help="directory for converge.csv, modes.csv and error_vs_wall.png "
                    "(default converge_SCENE)")
     c.add_argument("--no-modes", action="store_true", help="skip the listed modes' frequency and damping check "
-                   "(cranefmu.modal: extra probe runs and monolithic solves per setting)")
+                   "(cranefmu.analysis.modal: extra probe runs and monolithic solves per setting)")
 
 
 def main(args: argparse.Namespace) -> int:
     """Run the study, print its report and write its table and figure; returns 0."""
-    from ..converge import format_report, parse_numbers, study, write_outputs
+    from ..analysis.converge import format_report, parse_numbers, study, write_outputs
 
     steps = parse_numbers(args.steps, "--steps") if args.steps else []
     tolerances = parse_numbers(args.tolerances, "--tolerances") if args.tolerances else []

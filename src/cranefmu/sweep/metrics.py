@@ -8,7 +8,7 @@ A metric is written ``KIND:COLUMN``:
 - ``dynamic_factor:COLUMN``: peak / static value, the static value being the column at the start (a
   scene starts at rest in its static equilibrium), or ``dynamic_factor:COLUMN/STATIC`` with STATIC given;
 - ``freq:COLUMN`` / ``damping:COLUMN``: natural frequency [Hz] / damping ratio [1] of the strongest of
-  the (up to three) modes fitted in the column (matrix pencil, :func:`cranefmu.modal.fit_modes`; NaN if
+  the (up to three) modes fitted in the column (matrix pencil, :func:`cranefmu.analysis.modal.fit_modes`; NaN if
   none is found), or with ``~F`` (``freq:rope.tension~3.8``) of the one nearest F [Hz];
 - ``scene``: the scene's own key metrics (:data:`cranefmu.scenes.METRICS`, e.g. overhead_lift's
   dynamic factor, truck_telescope's sway and tipping), one column each.
@@ -186,7 +186,7 @@ def _one(m: Metric, t: np.ndarray, y: np.ndarray) -> float:
 
 
 def _modal(m: Metric, t: np.ndarray, y: np.ndarray) -> float:
-    from ..modal import ModalFitError, fit_modes, nearest
+    from ..analysis.modal import ModalFitError, fit_modes, nearest
 
     for n in range(MODAL_FIT, 0, -1):   # as many of the strongest modes as the signal has
         try:

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import CraneFmuError
+from ..errors import CraneFmuError
 
 G = 9.81
 #: sway angles the module measures: line tip -> payload ("tip") and hook -> payload ("hook")
@@ -194,9 +194,9 @@ def simulate_hook_sway(m_hook: float, hook_length: float, stop_time: float = 2.0
                        engine: str = "monolith", rtol: float = 1e-9, step_size: float = 1e-3) -> dict:
     """One hook_sway run (seed 002 release) with hook mass ``m_hook`` [kg] and hook length (tip -> hook)
     ``hook_length`` [m], sampled every ``dt`` [s]; ``extra`` adds 'comp.var' values (e.g. air drag).
-    ``engine``: 'monolith' (cranefmu.reference.solve, DOP853: the scene is not stiff) or 'cosimulation'
+    ``engine``: 'monolith' (cranefmu.analysis.reference.solve, DOP853: the scene is not stiff) or 'cosimulation'
     (cranefmu.master.run, Jacobi with linear extrapolation at ``step_size``)."""
-    from .scenes import hook_sway_parameters
+    from ..scenes import hook_sway_parameters
 
     values = {**hook_sway_parameters(m_hook=m_hook, hook_length=hook_length, L_sling=L_sling,
                                      m_payload=m_payload), **(extra or {})}
@@ -206,7 +206,7 @@ def simulate_hook_sway(m_hook: float, hook_length: float, stop_time: float = 2.0
 
         return solve("hook_sway", stop_time, times, parameters=values, rtol=rtol, method="DOP853")
     if engine == "cosimulation":
-        from .master.run import run
+        from ..master.run import run
 
         res = run("hook_sway", stop_time=stop_time, step_size=step_size, extrapolation=1, parameters=values).result
         names = res.dtype.names   # a structured array, one field per column

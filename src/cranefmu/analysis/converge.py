@@ -8,7 +8,7 @@ Observed order between neighbours i, i+1 (derived): p = ln(e_i / e_{i+1}) / ln(H
 """
 from __future__ import annotations
 
-from .sweep.table import FINISHED
+from ..sweep.table import FINISHED
 
 import csv
 import math
@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import CraneFmuError, SceneError, SettingsError
+from ..errors import CraneFmuError, SceneError, SettingsError
 
 REFERENCES = ("monolithic", "finest")
 FINEST_FACTOR = 4  # --reference finest: an extra run at min(H) / 4 serves as the reference
@@ -68,7 +68,7 @@ class Study:
     stop_time: float
     runs: list[ConvergenceRun]
     reference_wall_time: float = math.nan   # [s] of the monolithic solve or the finest run
-    modes: dict = field(default_factory=dict)   # run label -> cranefmu.modal.ModalCheck (listed modes)
+    modes: dict = field(default_factory=dict)   # run label -> cranefmu.analysis.modal.ModalCheck (listed modes)
 
     def meets(self, run: ConvergenceRun) -> bool:
         """The run meets the range target and, where its modes were checked, the modal limits."""
@@ -107,7 +107,7 @@ def parse_numbers(text: str, what: str) -> list[float]:
 
 def check_settings(steps: list[float], tolerances: list[float], algorithm: str, extrapolation: int,
                    reference: str, target: float, stop_time: float | None) -> None:
-    from .master.algorithm_table import ALGORITHMS
+    from ..master.algorithm_table import ALGORITHMS
 
     if not steps and not tolerances:
         raise SettingsError("no runs asked for: give --steps and/or --tolerances")
@@ -124,7 +124,7 @@ def check_settings(steps: list[float], tolerances: list[float], algorithm: str, 
 
 
 def key_outputs(scene: str) -> tuple[str, ...]:
-    from .scenes import SCENES
+    from ..scenes import SCENES
 
     info = SCENES.get(scene)
     if info is None:
@@ -155,8 +155,8 @@ def bond_totals(result: np.ndarray) -> dict[str, float]:
 def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: float | None, algorithm: str | None,
              extrapolation: int | None, parameter_set: str | None, parameters: dict | None, **extra):
     """One isolated master run; returns (ConvergenceRun, result array or None)."""
-    from .errors import SimulationError
-    from .master.run import run
+    from ..errors import SimulationError
+    from ..master.run import run
 
     kwargs = dict(stop_time=stop_time, step_size=step_size, parameter_set=parameter_set, parameters=parameters,
                   **study_form(algorithm, extra))
@@ -182,7 +182,7 @@ def run_once(scene: str, stop_time: float | None, step_size: float, tolerance: f
 
 def monolithic_reference(scene: str, stop_time: float, times: np.ndarray, parameter_set: str | None = None,
                          parameters: dict | None = None, rtol: float = 1e-10) -> dict[str, np.ndarray]:
-    """The scene's monolithic solve at ``times`` (:func:`cranefmu.reference.solve`)."""
+    """The scene's monolithic solve at ``times`` (:func:`cranefmu.analysis.reference.solve`)."""
     from .reference import solve
 
     return solve(scene, stop_time, times, parameter_set=parameter_set or "default", parameters=parameters,
@@ -228,7 +228,7 @@ def run_settings(scene: str, settings: list[tuple[float, float | None]], stop_ti
     result arrays (None where failed) and the stop time reached (the scene's own when ``stop_time`` is None)."""
     import tempfile
 
-    from .sweep.engine import sweep
+    from ..sweep.engine import sweep
 
     say = progress or (lambda text: None)
     points = [{"step_size": h} if tol is None else {"step_size": h, "adaptive": True, "tolerance": tol}
@@ -269,8 +269,8 @@ def warm_client(scene: str, workers: int | None, scheduler: str | None, settings
     whose every worker has run ``scene`` for two steps of ``settings``, so that the timed runs exclude
     each worker's one-time load (imports, FMU libraries: 0.8 s against 0.2 s for a second 1 s
     elastic_pendulum run in one process)."""
-    from .sweep.engine import _is_local, connect, scene_facts
-    from .sweep.worker import SspFile
+    from ..sweep.engine import _is_local, connect, scene_facts
+    from ..sweep.worker import SspFile
 
     own = client is None
     cluster = None
@@ -290,7 +290,7 @@ def warm_client(scene: str, workers: int | None, scheduler: str | None, settings
 
 def warm_up(ssp, settings: dict, parameter_set: str | None, parameters: dict | None) -> None:
     """One short run in this worker (its failure is the timed runs' to report)."""
-    from .master.run import run
+    from ..master.run import run
 
     try:
         run(ssp.local(), parameter_set=parameter_set, parameters=parameters, isolate=False, keep=True,
@@ -360,7 +360,7 @@ def study(scene: str, steps: list[float], algorithm: str = "jacobi", extrapolati
           progress=None, modes: bool = True, **run_options) -> Study:
     """Run ``scene`` at every macro step (coarse to fine) and every adaptive tolerance, measure the errors
     of its key outputs against the reference and (``modes``) the frequency and damping of its listed
-    modes (:mod:`cranefmu.modal`), and return the study (see :meth:`Study.recommended`)."""
+    modes (:mod:`cranefmu.analysis.modal`), and return the study (see :meth:`Study.recommended`)."""
     tolerances = list(tolerances or [])
     check_settings(steps, tolerances, algorithm, extrapolation, reference, target, stop_time)
     keys = key_outputs(scene)

@@ -15,7 +15,7 @@ from typing import Callable
 
 import numpy as np
 
-from .scenes import G, METRICS
+from ..scenes import G, METRICS
 
 # the span [s] each scene's question is asked over: its stop time, hook_sway's swing decay over 30 s (issue 34)
 NATURAL = {"elastic_pendulum": 20.0, "hook_sway": 30.0, "overhead_lift": 6.0, "truck_telescope": 40.0,

@@ -17,19 +17,19 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .errors import ParameterSetError, SceneError, SimulationError
-from .master.scene import Scene, read_scene_folder, typed_value
-from .physics.boom import BoomModel
-from .physics.chassis import ChassisModel
-from .physics.chassis4 import Chassis4Model
-from .physics.component import Model
-from .physics.drive import DriveModel
-from .physics.girder import GirderModel
-from .physics.pendulum import PendulumModel
-from .physics.rope import RopeModel
-from .physics.slewing import SlewingBoomModel
-from .sources import FMU_SOURCES as FMU_DIR  # the checkout's fmus/ or the wheel's copy
-from .sources import SSP_SOURCES as SSP_DIR  # the checkout's ssp/ or the wheel's copy
+from ..errors import ParameterSetError, SceneError, SimulationError
+from ..master.scene import Scene, read_scene_folder, typed_value
+from ..physics.boom import BoomModel
+from ..physics.chassis import ChassisModel
+from ..physics.chassis4 import Chassis4Model
+from ..physics.component import Model
+from ..physics.drive import DriveModel
+from ..physics.girder import GirderModel
+from ..physics.pendulum import PendulumModel
+from ..physics.rope import RopeModel
+from ..physics.slewing import SlewingBoomModel
+from ..sources import FMU_SOURCES as FMU_DIR  # the checkout's fmus/ or the wheel's copy
+from ..sources import SSP_SOURCES as SSP_DIR  # the checkout's ssp/ or the wheel's copy
 
 MODELS: dict[str, type[Model]] = {"Rope": RopeModel, "Pendulum": PendulumModel, "Drive": DriveModel,
                                   "Girder": GirderModel, "Boom": BoomModel, "Chassis": ChassisModel,
@@ -100,7 +100,7 @@ class Monolith:
     def __init__(self, scene: str | Scene, parameter_set: str = "default", parameters: dict | None = None):
         source = source_scene(scene)
         self.scene = scene = source.name
-        from .derived import derive
+        from ..derived import derive
 
         base = source.model_values(parameter_set)
         values = {**base, **derive(scene, base, parameters or {})}   # with the parameters that follow (as a run)

@@ -1,5 +1,5 @@
 """Modal metrics: the modes a scene's question concerns, identified from a run's outputs and compared
-with the monolithic reference (:mod:`cranefmu.reference`) and with their closed forms.
+with the monolithic reference (:mod:`cranefmu.analysis.reference`) and with their closed forms.
 
 A range error of a key output is blind to a small, fast mode and to damping (a rope whose axial
 damping ratio is raised by 38 % changes the tension's range by well under 1 %).  So each listed
@@ -32,7 +32,7 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import CraneFmuError, SettingsError
+from ..errors import CraneFmuError, SettingsError
 
 G = 9.81
 FREQ_LIMIT = 0.005     # |f - f_ref| / f_ref of every listed mode
@@ -134,14 +134,14 @@ class ModeSpec:
 
 
 def _rope(values: dict):
-    from .physics.rope import RopeModel
+    from ..physics.rope import RopeModel
     from .reference import build_params
 
     return build_params(RopeModel.Params, "rope", values)
 
 
 def _pendulum(values: dict):
-    from .physics.pendulum import PendulumModel
+    from ..physics.pendulum import PendulumModel
     from .reference import build_params
 
     return build_params(PendulumModel.Params, "pendulum", values)
@@ -151,7 +151,7 @@ def rope_axial(values: dict) -> tuple[float, float]:
     """Axial mode of a load M on a Kelvin-Voigt rope: c = n E A / L (seed 001 eq. 8),
     b = 2 zeta_rope sqrt(c m_eff), m_eff = M / 2 + rho A L (seed 001 eq. 9); M x'' + b x' + c x = 0
     gives f = sqrt(c / M) / (2 pi), zeta = b / (2 sqrt(c M)) = zeta_rope sqrt(m_eff / M)."""
-    from .physics.rope import damping, stiffness
+    from ..physics.rope import damping, stiffness
 
     rope, pend = _rope(values), _pendulum(values)
     mass = pend.mass + (pend.m_payload if pend.payload != "none" else 0.0)
@@ -163,7 +163,7 @@ def rope_axial(values: dict) -> tuple[float, float]:
 def pendulum_swing(values: dict) -> tuple[float, float]:
     """Swing of a point mass on the stretched rope: omega^2 = g / (L + M g / c), the period lengthened by
     (1 + theta0^2 / 16) at amplitude theta0; no damping (the rope's acts along it only)."""
-    from .physics.rope import stiffness
+    from ..physics.rope import stiffness
 
     rope, pend = _rope(values), _pendulum(values)
     length = rope.length + pend.mass * G / stiffness(rope, rope.length)
@@ -172,10 +172,10 @@ def pendulum_swing(values: dict) -> tuple[float, float]:
 
 def hook_payload(values: dict) -> tuple[float, float, float]:
     """The two sway modes of hook m1 on the stretched rope L1 and payload m2 on the link L2 (double
-    pendulum linearised about the hanging rest, :func:`cranefmu.sway_envelope.double_pendulum_modes`:
+    pendulum linearised about the hanging rest, :func:`cranefmu.analysis.sway_envelope.double_pendulum_modes`:
     det(K - w^2 M) = 0, M = [[(m1 + m2) L1^2, m2 L1 L2], [m2 L1 L2, m2 L2^2]],
     K = diag((m1 + m2) g L1, m2 g L2)); returns (f_low, f_high [Hz], zeta = 0)."""
-    from .physics.rope import stiffness
+    from ..physics.rope import stiffness
     from .sway_envelope import double_pendulum_modes
 
     rope, pend = _rope(values), _pendulum(values)
@@ -222,8 +222,8 @@ def overhead_hoist(values: dict) -> list[tuple[float, float]]:
     b = 2 zeta_rope sqrt(c m_eff), seed 001 eqs. 8-9) -> load m_p (the sling c_sling, b = 2 zeta_sling sqrt(c mu)).
     L_u is the taut start's: the chord from the statically deflected drum (seed 001 eq. 6 at rest) to
     the hook, less the static stretch under the weight (g M / (n E A) per metre).  Lowest first."""
-    from .physics.girder import GirderParams, girder_damping, reduced_mass, static_deflections
-    from .physics.rope import damping, stiffness
+    from ..physics.girder import GirderParams, girder_damping, reduced_mass, static_deflections
+    from ..physics.rope import damping, stiffness
     from .reference import build_params
 
     rope, pend = _rope(values), _pendulum(values)
@@ -249,7 +249,7 @@ def drivetrain_torsion(values: dict) -> list[tuple[float, float]]:
     ratio zeta = phi^T B phi / (2 omega phi^T M phi) (exact for Table 5's b = 0.005 s c: zeta = 0.0025 s omega,
     so every mode above 64 Hz is overdamped).  The rope's stiffness at the drum, (n_drum R_3 / n_lines)^2 c_rope,
     is left out: about 1 % of c_3n at the defaults (both reduced alike)."""
-    from .physics.drive import DriveParams, gear_inertia
+    from ..physics.drive import DriveParams, gear_inertia
     from .reference import build_params
 
     p = build_params(DriveParams, "drive", values)
@@ -266,7 +266,7 @@ def drivetrain_torsion(values: dict) -> list[tuple[float, float]]:
 
 
 def linearised_modes(scene: str, values: dict) -> list[tuple[float, float]]:
-    """Modes of the monolith (:class:`cranefmu.reference.Monolith`, every component's own equations, the
+    """Modes of the monolith (:class:`cranefmu.analysis.reference.Monolith`, every component's own equations, the
     rope's regime held) linearised about its initial state with ``values`` ('comp.var', all in force):
     the eigenvalues s of the central-difference Jacobian of x' = f(0, x) (relative step 1e-6), each
     complex pair one mode, f = |s| / (2 pi) [Hz], zeta = -Re(s) / |s|.  Lowest first.  For the probes of
@@ -300,7 +300,7 @@ def luffing_cylinder(values: dict) -> tuple[float, float]:
     its foot O2 (seed 000 eq. 15-18), k, b the oil column's stiffness and damping; f = sqrt(k r^2 / J_O)/(2 pi),
     zeta = b r^2 / (2 sqrt(k r^2 J_O)).  Left out: the gravity and tip-load terms (g S + L T) sin psi and the
     cylinder force's change of lever (together 0.05 % in frequency for the retracted boom at 60 deg)."""
-    from .physics.boom import BoomParams, cylinder_geometry, mass_state
+    from ..physics.boom import BoomParams, cylinder_geometry, mass_state
     from .reference import build_params
 
     boom = build_params(BoomParams, "boom", values)
@@ -370,8 +370,8 @@ class SceneModes(Mapping):
 
     def _modes(self) -> dict[str, tuple[ModeSpec, ...]]:
         if self._loaded is None:
-            from .scenes import ANALYSIS, read_analysis
-            from .sources import scene_dirs
+            from ..scenes import ANALYSIS, read_analysis
+            from ..sources import scene_dirs
 
             self._loaded = {}
             for d in scene_dirs():
@@ -398,8 +398,8 @@ class NotKept(Mapping):
     analysis.toml; benchmarks/results/scene_defaults.md; the catalog says why)."""
 
     def _table(self) -> dict[str, tuple[str, ...]]:
-        from .scenes import read_analysis
-        from .sources import scene_dirs
+        from ..scenes import read_analysis
+        from ..sources import scene_dirs
 
         return {d.name: tuple(kept) for d in scene_dirs() if (kept := read_analysis(d).get("not_kept"))}
 
@@ -432,7 +432,7 @@ def probe(scene: str, mode: str) -> dict:
 def scene_values(scene: str, parameter_set: str | None = None, parameters: dict | None = None) -> dict:
     """The scene's 'comp.var' parameter values in force (sources, the set, then ``parameters`` with the
     parameters that follow them, :func:`cranefmu.derived.derive`)."""
-    from .derived import derive
+    from ..derived import derive
     from .reference import source_scene
 
     source = source_scene(scene)
@@ -548,8 +548,8 @@ def check_setting(scene: str, settings: dict, parameter_set: str | None = None, 
                   references: References | None = None, isolate: bool = True) -> ModalCheck:
     """Run every probe of ``scene`` with run ``settings`` (keyword arguments of
     :func:`cranefmu.master.run.run`) and compare each listed mode with the monolith."""
-    from .errors import SimulationError
-    from .master.run import run
+    from ..errors import SimulationError
+    from ..master.run import run
 
     refs = references or References(scene, parameter_set, parameters)
     values = scene_values(scene, parameter_set, parameters)
