@@ -26,7 +26,8 @@ PUBLIC_MODULES = {"cranefmu", "cranefmu.errors", "cranefmu.report", "cranefmu.sw
 PACKAGE = Path(cranefmu.__file__).parent
 FUNCTIONS = {"cranefmu.build"}   # a function in __all__ whose name an internal module shares (made callable, as sweep)
 MASTER_RUN = {"run", "simulate", "preview", "execute", "build_execution", "resolve", "RunSpec", "RunResult", "RunStats",
-              "Settings", "Execution", "Observer", "Command", "Source", "ALGORITHMS", "RunInterrupted"}
+              "Settings", "Execution", "Observer", "Command", "Source", "ALGORITHMS", "RunInterrupted",
+              "read_csv"}   # a run's CSV back as a structured array (docs/report.md)
 
 
 def test_import_cranefmu_offers_the_listed_names():

@@ -29,10 +29,11 @@ from .commands import Command, Source
 from .settings import ALGORITHMS, Settings, describe
 from .threads import one_thread
 from .system import RunStats
+from .results import read_csv
 
 __all__ = ["run", "simulate", "preview", "execute", "build_execution", "resolve", "RunSpec", "RunResult", "RunStats", "Settings",
            "Execution", "Observer", "Command", "Source",
-           "ALGORITHMS", "RunInterrupted"]
+           "ALGORITHMS", "RunInterrupted", "read_csv"]
 
 
 @dataclass
