@@ -6,6 +6,7 @@ import mode (README.md); so is support/ (the cranefmu_support package: model_cas
 c_fmu, ..., scaffolding the wheel does not ship)."""
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -85,3 +86,15 @@ def pytest_unconfigure(config):
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(_EXIT_STATUS[0])
+
+
+if os.environ.get("CRANEFMU_GC_EACH_TEST", "") not in ("", "0"):
+    @pytest.hookimpl(trylast=True)
+    def pytest_runtest_teardown(item, nextitem):
+        """CRANEFMU_GC_EACH_TEST=1 (off by default; tests/README.md, "Memory faults"): a full garbage collection
+        after every test, so that memory a test's native code damaged is found in that test's teardown, not by
+        a collection hundreds of tests later; with PYTHONMALLOC=debug freed memory is filled, so a use of it
+        crashes at once."""
+        import gc
+
+        gc.collect()

@@ -135,6 +135,8 @@ class Coupling:
         # more values a stretch's rows carry after the outputs: positions in the read buffer and in input_end
         self.row_extra: tuple[list[int], list[int]] = ([], [])
         self._prepare_buffers()
+        for comp in self.comps:   # a component that returned fmi2Fatal: the compiled exchange must not call it
+            comp.fatal_listeners.append(self._drop_kernel)
         self.whole = Part(self, list(range(len(self.links))))
         self._all = range(len(self.comps))
 
@@ -632,6 +634,11 @@ class Coupling:
         self.feed(t, h, u, degree, part)
         self.step(t, h, None if everyone else members, ends=everyone)
         return self.image(part, fed_through_only=fed_through_only)
+
+    def _drop_kernel(self) -> None:
+        """A component returned fmi2Fatal: no compiled exchange from now on (its plan holds the FMI C functions,
+        which must not be called again; :meth:`.fmu.FmuComponent.stop_calls`)."""
+        self._kernel = False
 
     def kernel(self):
         """The compiled exchange bound to this coupling (:class:`.kernel.plan.KernelPlan`), or None where

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterSetError, SceneError
-from .fatal_status import FatalAware
+from .fatal_status import FATAL, FatalAware, fatal_instance_error
 from .settings import parse_bool
 from .fmi_integer import fmi_integer
 # the process-global state of the pythonfmu workarounds (the contract: .process)
@@ -72,9 +72,10 @@ _SLAVE = None
 
 
 def _slave_class():
-    """fmpy's FMU2Slave that remembers a status fatal: FMI 2.0 allows no further call on such an
-    instance (measured with pythonfmu: fmi2Terminate/fmi2FreeInstance after a refused parameter made the
-    process crash in garbage collection, 8 runs in 12), so :meth:`FmuComponent.free` skips it."""
+    """fmpy's FMU2Slave that remembers a status fatal and refuses every later call: FMI 2.0 allows no further
+    call on such an instance (measured with pythonfmu: fmi2Terminate/fmi2FreeInstance after a refused parameter
+    made the process crash in garbage collection, 8 runs in 12; fmi2SetFMUstate after a failed fmi2GetReal, every
+    run: :mod:`.fatal_status`), so :meth:`FmuComponent.free` skips it."""
     global _SLAVE
     if _SLAVE is None:
         from fmpy.fmi2 import FMU2Slave
@@ -142,6 +143,11 @@ def fmu_switch_names(fmu: Path) -> dict[str, dict[str, int]]:
 NOT_EXTRACTED = ("sources/",)   # FMU folders a run never reads: not unzipped (FMI 2.0 and 3.0 name it so)
 
 
+def _refused_after_fatal(*args) -> int:
+    """An FMI call on an instance that returned fmi2Fatal before: not made, status fatal."""
+    return FATAL
+
+
 class FmuComponent:
     """An instantiated FMI 2.0 co-simulation FMU with name-based access and a log of its messages (an
     FMI 3.0 one through the FMI 2.0 calls of :mod:`.fmi3`)."""
@@ -164,6 +170,7 @@ class FmuComponent:
         self.read_vrs: list[int] = []
         self.fresh = False      # the read buffer holds what the FMU would return now
         self._read = None       # (vr array, count, value array, numpy view of it), built on first read
+        self.fatal_listeners: list = []   # called once when the instance returns fmi2Fatal (:meth:`stop_calls`)
 
     @staticmethod
     def extract(name: str, fmu_path: Path, unzipdir: Path):
@@ -239,6 +246,7 @@ class FmuComponent:
         self.messages = Messages()   # this instance's own (process.instance_callbacks files into it)
         # FMI 3.0 (.fmi3): the instance's log callback files into the log it is handed
         self._callbacks = self.messages if self.md.fmiVersion == "3.0" else _instance_callbacks(self.messages)
+        self.fmu.on_fatal = self.stop_calls
         try:
             self.fmu.instantiate(loggingOn=True, callbacks=self._callbacks)
         except Exception as err:
@@ -261,6 +269,7 @@ class FmuComponent:
             return False
         self.fmu, self._callbacks, self.messages = fmu, callbacks, messages
         self.fmu.fatal = False
+        self.fmu.on_fatal = self.stop_calls   # as a fresh instance's: a fatal stops this component's calls
         self._bind()
         return True
 
@@ -298,6 +307,7 @@ class FmuComponent:
         if self.fmu is None or not self.alive:
             return
         self.alive = False
+        self.fmu.on_fatal = None   # a kept library's fmpy object must not hold this component (and its run)
         if self.fmu.fatal:  # FMI 2.0: after fmi2Fatal no function may be called on the instance
             return
         try:
@@ -422,9 +432,23 @@ class FmuComponent:
             self._failed("fmi2SetBoolean" if boolean else "fmi2SetInteger", status)
 
     def _failed(self, function: str, status: int):
-        """Raise what fmpy raises for a status above warning, and remember a fatal one."""
+        """Raise what fmpy raises for a status above warning, and remember a fatal one (no call reaches the
+        instance after it: :meth:`stop_calls`)."""
         from fmpy.fmi1 import FMICallException
 
-        if status == 4:
-            self.fmu.fatal = True
+        if status == FATAL:
+            if self.fmu.fatal:   # a call :meth:`stop_calls` refused
+                raise fatal_instance_error(function)
+            self.fmu.mark_fatal()
         raise FMICallException(function=function, status=status)
+
+    def stop_calls(self) -> None:
+        """The instance returned fmi2Fatal: the direct calls of the hot path return fmi2Fatal from now on without
+        reaching the FMU (pythonfmu released the instance's Python object there: a later call would use freed
+        memory, :mod:`.fatal_status`), and :attr:`fatal_listeners` are told (the coupling drops its compiled
+        exchange, which holds the C functions themselves)."""
+        for name in ("_do_step", "_get_real", "_set_real", "_get_integer", "_get_boolean", "_set_integer",
+                     "_set_boolean"):
+            setattr(self, name, _refused_after_fatal)
+        for listener in self.fatal_listeners:
+            listener()

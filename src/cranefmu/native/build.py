@@ -135,10 +135,14 @@ def assemble_source_fmu(name: str, unzipdir: Path, *, script: Path | None = None
 
 def compile_binary(unzipdir: Path, tool: str = "auto", c_flags: str = C_FLAGS) -> Path:
     """Compile ``unzipdir``'s sources into ``binaries/<platform>/<id>.so`` (``tool``: "cmake", fmpy's
-    CMake build; "setuptools", setuptools' compiler; "auto", CMake where usable) with ``c_flags``;
-    returns the binary."""
+    CMake build; "setuptools", setuptools' compiler; "auto", CMake where usable) with ``c_flags``
+    (and the sanitizer ``CRANEFMU_SANITIZE`` asks for, :mod:`cranefmu.sanitize`); returns the binary."""
     import fmpy
     from fmpy import read_model_description
+
+    from ..sanitize import sanitize_flags
+
+    c_flags = " ".join([c_flags, *sanitize_flags()])
 
     if tool not in ("auto", "cmake", "setuptools"):
         raise ValueError(f"tool = {tool!r} is not allowed: auto, cmake or setuptools")
@@ -178,7 +182,8 @@ def _compile_with_setuptools(sources: list[Path], binary: Path, c_flags: str) ->
             objects = cc.compile([str(s) for s in sources], output_dir=tmp,
                                  include_dirs=[str(sources[0].parent), str(Path(fmpy.__file__).parent / "c-code")],
                                  extra_postargs=[*c_flags.split(), "-O2", "-fPIC"])
-            cc.link_shared_object(objects, str(binary), libraries=["m"])
+            cc.link_shared_object(objects, str(binary), libraries=["m"],
+                                  extra_postargs=[f for f in c_flags.split() if f.startswith("-fsanitize")])
         except (CCompilerError, DistutilsExecError) as err:
             raise NativeBuildError(f"{binary.stem}: compiling with setuptools' compiler failed: {err}") from None
 
@@ -190,7 +195,8 @@ def _compile_with_cmake(unzipdir: Path, identifier: str, c_flags: str) -> None:
 
     with tempfile.TemporaryDirectory(prefix="cranefmu_native_cmake_") as build_dir:
         create_cmake_settings(unzipdir, build_dir, configuration="Release", cmake_options={
-            "CMAKE_C_FLAGS:STRING": c_flags, "CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm"})
+            "CMAKE_C_FLAGS:STRING": c_flags, "CMAKE_C_STANDARD_LIBRARIES:STRING": "-lm",
+            "CMAKE_SHARED_LINKER_FLAGS:STRING": " ".join(f for f in c_flags.split() if f.startswith("-fsanitize"))})
         c_code = Path(fmpy.__file__).parent / "c-code"
         for step in (["cmake", "-S", str(c_code), "-B", build_dir],
                      ["cmake", "--build", build_dir, "--target", "install", "--config", "Release"]):

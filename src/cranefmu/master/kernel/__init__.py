@@ -33,8 +33,13 @@ why_not = ""                 # why the compiled exchange is not used ('' when it
 
 
 def _flags(compiler_type: str) -> list[str]:
-    # the Python path's arithmetic: no contraction of a * b + c into an fma that numpy does not do
-    return ["-O2", "-ffp-contract=off", "-std=c99"] if compiler_type == "unix" else ["/O2", "/fp:precise"]
+    # the Python path's arithmetic: no contraction of a * b + c into an fma that numpy does not do;
+    # CRANEFMU_SANITIZE (cranefmu.sanitize) adds a sanitizer's instrumentation, for finding memory faults
+    from ...sanitize import sanitize_flags
+
+    if compiler_type != "unix":
+        return ["/O2", "/fp:precise"]
+    return ["-O2", "-ffp-contract=off", "-std=c99", *sanitize_flags()]
 
 
 def _build(target: Path) -> None:
@@ -47,7 +52,8 @@ def _build(target: Path) -> None:
     with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
         objects = cc.compile([str(SOURCE)], output_dir=tmp, extra_postargs=_flags(cc.compiler_type))
         built = Path(tmp) / target.name
-        cc.link_shared_object(objects, str(built), libraries=["m"] if cc.compiler_type == "unix" else [])
+        cc.link_shared_object(objects, str(built), libraries=["m"] if cc.compiler_type == "unix" else [],
+                              extra_postargs=[f for f in _flags(cc.compiler_type) if f.startswith("-fsanitize")])
         os.replace(built, target)
 
 
@@ -62,7 +68,10 @@ def library() -> ctypes.CDLL | None:
         return None
     from ...cache import cache_root, locked
 
-    digest = hashlib.sha256(SOURCE.read_bytes() + sys.platform.encode()).hexdigest()[:16]
+    from ...sanitize import sanitize_flags
+
+    sanitized = " ".join(sanitize_flags())   # an instrumented build is cached apart from the plain one
+    digest = hashlib.sha256(SOURCE.read_bytes() + sys.platform.encode() + sanitized.encode()).hexdigest()[:16]
     folder = cache_root() / "kernel" / digest
     target = folder / ("cf_exchange" + (".dll" if sys.platform == "win32" else ".so"))
     try:
