@@ -111,3 +111,24 @@ def test_an_fmu_refusing_the_reset_is_instantiated_afresh(monkeypatch):
     assert sum(len(v) for v in fmu._LOADED.values()) == 2   # the refused ones dropped, the new ones kept
     for name in first.dtype.names:
         assert np.array_equal(first[name], again[name]), name
+
+
+def test_a_reset_instance_stops_its_calls_on_a_fatal(monkeypatch):
+    """A kept instance taken by fmi2Reset is watched for fmi2Fatal as a fresh one is: once it returns fatal no
+    call reaches it (master/fatal_status.py), the run fails, and the instance is not kept for another run."""
+    fmu._LOADED.clear()
+    run("elastic_pendulum", fmus="native", stop_time=0.01, step_size=1e-3, progress=False)
+    reset = fmu.FmuComponent._reset
+
+    def fatal_after_reset(self, *entry):
+        taken = reset(self, *entry)
+        if taken and self.name == "rope":
+            assert self.fmu.on_fatal == self.stop_calls
+            self.fmu.mark_fatal()   # as if its last call had returned fmi2Fatal
+        return taken
+
+    monkeypatch.setattr(fmu.FmuComponent, "_reset", fatal_after_reset)
+    with pytest.raises(Exception, match="fmi2Fatal before"):   # its next call (fmi2SetupExperiment) is refused
+        run("elastic_pendulum", fmus="native", stop_time=0.01, step_size=1e-3, progress=False)
+    kept = [entry[0].instanceName for entries in fmu._LOADED.values() for entry in entries]
+    assert kept == ["pendulum"]
