@@ -64,3 +64,41 @@ def test_the_measurement_is_stored_in_the_scene_folder(tmp_path):
     assert set(stored) == {"measured", "span", "chosen", "ladder", "natural", "cost"}   # the entry, not a table
     (tmp_path / "hook_sway" / "fidelity.json").unlink()
     assert "`elastic_pendulum` (10 s; chosen: jacobi x1 H 2 ms;" in "\n".join(sd.ladder_section())
+
+
+def test_retiming_into_the_same_file_keeps_the_other_scenes_and_each_sections_facts(tmp_path, monkeypatch):
+    """``--from-table F --rounds N --output F`` re-times the candidates and merges the sections into F: it wrote
+    F anew with the first scene's table alone (and then failed on the next scene, F's header gone); the lines
+    above each table (the natural length, the monolith's answer) are the measured ones."""
+    sd = load()
+    cells = "| 0.00059 | rope.tension | 0.00051 | 0.00791 | 1000 | 0.5 | 40.0 | 0.177 | 2.54e+05 | 0.000233 | nan | no |"
+    header = ("| candidate | worst rel err | worst key | worst f err | worst zeta err | steps | CPU [s] | RTF | bond residual [J] "
+              "| carried [J] | residual/carried (worst bond) | sway ratio | adds energy | passes |")
+    rule = "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    path = tmp_path / "defaults.md"
+    path.write_text("\n".join([
+        "# Scene defaults", "", "- date: 2026-11-28 14:02 UTC, commit 7697f7f", "", "## Summary", "",
+        "| scene | simulated [s] | chosen | worst rel err | RTF | old default jacobi x0 1 ms |",
+        "| --- | --- | --- | --- | --- | --- |",
+        "| elastic_pendulum | 10 | jacobi x2 H 5 ms | 0.00059 | 40.0 | error 0.00264, RTF 50.2 |",
+        "| hook_sway | 10 | jacobi x2 H 3 ms | 0.00059 | 40.0 | error 0.318, RTF 42.9 |", "",
+        "## elastic_pendulum (10 s; key outputs pendulum.theta, rope.tension)", "",
+        "Every candidate ran over the natural length 20 s (measured facts).", "", header, rule,
+        f"| jacobi x2 H 5 ms **chosen** {cells} yes |", "",
+        "## hook_sway (10 s; key outputs pendulum.theta_payload)", "", header, rule,
+        f"| jacobi x2 H 3 ms **chosen** {cells} yes |", ""]) + "\n")
+
+    def faster(scene, rows, stop, rounds):
+        for r in rows:
+            r["cpu"], r["rtf"] = 0.1, 200.0
+
+    monkeypatch.setattr(sd, "retime", faster)
+    monkeypatch.setattr(sd, "write_fidelity", lambda *a, **k: None)
+    monkeypatch.setattr(sd, "write_docs_ladders", lambda: None)
+    assert sd.main(["--from-table", str(path), "--rounds", "1", "--output", str(path), "--scenes",
+                    "elastic_pendulum"]) == 0
+    text = path.read_text()
+    assert "## hook_sway (10 s" in text and "| hook_sway | 10 | jacobi x2 H 3 ms | 0.00059 | 40.0 |" in text
+    assert "| elastic_pendulum | 10 | jacobi x2 H 5 ms | 0.00059 | 200.0 | error 0.00264, RTF 50.2 |" in text
+    assert "Every candidate ran over the natural length 20 s (measured facts)." in text
+    assert "- elastic_pendulum: re-measured" in text and "- date: 2026-11-28 14:02 UTC, commit 7697f7f" in text
