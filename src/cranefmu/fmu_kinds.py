@@ -68,14 +68,16 @@ def has_c_model(name: str) -> bool:
     return model_source(name).is_file()
 
 
-def _built_from(name: str) -> list[Path]:
-    """Every file a native FMU could be built from (a superset: the mtime test is only a first filter)."""
+def _shared_sources() -> list[Path]:
+    """The files every native FMU is built from: the C layer and models, the build's Python, the bundled sources."""
     from .native.build import HERE
-    from .sources import FMU_SOURCES, bundle_sources
+    from .sources import bundle_sources
 
-    files = [*HERE.rglob("*.c"), *HERE.rglob("*.h"), *HERE.glob("*.py"), *bundle_sources()]
-    script = FMU_SOURCES / f"{name}.py"
-    return files + ([script] if script.is_file() else [])
+    return [*HERE.rglob("*.c"), *HERE.rglob("*.h"), *HERE.glob("*.py"), *bundle_sources()]
+
+
+def _newest(files: list[Path]) -> float:
+    return max((f.stat().st_mtime for f in files), default=0.0)
 
 
 def _guid(fmu_or_dir: Path) -> str | None:
@@ -87,15 +89,21 @@ def _guid(fmu_or_dir: Path) -> str | None:
         return None
 
 
-def native_fmu_is_stale(name: str) -> bool:
-    """True if the native FMU ``name`` is missing, or its sources (C, generated tables) changed since it was built."""
+def native_fmu_is_stale(name: str, shared_newest: float | None = None) -> bool:
+    """True if the native FMU ``name`` is missing, or its sources (C, generated tables) changed since it was built.
+    ``shared_newest``: the newest mtime of :func:`_shared_sources`, when the caller checks several FMUs (the
+    walk over the sources once, not once per FMU)."""
     from .native.build import assemble_source_fmu
+    from .sources import FMU_SOURCES
 
     fmu = native_fmu_dir() / f"{name}.fmu"
     if not fmu.is_file():
         return True
     built = fmu.stat().st_mtime
-    if all(f.stat().st_mtime <= built for f in _built_from(name)):
+    if shared_newest is None:
+        shared_newest = _newest(_shared_sources())
+    script = FMU_SOURCES / f"{name}.py"
+    if shared_newest <= built and (not script.is_file() or script.stat().st_mtime <= built):
         return False
     with tempfile.TemporaryDirectory(prefix=f"cranefmu_native_check_{name}_") as tmp:
         fresh = _guid(assemble_source_fmu(name, Path(tmp) / name))
@@ -149,8 +157,10 @@ def native_reason(scene: str) -> str | None:
 def _native_current(staged: Path, names: list[str]) -> bool:
     """True if the native scene built from ``staged`` (its FMUs ``names``, each with a C model) and its FMUs
     are built and current."""
-    return (staged / "SystemStructure.ssd").is_file() and not native_ssp_is_stale(staged) \
-        and not any(native_fmu_is_stale(n) for n in names)
+    if not (staged / "SystemStructure.ssd").is_file() or native_ssp_is_stale(staged):
+        return False
+    newest = _newest(_shared_sources())   # once for all the scene's FMUs
+    return not any(native_fmu_is_stale(n, newest) for n in names)
 
 
 def build_native(force: bool = False, verbose: bool = True, only: list[str] | None = None) -> list[Path]:

@@ -77,9 +77,13 @@ def test_a_current_native_scene_is_checked_once(built, monkeypatch):
     fmu_kinds.scene_path("overhead_lift", "native")   # built and current now
     checked = []
     real = fmu_kinds.native_fmu_is_stale
-    monkeypatch.setattr(fmu_kinds, "native_fmu_is_stale", lambda name: checked.append(name) or real(name))
+    walks = []
+    shared = fmu_kinds._shared_sources
+    monkeypatch.setattr(fmu_kinds, "native_fmu_is_stale", lambda name, *a: checked.append(name) or real(name, *a))
+    monkeypatch.setattr(fmu_kinds, "_shared_sources", lambda: walks.append(1) or shared())
     assert fmu_kinds.scene_path("overhead_lift").parent.name == "native"
     assert sorted(checked) == ["Drive", "Girder", "Pendulum", "Rope"]   # each of its 4 FMUs once
+    assert len(walks) == 1   # the sources they share walked once for the four, not once each
 
 
 def test_the_summary_reads_only_its_own_scene(monkeypatch):
