@@ -355,7 +355,8 @@ class Watch:
         a detector, or None.  Each row goes through the detectors as in :meth:`update`."""
         b, w = self.bonds, self.watched
         block = b.block
-        cols = (block.residual, block.carried, block.roundoff, block.imbalance, block.capacity)
+        n = len(hs)   # the rows given: a stretch cut at an earlier observer's stop is shorter than the block
+        cols = tuple(c[:n] for c in (block.residual, block.carried, block.roundoff, block.imbalance, block.capacity))
         if w is not None:
             cols = tuple(c[:, w] for c in cols)
         residual, carried, roundoff, imbalance, capacity = cols
