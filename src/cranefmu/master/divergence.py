@@ -353,6 +353,8 @@ class Watch:
         """The rows of a stretch at once (:func:`.loop.march`; the bond monitor's ``block`` measured them):
         (row index, the alarm's :class:`~cranefmu.errors.SimulationError`) at the first row that trips
         a detector, or None.  Each row goes through the detectors as in :meth:`update`."""
+        if self.growth is None and self.imbalance is None:   # no bond watched (a scene of one FMU): nothing to see
+            return None
         b, w = self.bonds, self.watched
         block = b.block
         n = len(hs)   # the rows given: a stretch cut at an earlier observer's stop is shorter than the block
