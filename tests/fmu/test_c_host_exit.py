@@ -18,17 +18,6 @@ FMUS = ("Boom", "Chassis", "Chassis4", "Drive", "Girder", "Pendulum", "Rope", "S
 H = 2e-3
 
 
-@pytest.fixture(scope="module")
-def c_host(tmp_path_factory):
-    if native.compiler() is None:
-        pytest.skip("no C compiler (gcc/cc) on PATH: the C host cannot be built")
-    try:
-        native.libpython()
-    except RuntimeError as err:
-        pytest.skip(str(err))
-    return native.compile_host(tmp_path_factory.mktemp("c_host"))
-
-
 def host_config(built: Path, names: tuple[str, ...], workdir: Path) -> Path:
     """A config running ``names`` side by side, uncoupled, at their defaults for 5 steps, recording two
     Real outputs of each."""

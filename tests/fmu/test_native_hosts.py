@@ -329,17 +329,6 @@ def test_toolbox_container_releases_every_instance(scene, tmp_path):
 
 # --- a C host -----------------------------------------------------------------------------------------
 
-@pytest.fixture(scope="module")
-def c_host(tmp_path_factory):
-    if native.compiler() is None:
-        pytest.skip("no C compiler (gcc/cc) on PATH: the C host cannot be built")
-    try:
-        native.libpython()
-    except RuntimeError as err:
-        pytest.skip(str(err))
-    return native.compile_host(tmp_path_factory.mktemp("c_host"))
-
-
 def c_host_config(scene, workdir: Path, stop: float, hold_gil: bool = False) -> tuple[Path, list[str]]:
     from fmpy import extract
 
