@@ -632,7 +632,9 @@ def main(argv: list[str] | None = None) -> int:
             command = f"benchmarks/scene_defaults.py --scenes {scene}"
             if args.rounds:
                 retime(scene, rows, facts["stop"], args.rounds)
-                command += f" (every wall re-timed: --from-table --rounds {args.rounds})"
+                # the errors are the table's (its date and commit); the costs are this run's: say when and where
+                command += (f" (every wall re-timed {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC at commit "
+                            f"{head_commit()}: --from-table --rounds {args.rounds})")
                 retimed.append(scene)
                 best = chosen(rows)
                 summary.append(f"| {scene} | {facts['stop']:g} | {best['label'] if best else 'none'} | "
@@ -699,10 +701,15 @@ def _with_prefix(section: list[str], source: str) -> list[str]:
     return old[start:head_end] + section[table_at:]
 
 
+def head_commit() -> str:
+    """The checkout's commit (short hash) this script runs from."""
+    return subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                          cwd=Path(__file__).parent).stdout.strip()
+
+
 def results_head(title: str, noisy: str, argv: list[str] | None) -> tuple[str, list[str]]:
     """(the commit, the head lines of a results file: title, date and commit, machine, command)."""
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                            cwd=Path(__file__).parent).stdout.strip()
+    commit = head_commit()
     return commit, [f"# {title}", "", f"- date: {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, commit {commit}",
                     f"- machine: {platform.platform()}, python {platform.python_version()}; shared 2 cores: {noisy} "
                     "are noisy",

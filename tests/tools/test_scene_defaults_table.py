@@ -102,3 +102,28 @@ def test_retiming_into_the_same_file_keeps_the_other_scenes_and_each_sections_fa
     assert "| elastic_pendulum | 10 | jacobi x2 H 5 ms | 0.00059 | 200.0 | error 0.00264, RTF 50.2 |" in text
     assert "Every candidate ran over the natural length 20 s (measured facts)." in text
     assert "- elastic_pendulum: re-measured" in text and "- date: 2026-11-28 14:02 UTC, commit 7697f7f" in text
+
+
+def test_a_retimed_entry_says_when_and_at_which_commit_its_costs_were_measured(tmp_path, monkeypatch):
+    """The stored entry of a re-time carried only the table's date and commit (when the errors were measured), so
+    a cost re-timed hours later read as measured then."""
+    sd = load()
+    cells = "| 0.00059 | rope.tension | 0.00051 | 0.00791 | 1000 | 0.5 | 40.0 | 0.177 | 2.54e+05 | 0.000233 | nan | no |"
+    header = ("| candidate | worst rel err | worst key | worst f err | worst zeta err | steps | CPU [s] | RTF | bond residual [J] "
+              "| carried [J] | residual/carried (worst bond) | sway ratio | adds energy | passes |")
+    rule = "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    path = tmp_path / "defaults.md"
+    path.write_text("\n".join([
+        "# Scene defaults", "", "- date: 2026-11-28 14:02 UTC, commit 7697f7f", "",
+        "## elastic_pendulum (10 s; key outputs pendulum.theta, rope.tension)", "", header, rule,
+        f"| jacobi x2 H 5 ms **chosen** {cells} yes |", ""]) + "\n")
+    stored = []
+    monkeypatch.setattr(sd, "retime", lambda scene, rows, stop, rounds: None)
+    monkeypatch.setattr(sd, "head_commit", lambda: "feed123")
+    monkeypatch.setattr(sd, "write_fidelity", lambda *a, **k: stored.append((a, k)))
+    monkeypatch.setattr(sd, "write_docs_ladders", lambda: None)
+    assert sd.main(["--from-table", str(path), "--rounds", "2", "--output", str(tmp_path / "out.md"), "--scenes",
+                    "elastic_pendulum"]) == 0
+    (scene, _, _, commit, command), kw = stored[0]
+    assert scene == "elastic_pendulum" and commit == "7697f7f" and kw["when"] == "2026-11-28 14:02"
+    assert "re-timed 20" in command and "UTC at commit feed123: --from-table --rounds 2" in command
