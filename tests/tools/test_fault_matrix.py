@@ -318,7 +318,7 @@ def test_the_next_build_removes_the_temporary_files_of_a_killed_build(built, tmp
 # --- 8. unclear items ---------------------------------------------------------------------------------
 
 def test_scenes_lists_every_scene_with_its_question_and_version_is_one_line(built):
-    from cranefmu.scene_catalog import scene_names
+    from cranefmu.scenes.catalog import scene_names
     from cranefmu.scenes import SCENES
 
     p = cranefmu("scenes")
