@@ -399,17 +399,6 @@ def test_a_closed_pipe_ends_a_listing_without_a_message(built):
 
 # --- issue 35: one writer for every whole file ---------------------------------------------------
 
-@pytest.fixture
-def small_disk(tmp_path):
-    """A 1 MB tmpfs under the test's directory (root only): a disk that fills."""
-    mount = tmp_path / "small"
-    mount.mkdir()
-    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mount)],
-                                           capture_output=True).returncode != 0:
-        pytest.skip("cannot mount a small tmpfs here (root only)")
-    yield mount
-    subprocess.run(["umount", "-l", str(mount)], check=False)
-
 
 def fill(folder: Path, leave: int = 0) -> None:
     """Fill the file system of ``folder`` to its last block (less ``leave`` bytes)."""
