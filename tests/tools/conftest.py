@@ -19,13 +19,27 @@ def faulty_ssp(built, tmp_path_factory):
 
 
 @pytest.fixture
-def small_disk(tmp_path):
+def tmpfs(tmp_path):
+    """``tmpfs(name, options)``: a tmpfs mounted at ``tmp_path / name`` with the mount ``options`` (``size=1m``,
+    ``ro,size=64k``), unmounted after the test; the test is skipped where it cannot be mounted (root only)."""
+    mounted = []
+
+    def mount(name: str, options: str):
+        path = tmp_path / name
+        path.mkdir()
+        if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(path)],
+                                               capture_output=True).returncode != 0:
+            pytest.skip(f"cannot mount a tmpfs ({options}) here (root only)")
+        mounted.append(path)
+        return path
+
+    yield mount
+    for path in mounted:
+        subprocess.run(["umount", "-l", str(path)], check=False)
+
+
+@pytest.fixture
+def small_disk(tmpfs):
     """A 1 MiB tmpfs under the test's directory (root only): a disk that fills (room for a CSV header and about
     1000 rows of elastic_pendulum, 0.7 MB)."""
-    mount = tmp_path / "small"
-    mount.mkdir()
-    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mount)],
-                                           capture_output=True).returncode != 0:
-        pytest.skip("cannot mount a small tmpfs here (root only)")
-    yield mount
-    subprocess.run(["umount", "-l", str(mount)], check=False)
+    return tmpfs("small", "size=1m")
