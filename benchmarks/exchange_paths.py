@@ -40,8 +40,8 @@ def _runs(fmus: str | None) -> list[tuple[str, object]]:
     from cranefmu.experiments.runner import prepare
     from cranefmu.master.extracted import extracted_scene
     from cranefmu.master.runspec import resolve
-    from cranefmu.scene_catalog import resolve as scene_path
-    from cranefmu.scene_catalog import scene_names
+    from cranefmu.scenes.catalog import resolve as scene_path
+    from cranefmu.scenes.catalog import scene_names
 
     out = []
     for name in scene_names():

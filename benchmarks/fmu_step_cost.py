@@ -365,7 +365,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     args.label = args.label or ("native" if args.fmus == "native" else "after") + ("_stored" if args.stored else "")
     if args.stored and args.scenes == ",".join(SCENES):
-        from cranefmu.scene_catalog import scene_names
+        from cranefmu.scenes.catalog import scene_names
 
         args.scenes = ",".join(scene_names())
     if args.cpu is not None:

@@ -59,7 +59,7 @@ from cranefmu.master.power_bonds import RESIDUAL_WARNING
 from cranefmu.master.run import run
 from cranefmu.analysis.scene_questions import NATURAL, answers
 from cranefmu.analysis.scene_questions import worst as worst_answer
-from cranefmu.scene_catalog import FIDELITY
+from cranefmu.scenes.catalog import FIDELITY
 from cranefmu.scenes import hook_sway_metrics
 
 SCENES = ("elastic_pendulum", "hook_sway", "overhead_lift", "truck_telescope", "truck_slewing")

@@ -4,7 +4,7 @@ Public API: :func:`simulate` (run a scene or an .ssp, returns the rows), :func:`
 statistics, a :class:`RunResult`), :class:`Execution` (a run the caller steps; :class:`Observer`,
 :class:`Command` and :class:`Source` plug into it, :class:`RunInterrupted` ends it on a signal), :func:`resolve` (the :class:`RunSpec` a run would take: every setting and where it came
 from; ``run(spec)`` runs it), :func:`build` (build FMUs and scenes), :func:`sweep` (a study of many runs on Dask).
-Scene names resolve through :mod:`cranefmu.scene_catalog`, registered with the master here so the
+Scene names resolve through :mod:`cranefmu.scenes.catalog`, registered with the master here so the
 master imports nothing of it; so are the parameters that follow others (:mod:`cranefmu.derived`).
 
 Public modules: those a package's ``__all__`` names, here :mod:`cranefmu.errors`, :mod:`cranefmu.report`,
@@ -32,7 +32,7 @@ _PUBLIC_MODULES = ("errors", "report", "master", "analysis", "physics", "adapter
 
 def _resolve_scene_name(name: str, fmus: str | None = None) -> Path:
     # imported on first use: `import cranefmu` stays light (the physics runs without fmpy or pythonfmu)
-    from .scene_catalog import resolve
+    from .scenes.catalog import resolve
 
     return resolve(name, fmus)
 

@@ -140,7 +140,7 @@ def test_switches_take_their_names_or_codes_in_the_master(built):
 
 
 def test_info_shows_units_and_each_set_as_its_changes_from_default(built, tmp_path):
-    from cranefmu.scene_info import describe
+    from cranefmu.scenes.info import describe
 
     lines = describe(load_scene(b.SSP_DIR / "truck_telescope.ssp", tmp_path))
     text = "\n".join(lines)

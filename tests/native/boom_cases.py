@@ -4,7 +4,6 @@ inputs, bit-for-bit comparison, and one communication step of a C model as the F
 from __future__ import annotations
 
 import math
-import types
 
 import numpy as np
 
@@ -99,11 +98,6 @@ def rates(rng: np.random.Generator, model=BoomModel) -> tuple[np.ndarray, np.nda
     r2[coupling] = rng.normal(0, 1, coupling.sum()) * np.abs(rng.normal(0, 1e3, coupling.sum()) + 0.01)
     scale = np.array([1e-4 if s.unit in ("m", "rad", "m/s", "rad/s") else 1.0 for s in model.inputs])
     return r1 * scale, r2 * scale
-
-
-def unchecked(fields: dict) -> types.SimpleNamespace:
-    """Every field (defaults for the ones not given) without the Python check: what the C check sees."""
-    return types.SimpleNamespace(**({n: d for n, d, _ in BoomParams.field_specs()} | fields))
 
 
 def assert_same(python, native, what: str) -> None:

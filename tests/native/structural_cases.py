@@ -1,15 +1,21 @@
-"""Random cases for the model-level tests of the native Girder, Chassis and Chassis4 (helpers, no tests).
+"""Random cases for the model-level tests of the native models (helpers, no tests).
 
 ``random_params`` draws every field of a Params class within its allowed range (switches uniformly,
 bounded numbers uniformly, positive ones log-uniformly about the default), then lets the caller
 repair the cross-field checks.  ``reference_expm`` (cranefmu.native.harness) is an independent matrix
 exponential in extended precision to measure how close the C and scipy exponentials come to the exact one.
+``unchecked`` is a parameter set past Python's checks, ``refused_as_in_python`` checks that a C model
+refuses a bad one in Python's words.
 """
 from __future__ import annotations
 
+import types
+
 import numpy as np
+import pytest
 
 from cranefmu.native.harness import reference_expm  # noqa: F401  (re-exported for the tests)
+from cranefmu.physics.params import ParameterError
 
 
 def random_value(rng: np.random.Generator, default, meta: dict):
@@ -68,3 +74,21 @@ def map_error(got: np.ndarray, want: np.ndarray, z: np.ndarray) -> np.ndarray:
     got, want = np.asarray(got, dtype=float), np.asarray(want, dtype=float)
     terms = np.abs(want * z).sum(axis=1)
     return np.abs((got - want) @ z) / np.where(terms > 0.0, terms, 1.0)
+
+
+def unchecked(params_class, fields: dict) -> types.SimpleNamespace:
+    """Every field of ``params_class`` (its defaults for those not in ``fields``) without the Python check:
+    what a C model's check sees."""
+    return types.SimpleNamespace(**({n: d for n, d, _ in params_class.field_specs()} | fields))
+
+
+def refused_as_in_python(name: str, params_class, bad: dict) -> None:
+    """The C model ``name`` refuses the fields ``bad`` (over the defaults), which Python's ``params_class``
+    refuses, in the same words; needs cffi."""
+    from cranefmu.native.harness import load
+
+    with pytest.raises(ParameterError) as python:
+        params_class(**({n: d for n, d, _ in params_class.field_specs()} | bad))
+    with pytest.raises(ValueError) as native:
+        load(name, unchecked(params_class, bad))
+    assert str(native.value) == str(python.value)

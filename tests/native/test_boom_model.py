@@ -14,11 +14,12 @@ import math
 import numpy as np
 import pytest
 
-from boom_cases import SWITCHES, assert_same, boom_fields, law_times, native_step, random_inputs, rates, unchecked
+from boom_cases import SWITCHES, assert_same, boom_fields, law_times, native_step, random_inputs, rates
 from cranefmu.adapter.fmi_adapter import advance
 from cranefmu.native.harness import HERE, load
 from cranefmu.physics.boom import BoomModel, BoomParams
 from cranefmu.physics.params import ParameterError
+from structural_cases import refused_as_in_python, unchecked
 
 def configured_sets(seed: int, per_switch: int):
     """(fields, BoomParams or None, the Python refusal or None) for per_switch random sets of every switch."""
@@ -39,7 +40,7 @@ def test_random_sets_every_switch_outputs_derivatives_initial_state():
     for f, p, refusal in configured_sets(11, 30):
         if p is None:
             with pytest.raises(ValueError) as err:
-                load("Boom", unchecked(f))
+                load("Boom", unchecked(BoomParams, f))
             assert str(err.value) == refusal
             refused += 1
             continue
@@ -133,12 +134,7 @@ REFUSALS = [
 
 @pytest.mark.parametrize("bad", REFUSALS, ids=[",".join(b) for b in REFUSALS])
 def test_the_same_refusal_in_the_same_words(bad):
-    fields = {n: d for n, d, _ in BoomParams.field_specs()} | bad
-    with pytest.raises(ParameterError) as python:
-        BoomParams(**fields)
-    with pytest.raises(ValueError) as native:
-        load("Boom", unchecked(fields))
-    assert str(native.value) == str(python.value)
+    refused_as_in_python("Boom", BoomParams, bad)
 
 
 def test_py_hypot_is_pythons(tmp_path):

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import types
 
 import numpy as np
 import pytest
@@ -25,6 +24,7 @@ from cranefmu.adapter.integrators import rk4_list  # noqa: E402
 from cranefmu.native.harness import load  # noqa: E402
 from cranefmu.physics.params import ParameterError  # noqa: E402
 from cranefmu.physics.pendulum import PendulumModel, PendulumParams  # noqa: E402
+from structural_cases import refused_as_in_python  # noqa: E402
 
 DIMENSIONS, PAYLOADS = (1, 2, 3), ("none", "rigid", "elastic")
 STARTS, GROUNDS = ("position", "below_top", "on_ground"), ("none", "spring_damper")
@@ -365,11 +365,6 @@ def test_scene_sets_over_a_run(scene):
         assert_agree(py.output_list(t, x, u), c.outputs(t, xc, u), p, f"{scene} outputs at t={t}")
 
 
-def unchecked(fields: dict) -> types.SimpleNamespace:
-    """Every field (defaults for the ones not given) without the Python check: what the C check sees."""
-    return types.SimpleNamespace(**({n: d for n, d, _ in PendulumParams.field_specs()} | fields))
-
-
 REFUSALS = [
     dict(start="below_top", x0=1.5),
     dict(start="below_top", y0=-3.0),
@@ -391,9 +386,4 @@ REFUSALS = [
 
 @pytest.mark.parametrize("bad", REFUSALS, ids=[",".join(f"{k}={v}" for k, v in b.items()) for b in REFUSALS])
 def test_the_same_refusal_in_the_same_words(bad):
-    fields = {n: d for n, d, _ in PendulumParams.field_specs()} | bad
-    with pytest.raises(ParameterError) as python:
-        PendulumParams(**fields)
-    with pytest.raises(ValueError) as native:
-        load("Pendulum", unchecked(fields))
-    assert str(native.value) == str(python.value)
+    refused_as_in_python("Pendulum", PendulumParams, bad)

@@ -15,6 +15,7 @@ from cranefmu.adapter.fmi_adapter import advance
 from cranefmu.native.harness import load
 from cranefmu.physics.params import ParameterError
 from cranefmu.physics.slewing import SlewingBoomModel, SlewingBoomParams
+from structural_cases import refused_as_in_python, unchecked
 
 SOURCES = [(ts, ls, ss) for ts in ("law", "input") for ls in ("law", "input") for ss in ("law", "input")]
 
@@ -52,11 +53,6 @@ def slewing_inputs(rng: np.random.Generator) -> np.ndarray:
     return u
 
 
-def unchecked(fields: dict):
-    import types
-    return types.SimpleNamespace(**({n: d for n, d, _ in SlewingBoomParams.field_specs()} | fields))
-
-
 def test_random_sets_every_switch():
     rng = np.random.default_rng(17)
     counts = {s: 0 for s in SOURCES}
@@ -68,7 +64,7 @@ def test_random_sets_every_switch():
                 p = SlewingBoomParams(**f)
             except ParameterError as err:
                 with pytest.raises(ValueError) as native:
-                    load("SlewingBoom", unchecked(f))
+                    load("SlewingBoom", unchecked(SlewingBoomParams, f))
                 assert str(native.value) == str(err)
                 refused += 1
                 continue
@@ -119,9 +115,4 @@ REFUSALS = [
 
 @pytest.mark.parametrize("bad", REFUSALS, ids=[",".join(b) for b in REFUSALS])
 def test_the_same_refusal_in_the_same_words(bad):
-    fields = {n: d for n, d, _ in SlewingBoomParams.field_specs()} | bad
-    with pytest.raises(ParameterError) as python:
-        SlewingBoomParams(**fields)
-    with pytest.raises(ValueError) as native:
-        load("SlewingBoom", unchecked(fields))
-    assert str(native.value) == str(python.value)
+    refused_as_in_python("SlewingBoom", SlewingBoomParams, bad)

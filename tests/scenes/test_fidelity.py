@@ -9,8 +9,8 @@ import pytest
 from cranefmu.analysis import modal
 from cranefmu.master.run import preview, resolve_scene
 from cranefmu.master.scene import load_scene
-from cranefmu.scene_catalog import fidelity
-from cranefmu.scene_info import describe
+from cranefmu.scenes.catalog import fidelity
+from cranefmu.scenes.info import describe
 
 MEASURED = [s for s in ("elastic_pendulum", "hook_sway", "overhead_lift", "truck_telescope", "truck_slewing")
             if fidelity(s)]

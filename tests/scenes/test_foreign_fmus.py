@@ -65,7 +65,7 @@ def test_inferred_bonds_pair_what_each_scene_declares(built, scene):
 
 def test_info_shows_inferred_bonds(built, tmp_path):
     from cranefmu.master.scene import load_scene
-    from cranefmu.scene_info import describe
+    from cranefmu.scenes.info import describe
 
     ssp = write_ssp(tmp_path / "hand.ssp", {"rope": built / "Rope.fmu", "pendulum": built / "Pendulum.fmu"},
                     ROPE_PENDULUM, ROPE_PENDULUM_PARAMETERS)

@@ -20,7 +20,7 @@ from cranefmu.master.power_bonds import RESIDUAL_WARNING
 from cranefmu.master.run import preview, resolve_scene, run
 from cranefmu.master.scene import load_scene
 from cranefmu.analysis.modal import MODES
-from cranefmu.scene_info import describe
+from cranefmu.scenes.info import describe
 from cranefmu.scenes import hook_sway_metrics
 from reference_cache import References
 from scene_edit import edit_ssp

@@ -105,3 +105,17 @@ def test_bad_events_are_one_line_before_the_run(built, tmp_path, text, message):
     with pytest.raises(ExperimentError, match=message) as err:
         prepare([f])
     assert str(err.value).startswith(str(f)) and "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize("line, message", [
+    ('emergency_stop = {when = "pendulum.theta < 0", rmap = "0.5 s"}\n',
+     r":\d+: emergency_stop: rmap: unknown key; allowed description, ramp, when$"),
+    ('expect_stop = {reason = "rope.slack", during = [0, 1], durign = 1}\n',
+     r":\d+: expect_stop: durign: unknown key; allowed during, reason$"),
+])
+def test_an_unknown_key_of_a_stop_table_is_one_line(tmp_path, line, message):
+    f = tmp_path / "k.toml"
+    f.write_text('scene = "elastic_pendulum"\n' + line + '[[assert]]\ncolumn = "rope.tension"\nmax = 1e9\n')
+    with pytest.raises(ExperimentError, match=message) as err:
+        load(f)
+    assert str(err.value).startswith(str(f)) and "\n" not in str(err.value)

@@ -22,7 +22,7 @@ def test_without_the_current_steps_the_line_says_only_the_measured_one():
 def test_hook_sway_info_quotes_its_stored_step_today(built, tmp_path):
     from cranefmu.master.run import resolve_scene
     from cranefmu.master.scene import load_scene
-    from cranefmu.scene_info import describe
+    from cranefmu.scenes.info import describe
 
     scene = load_scene(resolve_scene("hook_sway", "python"), tmp_path)
     stored = scene.settings["step_size"]

@@ -61,3 +61,15 @@ def test_the_crane_analyses_are_one_package():
     assert "cranefmu.analysis" in _packages()
     assert all((package / "analysis" / f"{m}.py").is_file() for m in ANALYSES)
     assert not [m for m in ANALYSES if (package / f"{m}.py").exists()]
+
+
+SCENE_MODULES = ("catalog", "docs", "info")
+
+
+def test_the_scene_modules_are_one_package():
+    """The named scenes' code is cranefmu.scenes (its __init__ the summaries and measures; catalog, info, docs beside
+    it), not four loose scene*.py modules at the top (issue 36); the old paths hold no shim."""
+    package = ROOT / "src" / "cranefmu"
+    assert "cranefmu.scenes" in _packages()
+    assert all((package / "scenes" / f"{m}.py").is_file() for m in SCENE_MODULES)
+    assert not [p.name for p in package.glob("scene*.py")]

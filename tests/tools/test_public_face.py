@@ -85,7 +85,7 @@ def test_the_package_says_the_rest_is_internal():
     doc = cranefmu.__doc__
     assert "``__all__``" in doc and "Every other module is internal" in doc
     for package in ("master", "analysis", "physics", "adapter", "report", "compose", "experiments", "native", "studies",
-                    "subcommands"):
+                    "subcommands", "scenes"):
         assert "nternal" in importlib.import_module(f"cranefmu.{package}").__doc__, package
 
 

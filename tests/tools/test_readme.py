@@ -1,5 +1,5 @@
 """README.md stays a short front page whose commands work, whose links stay inside the repository and whose
-scene table is the one `python -m cranefmu.scene_docs` generates."""
+scene table is the one `python -m cranefmu.scenes.docs` generates."""
 from __future__ import annotations
 
 import re
@@ -76,10 +76,10 @@ def test_no_result_quoted_from_a_commit():
 
 
 def test_scene_table_is_the_generated_one(built):
-    from cranefmu import scene_docs
+    from cranefmu.scenes import docs as scene_docs
 
     assert scene_docs.readme_text(TEXT) == TEXT, \
-        "README.md's scene table is out of date: run `python -m cranefmu.scene_docs` and commit README.md"
+        "README.md's scene table is out of date: run `python -m cranefmu.scenes.docs` and commit README.md"
 
 
 def test_architecture_map_names_files_that_exist():

@@ -165,7 +165,7 @@ def test_a_sweep_fixes_and_varies_implicit(built, tmp_path):
 def test_info_shows_the_stored_settings_their_algorithm_and_where_a_runs_settings_come_from(built):
     from cranefmu.master.extracted import extracted_scene
     from cranefmu.master.scene_names import resolve_scene
-    from cranefmu.scene_info import describe
+    from cranefmu.scenes.info import describe
 
     _, scene = extracted_scene(resolve_scene("hook_sway"))
     lines = describe(scene)

@@ -1,4 +1,4 @@
-"""docs/scenes_catalog.md is what `python -m cranefmu.scene_docs` writes from the scenes (no drift), with a
+"""docs/scenes_catalog.md is what `python -m cranefmu.scenes.docs` writes from the scenes (no drift), with a
 section for every shipped scene that states the settings its scene file stores."""
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import tomllib
 
 import pytest
 
-from cranefmu import scene_docs
+from cranefmu.scenes import docs as scene_docs
 from cranefmu.sources import scene_dirs
 
 
@@ -23,7 +23,7 @@ def _section(page: str, name: str) -> str:
 
 def test_committed_page_equals_the_generated_one(page):
     assert scene_docs.PAGE.read_text() == page, \
-        "docs/scenes_catalog.md is out of date: run `python -m cranefmu.scene_docs` and commit it"
+        "docs/scenes_catalog.md is out of date: run `python -m cranefmu.scenes.docs` and commit it"
 
 
 @pytest.mark.parametrize("scene_dir", scene_dirs(), ids=lambda d: d.name)

@@ -13,7 +13,7 @@ from cranefmu import scenes
 
 from cranefmu.analysis import modal
 from cranefmu.errors import SceneError, SettingsError
-from cranefmu.scene_catalog import FIDELITY, fidelity
+from cranefmu.scenes.catalog import FIDELITY, fidelity
 from cranefmu.analysis.reference import Monolith
 from cranefmu.sources import PACKAGE_DIR, scene_dirs, scene_files
 
@@ -86,7 +86,7 @@ def _strings(nodes) -> set[str]:
     return {n.value for node in nodes for n in ast.walk(node) if isinstance(n, ast.Constant) and isinstance(n.value, str)}
 
 
-@pytest.mark.parametrize("module", ["scenes.py", "analysis/modal.py"])
+@pytest.mark.parametrize("module", ["scenes/__init__.py", "analysis/modal.py"])
 def test_no_per_scene_literal_data_in_the_code(module):
     """No module-level table mentions a scene (the old SCENES and MODES literals), and no question, listed mode's
     name or formula is written anywhere in the code: they are the folders'.  (Code for one scene, e.g.

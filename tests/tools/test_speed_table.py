@@ -46,7 +46,7 @@ def test_a_table_without_rows_is_refused(tmp_path):
 
 def test_the_shipped_record_covers_every_scene_over_its_natural_length():
     from cranefmu.master.runspec import resolve
-    from cranefmu.scene_catalog import scene_names
+    from cranefmu.scenes.catalog import scene_names
 
     data = json.loads(speed_table.STORE.read_text())
     for scene in scene_names():

@@ -265,16 +265,20 @@ def _condition(value, where: str, key: str = "when") -> str:
     return value
 
 
+def _known_keys(value: dict, allowed: set[str], where: str, name: str) -> None:
+    """Refuse the first key of the inline table ``name`` (at ``where``) that is not in ``allowed``."""
+    unknown = set(value) - allowed
+    if unknown:
+        raise ExperimentError(f"{where}: {name}: {sorted(unknown)[0]}: unknown key; allowed {', '.join(sorted(allowed))}")
+
+
 def _emergency_stop(value, lines: Lines, table: str) -> tuple[str, float, str]:
     """``emergency_stop = {when = "chassis.N3 < 10 kN", ramp = "0.5 s"}``: every command stops at the event."""
     where = lines.at(table, "emergency_stop")
     if not isinstance(value, dict) or "when" not in value:
         raise ExperimentError(f"{where}: emergency_stop = {value!r} is not allowed: a table {{when = \"<column> < "
                               "<value>\", ramp = \"0.5 s\"}} (ramp: the time to rest, default 0)")
-    unknown = set(value) - EMERGENCY_KEYS
-    if unknown:
-        raise ExperimentError(f"{where}: emergency_stop: {sorted(unknown)[0]}: unknown key; allowed "
-                              f"{', '.join(sorted(EMERGENCY_KEYS))}")
+    _known_keys(value, EMERGENCY_KEYS, where, "emergency_stop")
     ramp = _number(value.get("ramp", 0.0), lines, table, "emergency_stop", unit="s", name="ramp")
     if ramp < 0:
         raise ExperimentError(f"{where}: emergency_stop: ramp = {ramp:g} s is not allowed: >= 0")
@@ -286,10 +290,7 @@ def _expect_stop(value, lines: Lines, table: str) -> ExpectedStop:
     if not isinstance(value, dict):
         raise ExperimentError(f"{where}: expect_stop = {value!r} is not allowed: a table "
                               "{reason = \"component.variable\", during = [t1, t2]}")
-    unknown = set(value) - EXPECT_STOP_KEYS
-    if unknown:
-        raise ExperimentError(f"{where}: expect_stop: {sorted(unknown)[0]}: unknown key; allowed "
-                              f"{', '.join(sorted(EXPECT_STOP_KEYS))}")
+    _known_keys(value, EXPECT_STOP_KEYS, where, "expect_stop")
     if "reason" not in value or "during" not in value:
         raise ExperimentError(f"{where}: expect_stop needs reason = the stop condition's column (e.g. "
                               "\"chassis.tipping\") and during = [t1, t2] s, the window it is to stop in")

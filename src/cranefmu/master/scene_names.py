@@ -4,7 +4,7 @@ The master knows nothing of where an application keeps its scenes or how it buil
 application registers one resolver (``(name, fmus) -> .ssp path``; ``fmus``: the kind of FMU asked for,
 ``native``, ``python`` or None for the application's default) with :func:`register_scene_resolver`;
 cranefmu does so on import (``cranefmu/__init__.py``, resolving through
-:mod:`cranefmu.scene_catalog`), so ``run("elastic_pendulum")`` works while the master imports
+:mod:`cranefmu.scenes.catalog`), so ``run("elastic_pendulum")`` works while the master imports
 nothing of it.
 """
 from __future__ import annotations

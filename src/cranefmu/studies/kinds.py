@@ -96,7 +96,7 @@ def agreement(scene: str, parameter_set: str | None = None, stop_time: float | N
 def scene_sets() -> list[tuple[str, str | None]]:
     """Every (shipped scene, parameter set) pair; None is the default set."""
     from ..master.run import preview
-    from ..scene_catalog import scene_names
+    from ..scenes.catalog import scene_names
 
     out = []
     for name in scene_names():

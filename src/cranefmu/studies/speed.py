@@ -54,7 +54,7 @@ def cases(ctx: Context) -> list[tuple[str, float, float]]:
     """(scene, stop time [s], output step = the scene's stored macro step [s]) of this size: full, every
     shipped scene over its natural length (its DefaultExperiment's stop time)."""
     from ..master.runspec import resolve
-    from ..scene_catalog import scene_names
+    from ..scenes.catalog import scene_names
 
     names = ctx.pick(["elastic_pendulum"], ["elastic_pendulum", "hook_sway"], scene_names())
     out = []

@@ -21,7 +21,7 @@ def main(args: argparse.Namespace) -> int:
     from ..fmu_kinds import info_line
     from ..master.extracted import extracted_scene
     from ..master.run import resolve_scene
-    from ..scene_info import describe
+    from ..scenes.info import describe
 
     ssp = resolve_scene(args.scene, getattr(args, "fmus", None))
     workdir, scene = extracted_scene(ssp)   # the guarded extract a run uses

@@ -6,7 +6,7 @@ import argparse
 
 def lines() -> list[str]:
     """One line per shipped scene: its name, then its question."""
-    from ..scene_catalog import scene_names
+    from ..scenes.catalog import scene_names
     from ..scenes import SCENES
 
     names = scene_names()

@@ -248,15 +248,74 @@ static double *new_point(cf_plan *p, double t)
     return p->past + (size_t)row * p->n;
 }
 
-/* every value moves at t (coupled.Coupling.exchange), extrapolation order `order`; first the commanded
- * inputs get `cmd`, their values at t (NULL: none) */
-static int exchange(cf_plan *p, double t, int order, const double *cmd)
+/* the commanded inputs get `cmd` (NULL: none), then the discrete values move (coupled.Coupling.commit_as_read
+ * and exchange do both first) */
+static int set_commands_and_discrete(cf_plan *p, const double *cmd)
 {
     if (cmd)
         for (int w = 0; w < p->n_cmd; w++)
             if (set_commands(p, p->cmd_comp[w], cmd, 3))
                 return -1;
     if (p->n_transfers && move_discrete(p))
+        return -1;
+    return 0;
+}
+
+/* the values a..a+n-1 of the last k of the `count` recorded points, oldest first, into stack[k][n] */
+static void stack_past(const cf_plan *p, int count, int k, int a, int n, double *stack)
+{
+    for (int i = 0; i < k; i++) {
+        const double *row = p->past + (size_t)p->ring[1 + count - k + i] * p->n + a;
+        for (int j = 0; j < n; j++)
+            stack[i * n + j] = row[j];
+    }
+}
+
+/* the first (d1) and second (d2) derivatives of the polynomial through the k rows of stack[k][n], from
+ * the weights w1, w2; d2 is 0 unless `curved` */
+static void derivatives(const double *w1, const double *w2, const double *stack, int k, int n, int curved,
+                        double *d1, double *d2)
+{
+    for (int j = 0; j < n; j++) {
+        d1[j] = dot_gemv(w1, stack, k, n, j);
+        d2[j] = curved ? dot_gemv(w2, stack, k, n, j) : 0.0;
+    }
+}
+
+/* the weights at t of the polynomial through the last k of the `count` recorded points and t + h */
+static void step_weights(const cf_plan *p, int count, int k, double t, double h, double *w1, double *w2)
+{
+    double ts[3];
+    for (int i = 0; i < k; i++)
+        ts[i] = p->times[count - k + i];
+    ts[k] = t + h;
+    weights(ts, k + 1, t, w1, w2);
+}
+
+/* each input's value at the end of a step of h (coupled.Coupling.note_ends), where the plan wants them */
+static void note_ends(cf_plan *p, double h)
+{
+    if (!p->ends_wanted)
+        return;
+    double hh = 0.5 * h;
+    for (int j = 0; j < p->n; j++)
+        p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
+}
+
+/* the scale of each value: the largest magnitude recorded (np.maximum: a NaN wins) */
+static void update_scale(cf_plan *p, const double *new)
+{
+    for (int j = 0; j < p->n; j++) {
+        double v = fabs(new[j]), s = p->scale[j];
+        p->scale[j] = (v != v || s != s) ? (v != v ? v : s) : (v > s ? v : s);
+    }
+}
+
+/* every value moves at t (coupled.Coupling.exchange), extrapolation order `order`; first the commanded
+ * inputs get `cmd`, their values at t (NULL: none) */
+static int exchange(cf_plan *p, double t, int order, const double *cmd)
+{
+    if (set_commands_and_discrete(p, cmd))
         return -1;
     double *new = new_point(p, t);
     int count = p->ring[0];
@@ -280,16 +339,8 @@ static int exchange(cf_plan *p, double t, int order, const double *cmd)
         }
         double *d1 = p->scratch + 3 * (size_t)p->n, *d2 = p->scratch + 4 * (size_t)p->n;
         if (extrapolate) {
-            double *stack = p->scratch;
-            for (int i = 0; i < k; i++) {
-                const double *row = p->past + (size_t)p->ring[1 + count - k + i] * p->n + a;
-                for (int j = 0; j < n; j++)
-                    stack[i * n + j] = row[j];
-            }
-            for (int j = 0; j < n; j++) {
-                d1[j] = dot_gemv(w1, stack, k, n, j);
-                d2[j] = order > 1 ? dot_gemv(w2, stack, k, n, j) : 0.0;
-            }
+            stack_past(p, count, k, a, n, p->scratch);
+            derivatives(w1, w2, p->scratch, k, n, order > 1, d1, d2);
         } else {
             for (int j = 0; j < n; j++)
                 d1[j] = d2[j] = 0.0;
@@ -320,10 +371,7 @@ static int exchange(cf_plan *p, double t, int order, const double *cmd)
                 p->fresh[c] = 0;
         }
     }
-    for (int j = 0; j < p->n; j++) {   /* np.maximum: a NaN wins */
-        double v = fabs(new[j]), s = p->scale[j];
-        p->scale[j] = (v != v || s != s) ? (v != v ? v : s) : (v > s ? v : s);
-    }
+    update_scale(p, new);
     return 0;
 }
 
@@ -427,13 +475,8 @@ int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
     int count = p->ring[0];
     int k = order < count ? order : count;            /* past points used (coupled.Coupling._last) */
     double w1[3], w2[3];
-    if (order > 0) {
-        double ts[3];
-        for (int i = 0; i < k; i++)
-            ts[i] = p->times[count - k + i];
-        ts[k] = t + h;
-        weights(ts, k + 1, t, w1, w2);
-    }
+    if (order > 0)
+        step_weights(p, count, k, t, h, w1, w2);
     const double *newest = count ? p->past + (size_t)p->ring[count] * p->n : NULL;
     for (int q = 0; q < p->n_stages; q++) {
         for (int e = p->s_fed_off[q]; e < p->s_fed_off[q] + p->s_fed_n[q]; e++) {
@@ -449,17 +492,10 @@ int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
                     return -1;
                 continue;
             }
-            for (int i = 0; i < k; i++) {
-                const double *row = p->past + (size_t)p->ring[1 + count - k + i] * p->n + a;
-                for (int j = 0; j < n; j++)
-                    stack[i * n + j] = row[j];
-            }
+            stack_past(p, count, k, a, n, stack);
             for (int j = 0; j < n; j++)
                 stack[k * n + j] = u[j];
-            for (int j = 0; j < n; j++) {
-                d1[j] = dot_gemv(w1, stack, k + 1, n, j);
-                d2[j] = dot_gemv(w2, stack, k + 1, n, j);
-            }
+            derivatives(w1, w2, stack, k + 1, n, 1, d1, d2);
             if (feed_group(p, g, newest + a, d1, d2, 0))
                 return -1;
         }
@@ -476,11 +512,7 @@ int cf_gauss_seidel_step(cf_plan *p, double t, double h, int order)
                 return -1;
         }
     }
-    if (p->ends_wanted) {
-        double hh = 0.5 * h;
-        for (int j = 0; j < p->n; j++)
-            p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
-    }
+    note_ends(p, h);
     return exchange(p, t + h, order, cmd);
 }
 
@@ -510,11 +542,8 @@ int cf_evaluate(cf_plan *p, double t, double h, int degree, int batched, int thr
                 return -1;
     } else {
         int k = degree < count ? degree : count;   /* coupled.Coupling._last(degree) */
-        double ts[3], w1[3], w2[3];
-        for (int i = 0; i < k; i++)
-            ts[i] = p->times[count - k + i];
-        ts[k] = t + h;
-        weights(ts, k + 1, t, w1, w2);
+        double w1[3], w2[3];
+        step_weights(p, count, k, t, h, w1, w2);
         if (batched && count >= degree + 1) {   /* one product over the whole part */
             for (int i = 0; i < k; i++) {
                 const double *row = p->past + (size_t)p->ring[1 + count - k + i] * nn;
@@ -524,10 +553,7 @@ int cf_evaluate(cf_plan *p, double t, double h, int degree, int batched, int thr
             }
             for (int j = 0; j < n; j++)
                 stack[k * n + j] = u[j];
-            for (int j = 0; j < n; j++) {
-                d1[j] = dot_gemv(w1, stack, k + 1, n, j);
-                d2[j] = dot_gemv(w2, stack, k + 1, n, j);
-            }
+            derivatives(w1, w2, stack, k + 1, n, 1, d1, d2);
             const double *now = stack + (size_t)(k - 1) * n;
             for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++)
                 if (feed_group(p, groups[e], now + off, d1 + off, d2 + off, 0))
@@ -536,17 +562,10 @@ int cf_evaluate(cf_plan *p, double t, double h, int degree, int batched, int thr
             const double *newest = p->past + (size_t)p->ring[count] * nn;
             for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++) {
                 int g = groups[e], a = p->g_start[g], m = p->g_n[g];
-                for (int i = 0; i < k; i++) {
-                    const double *row = p->past + (size_t)p->ring[1 + count - k + i] * nn + a;
-                    for (int j = 0; j < m; j++)
-                        stack[i * m + j] = row[j];
-                }
+                stack_past(p, count, k, a, m, stack);
                 for (int j = 0; j < m; j++)
                     stack[k * m + j] = u[off + j];
-                for (int j = 0; j < m; j++) {
-                    d1[j] = dot_gemv(w1, stack, k + 1, m, j);
-                    d2[j] = dot_gemv(w2, stack, k + 1, m, j);
-                }
+                derivatives(w1, w2, stack, k + 1, m, 1, d1, d2);
                 if (feed_group(p, g, newest + a, d1, d2, 0))
                     return -1;
             }
@@ -555,11 +574,8 @@ int cf_evaluate(cf_plan *p, double t, double h, int degree, int batched, int thr
     for (int i = 0; i < n_m; i++)
         if (do_step(p, members[i], t, h, cmd))
             return -1;
-    if (ends && p->ends_wanted) {   /* coupled.Coupling.note_ends */
-        double hh = 0.5 * h;
-        for (int j = 0; j < p->n; j++)
-            p->input_end[j] = p->held[j] ? p->fed[j] : p->fed[j] + h * (p->fed_rate[j] + hh * p->fed_curv[j]);
-    }
+    if (ends)
+        note_ends(p, h);
     for (int e = 0, off = 0; e < n_g; off += p->g_n[groups[e]], e++) {
         int g = groups[e], a = p->g_start[g], m = p->g_n[g];
         if (read_comp(p, p->g_src[g]))
@@ -581,13 +597,7 @@ int cf_plain_step(cf_plan *p, double t, double h)
 {
     const double *cmd = p->n_cmd ? p->cmd_values : NULL;
     double *zero = p->scratch + 5 * (size_t)p->n;
-    if (step_all(p, t, h, cmd))
-        return -1;
-    if (cmd)
-        for (int w = 0; w < p->n_cmd; w++)
-            if (set_commands(p, p->cmd_comp[w], cmd, 3))
-                return -1;
-    if (p->n_transfers && move_discrete(p))
+    if (step_all(p, t, h, cmd) || set_commands_and_discrete(p, cmd))
         return -1;
     for (int c = 0; c < p->n_comps; c++)
         if (read_comp(p, c))
@@ -604,10 +614,7 @@ int cf_plain_step(cf_plan *p, double t, double h)
     }
     for (int c = 0; c < p->n_comps; c++)
         p->fresh[c] = 1;
-    for (int j = 0; j < p->n; j++) {   /* np.maximum: a NaN wins */
-        double v = fabs(new[j]), s = p->scale[j];
-        p->scale[j] = (v != v || s != s) ? (v != v ? v : s) : (v > s ? v : s);
-    }
+    update_scale(p, new);
     return 0;
 }
 

@@ -303,15 +303,21 @@ class KernelPlan:
         if self._stages is not plan:
             self._set_stages(plan)
         self.p.ends_wanted = int(self.c.ends_wanted)
-        self._command_row(t + h)
-        self._enter()
-        status = self.lib.cf_gauss_seidel_step(self.ptr, t, h, order)
-        self._leave()
-        if status:
-            self._raise(t, h)
+        self._call(self.lib.cf_gauss_seidel_step, t, h, t, h, order)
         self.c.stats.compiled_steps += 1
 
     # --- around a call ----------------------------------------------------------------------------
+    def _call(self, function, t: float, h: float, *args) -> None:
+        """``function(plan, *args)`` of the kernel for a step of h from t (h = 0: an exchange at t): the
+        commanded values at t + h first, the coupling's state handed over and back around it; raises the
+        Python path's error on a failure."""
+        self._command_row(t + h)
+        self._enter()
+        status = function(self.ptr, *args)
+        self._leave()
+        if status:
+            self._raise(t, h)
+
     def _enter(self) -> None:
         c = self.c
         c.stats.kernel_calls += 1
@@ -337,12 +343,7 @@ class KernelPlan:
 
     def jacobi_step(self, t: float, h: float, order: int) -> None:
         """One Jacobi macro step (coupled.Coupling.step, then commit) in compiled code."""
-        self._command_row(t + h)
-        self._enter()
-        status = self.lib.cf_jacobi_step(self.ptr, t, h, order)
-        self._leave()
-        if status:
-            self._raise(t, h)
+        self._call(self.lib.cf_jacobi_step, t, h, t, h, order)
         self.c.stats.compiled_steps += 1
 
     def evaluate(self, t: float, h: float, u: np.ndarray, degree: int, part, members, through_only: bool,
@@ -369,34 +370,18 @@ class KernelPlan:
         u = np.ascontiguousarray(u, dtype=float)
         gu = np.empty(part.n)
         self.p.ends_wanted = int(c.ends_wanted)
-        self._command_row(t + h)
-        self._enter()
-        status = self.lib.cf_evaluate(self.ptr, t, h, degree, int(part._batched), int(through_only), int(ends),
-                                      len(groups), groups.ctypes.data, len(steps), steps.ctypes.data,
-                                      u.ctypes.data, gu.ctypes.data)
-        self._leave()
-        if status:
-            self._raise(t, h)
+        self._call(self.lib.cf_evaluate, t, h, t, h, degree, int(part._batched), int(through_only), int(ends),
+                   len(groups), groups.ctypes.data, len(steps), steps.ctypes.data, u.ctypes.data, gu.ctypes.data)
         return gu
 
     def plain_step(self, t: float, h: float) -> None:
         """One step of libcosim's fixed-step Jacobi (algorithms.PlainJacobi.step) in compiled code."""
-        self._command_row(t + h)
-        self._enter()
-        status = self.lib.cf_plain_step(self.ptr, t, h)
-        self._leave()
-        if status:
-            self._raise(t, h)
+        self._call(self.lib.cf_plain_step, t, h, t, h)
         self.c.stats.compiled_steps += 1
 
     def exchange(self, t: float, order: int) -> None:
         """Every value moves at t (coupled.Coupling.commit) in compiled code."""
-        self._command_row(t)
-        self._enter()
-        status = self.lib.cf_exchange(self.ptr, t, order)
-        self._leave()
-        if status:
-            self._raise(t, 0.0)
+        self._call(self.lib.cf_exchange, t, 0.0, t, order)
 
     def jacobi_steps(self, ts: np.ndarray, order: int, rows: np.ndarray) -> int:
         """Jacobi macro steps on the grid ``ts`` (len(ts) - 1 of them), each row (time, outputs, discrete

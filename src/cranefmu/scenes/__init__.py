@@ -6,6 +6,10 @@ from; docs/composition.md): :data:`SCENES` is read from there.  This module hold
 
 A result is anything indexable by column name with a ``time`` column: the master's structured
 array or :func:`cranefmu.analysis.reference.solve`'s dict.
+
+The package's modules are internal: :mod:`.catalog` (a scene name to its built ``.ssp``, its stored settings
+and listed modes as lines), :mod:`.info` (what ``cranefmu info`` prints) and :mod:`.docs` (docs/scenes_catalog.md
+and the README's scene table: ``python -m cranefmu.scenes.docs``).
 """
 from __future__ import annotations
 
@@ -18,7 +22,7 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import SceneError
+from ..errors import SceneError
 
 G = 9.81
 
@@ -48,7 +52,7 @@ class SceneFolders(Mapping):
 
     def _scenes(self) -> dict[str, SceneInfo]:
         if self._loaded is None:
-            from .sources import scene_dirs
+            from ..sources import scene_dirs
 
             self._loaded = {d.name: self._one.get(d.name) or scene_info(d) for d in scene_dirs()
                             if (d / ANALYSIS).is_file()}
@@ -58,7 +62,7 @@ class SceneFolders(Mapping):
         if self._loaded is not None:
             return self._loaded[name]
         if name not in self._one:   # only this scene's folder: reading all five costs a cold run ~5 ms
-            from .sources import scene_dirs
+            from ..sources import scene_dirs
 
             folder = next((d for d in scene_dirs() if d.name == name and (d / ANALYSIS).is_file()), None)
             if folder is None:
@@ -368,7 +372,7 @@ def truck_telescope_parameters(speed: float = 0.35, angle_deg: float = 60.0, loa
       from the Pendulum's ``rest_tension``), so wherever chassis and boom settle the rope carries the
       weight and every start (30, 45, 60 deg, any load) is in equilibrium.
     """
-    from .derived import derive
+    from ..derived import derive
 
     values = {"boom.luff_angle": math.radians(angle_deg), "boom.telescope_speed": speed,
               "boom.boom_length_start": boom_start, "boom.boom_length_end": boom_end, "boom.t_acc": t_acc}
@@ -400,8 +404,8 @@ def static_outrigger_loads(boom_length: float, angle_deg: float, load: float,
     The boom is the retracted boom (``retracted`` [m], default the Boom's boom_length_start, seed 000's
     L_min = 10.5 m) with segments 4 and 3 extended by the telescoping law (s1 = s2 = (boom_length -
     retracted) / 2 at V10 = V20): their masses move out with the tip, as in the scene after telescoping."""
-    from .physics.boom import BoomModel, BoomParams
-    from .physics.chassis import ChassisModel, ChassisParams
+    from ..physics.boom import BoomModel, BoomParams
+    from ..physics.chassis import ChassisModel, ChassisParams
 
     start = BoomParams().boom_length_start if retracted is None else retracted
     if not boom_length >= start:
@@ -417,8 +421,8 @@ def static_outrigger_loads(boom_length: float, angle_deg: float, load: float,
 # --- statics of the crane on four outrigger pads (truck_slewing) ---------------------------------------
 def _pad_geometry(retracted: float | None, boom_length: float, angle_deg: float):
     """The four-pad chassis (Chassis4 defaults) and the boom's mass properties with the segments extended."""
-    from .physics.boom import BoomParams, mass_state
-    from .physics.chassis4 import Chassis4Params, pad_positions
+    from ..physics.boom import BoomParams, mass_state
+    from ..physics.chassis4 import Chassis4Params, pad_positions
 
     start = BoomParams().boom_length_start if retracted is None else retracted
     if not boom_length >= start:

@@ -2,15 +2,15 @@
 as its differences from the default set."""
 from __future__ import annotations
 
-from .master.bond_inference import describe_bonds
-from .master.scene import Scene
+from ..master.bond_inference import describe_bonds
+from ..master.scene import Scene
 
 
 def _fmu_facts(scene: Scene) -> tuple[dict[str, str], dict[str, dict[int, str]], dict[str, list[str]], dict]:
     """Units ("comp.var" -> unit), switch names ("comp.var" -> {code: name}), output labels per
     component and the model descriptions by component, from the FMUs."""
-    from .master.fmu import fmu_switch_names
-    from .master.scene import model_description
+    from ..master.fmu import fmu_switch_names
+    from ..master.scene import model_description
 
     units, switches, outputs, mds = {}, {}, {}, {}
     for c in scene.components:
@@ -36,7 +36,7 @@ def _value(key: str, value, units: dict[str, str], switches: dict[str, dict[int,
 def _settings_lines(scene: Scene) -> list[str]:
     """The scene's stored run settings, the algorithm they were measured for, and where each setting of
     a run given no options comes from (the rule of :mod:`cranefmu.master.runspec`)."""
-    from .master.runspec import choose
+    from ..master.runspec import choose
 
     values, sources, _, stored_for = choose({}, scene.settings, scene.stop_time)
     stored = ", ".join(f"{k} = {v!r}" for k, v in scene.settings.items())
@@ -63,7 +63,7 @@ def describe(scene: Scene) -> list[str]:
     """Lines for ``cranefmu info``: question, components with their role, fidelity switches, the
     default parameters with units (SI, as the FMUs take them), each named set as its changes
     from the default, outputs per component with units, connections."""
-    from .scenes import SCENES
+    from . import SCENES
 
     info = SCENES.get(scene.name)
     roles = {c[0]: c[2] for c in info.components} if info else {}
@@ -80,12 +80,12 @@ def describe(scene: Scene) -> list[str]:
         lines.append("  fidelity switches (--set comp.var=name or code):")
         lines += [f"    {k}: {v}" for k, v in info.fidelity.items()]
     lines += _settings_lines(scene)
-    from .scene_catalog import fidelity_lines, mode_lines
+    from .catalog import fidelity_lines, mode_lines
 
-    from .speed_table import info_lines as speed_lines
+    from ..speed_table import info_lines as speed_lines
 
     lines += mode_lines(scene.name) + fidelity_lines(scene.name) + speed_lines(scene.name)
-    from .host_steps import info_lines
+    from ..host_steps import info_lines
 
     lines += info_lines(scene.host_steps, _stored_steps(scene))
     driven = scene.driven_inputs   # their values are the settled start, listed apart below

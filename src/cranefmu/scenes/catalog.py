@@ -10,12 +10,12 @@ import json
 import math
 from pathlib import Path
 
-from .errors import SceneError
+from ..errors import SceneError
 
 
 def scene_names() -> list[str]:
     """Names of the shipped scenes (sorted)."""
-    from .sources import scene_dirs
+    from ..sources import scene_dirs
 
     return [d.name for d in scene_dirs()]
 
@@ -24,8 +24,8 @@ def resolve(name: str, fmus: str | None = None) -> Path:
     """The built ``<name>.ssp`` of a shipped scene with FMUs of kind ``fmus`` (``native`` or ``python``;
     None: native where built or buildable, else python), built first if missing or stale
     (:func:`cranefmu.fmu_kinds.scene_path`)."""
-    from . import build as b
-    from .fmu_kinds import scene_path
+    from .. import build as b
+    from ..fmu_kinds import scene_path
 
     names = scene_names()
     if name not in names:
@@ -43,7 +43,7 @@ FIDELITY = "fidelity.json"   # in each scene folder, written by benchmarks/scene
 def fidelity_file(name: str) -> Path:
     """``ssp/<name>/fidelity.json``: where scene ``name``'s measured settings are stored (in an installed
     wheel the copy under ``cranefmu/_sources/ssp/<name>/``, :mod:`cranefmu.sources`)."""
-    from .sources import SSP_SOURCES
+    from ..sources import SSP_SOURCES
 
     return SSP_SOURCES / name / FIDELITY
 
@@ -97,7 +97,7 @@ def _question(r: dict) -> str:
 
 def mode_lines(name: str) -> list[str]:
     """``cranefmu info`` lines: the listed modes with their closed form at the default parameters."""
-    from .analysis import modal
+    from ..analysis import modal
 
     specs = modal.specs(name)
     if not specs:
