@@ -15,6 +15,7 @@ also installs the wheel with its dependencies from the registry into a clean ven
 from __future__ import annotations
 
 import csv
+import fcntl
 import os
 import re
 import shutil
@@ -57,7 +58,11 @@ class Installed:
     def __init__(self, root: Path):
         self.root = root
         dist = root / "dist"
-        _must([sys.executable, "-m", "build", "--no-isolation", "--outdir", str(dist), str(CHECKOUT)])
+        # one build of the checkout at a time: two test workers building at once share its build/ and egg-info
+        # folders, and one lost files the other had just removed ("No such file or directory: ...analysis.toml")
+        with open(CHECKOUT / ".pytest_wheel.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            _must([sys.executable, "-m", "build", "--no-isolation", "--outdir", str(dist), str(CHECKOUT)])
         (self.sdist,) = dist.glob("cranefmu-*.tar.gz")
         (self.wheel,) = dist.glob("cranefmu-*.whl")
         self.venv = root / "venv"
