@@ -8,8 +8,8 @@ Scene names resolve through :mod:`cranefmu.scenes.catalog`, registered with the 
 master imports nothing of it; so are the parameters that follow others (:mod:`cranefmu.derived`).
 
 Public modules: those a package's ``__all__`` names, here :mod:`cranefmu.errors`, :mod:`cranefmu.report`,
-:mod:`cranefmu.sweep`, :mod:`cranefmu.master` (only its ``run``), :mod:`cranefmu.analysis`, :mod:`cranefmu.physics`
-and :mod:`cranefmu.adapter` (each lists its own).  Every other module is internal (``cranefmu.build``,
+:mod:`cranefmu.sweep`, :mod:`cranefmu.master` (only its ``run``), :mod:`cranefmu.analysis`, :mod:`cranefmu.physics`,
+:mod:`cranefmu.adapter` and :mod:`cranefmu.scenes` (each lists its own).  Every other module is internal (``cranefmu.build``,
 ``cranefmu.master.loop``, ...): its names may change without notice (tests/tools/test_public_face.py lists the
 public ones, so a new public module is a decision).
 """
@@ -26,8 +26,8 @@ from .version import __version__
 __all__ = ["simulate", "run", "resolve", "RunSpec", "Execution", "RunResult", "RunInterrupted", "Observer", "Command",
            "Source", "build", "sweep", "fmu_path", "__version__",
            # the public modules (imported on first use, as the names above)
-           "errors", "report", "master", "analysis", "physics", "adapter"]
-_PUBLIC_MODULES = ("errors", "report", "master", "analysis", "physics", "adapter")
+           "errors", "report", "master", "analysis", "physics", "adapter", "scenes"]
+_PUBLIC_MODULES = ("errors", "report", "master", "analysis", "physics", "adapter", "scenes")
 
 
 def _resolve_scene_name(name: str, fmus: str | None = None) -> Path:

@@ -13,7 +13,7 @@ import cranefmu
 import cranefmu.master.run
 
 ROOT = Path(__file__).resolve().parents[2]
-MODULES = {"errors", "report", "master", "analysis", "physics", "adapter"}     # public modules beside sweep
+MODULES = {"errors", "report", "master", "analysis", "physics", "adapter", "scenes"}     # public modules beside sweep
 PUBLIC = {"simulate", "run", "resolve", "RunSpec", "Execution", "RunResult", "RunInterrupted", "Observer", "Command",
           "Source", "build", "sweep", "fmu_path", "__version__", *MODULES}
 PUBLIC_MODULES = {"cranefmu", "cranefmu.errors", "cranefmu.report", "cranefmu.sweep", "cranefmu.master", "cranefmu.master.run",
@@ -22,7 +22,7 @@ PUBLIC_MODULES = {"cranefmu", "cranefmu.errors", "cranefmu.report", "cranefmu.sw
                   "cranefmu.physics", *(f"cranefmu.physics.{m}" for m in (
                       "boom", "boucwen", "chassis", "chassis4", "component", "drive", "girder", "motion_laws", "params",
                       "pendulum", "rope", "slewing")),
-                  "cranefmu.adapter", "cranefmu.adapter.fmi_adapter", "cranefmu.adapter.units"}
+                  "cranefmu.adapter", "cranefmu.adapter.fmi_adapter", "cranefmu.adapter.units", "cranefmu.scenes"}
 PACKAGE = Path(cranefmu.__file__).parent
 FUNCTIONS = {"cranefmu.build"}   # a function in __all__ whose name an internal module shares (made callable, as sweep)
 MASTER_RUN = {"run", "simulate", "preview", "execute", "build_execution", "resolve", "RunSpec", "RunResult", "RunStats",

@@ -1,4 +1,4 @@
-"""The named scenes: what each answers, what it contains, which outputs summarise and plot it.
+"""The named scenes (public: the names in ``__all__``): what each answers, what it contains, which outputs summarise and plot it.
 
 Each scene states these in its own folder, ``ssp/<scene>/analysis.toml`` (beside the scene.toml it is built
 from; docs/composition.md): :data:`SCENES` is read from there.  This module holds only code: the measures
@@ -23,6 +23,10 @@ from typing import Callable
 import numpy as np
 
 from ..errors import SceneError
+
+__all__ = ["SCENES", "MEASURES", "METRICS", "metrics", "summary", "summary_columns", "plot_groups", "payload_sway",
+           "hook_sway_parameters", "truck_telescope_parameters", "static_outrigger_loads", "static_pad_reactions",
+           "pad_tipping_load", "pad_tipping_load_tilt_free"]
 
 G = 9.81
 
