@@ -186,11 +186,14 @@ def _round(client, sweep, runs: int, long: int, r: int) -> dict:
     task = out["task (worker.execute)"]
     out["table write (client)"] = table
     out["worker process besides the task"] = (None, per["workers"] - task[1])
-    out["scheduler"] = (None, per["scheduler"])
+    # a LocalCluster started here keeps its scheduler in this (the client's) process: its CPU then holds the
+    # client's too (the sweep's set-up and the engine's loop), which is not added a second time
+    shared = client.run_on_scheduler(os.getpid) == os.getpid()
+    out["scheduler (and client, one process)" if shared else "scheduler"] = (None, per["scheduler"])
     out["client's engine loop besides the table"] = (None, loop_cpu - table[1])
     if len(client.scheduler_info()["workers"]) == 1:   # runs one after another: the rest of the loop is transfer
         out["transfer, scheduling, client (wall)"] = (loop_wall - task[0] - table[0], None)
-    out["overhead per run"] = (loop_wall, per["workers"] + per["scheduler"] + loop_cpu)
+    out["overhead per run"] = (loop_wall, per["workers"] + per["scheduler"] + (0.0 if shared else loop_cpu))
     return out
 
 
@@ -253,7 +256,8 @@ def write(results: dict, args, load0: float, out: Path) -> None:
         (len(rounds) - 1) // 2] for m, rounds in results.items()}   # the round of the median CPU ratio
     modes = list(results)
     keys = list(dict.fromkeys(label for label, *_ in STAGES)) + [
-        "table write (client)", "worker process besides the task", "scheduler", "client's engine loop besides the table",
+        "table write (client)", "worker process besides the task", "scheduler (and client, one process)", "scheduler",
+        "client's engine loop besides the table",
         "transfer, scheduling, client (wall)", "overhead per run", "integration of a 2 s run"]
     lines = ["# A sweep's per-run overhead through the real sweep path (benchmarks/sweep_overhead.py)", "",
              f"Commit {commit}{' + uncommitted src changes' if dirty else ''}, "
@@ -264,7 +268,8 @@ def write(results: dict, args, load0: float, out: Path) -> None:
              "Means per run [ms] of the one-step runs: everything a run costs but its integration (its one step "
              "included). `integration of a 2 s run` is the stepping loop (`Execution._to_end`) of the 2 s runs "
              "of the same mode. CPU: the stages' thread CPU; `overhead per run` in CPU is the CPU the workers "
-             "and the scheduler processes used during the one-step sweep plus the client's in the engine's loop, "
+             "and the scheduler processes used during the one-step sweep (plus the client's in the engine's loop "
+             "where the scheduler is another process), "
              "over the runs (what the sweep costs the machine a run); in wall it is the client's loop over the "
              "runs (with 2 workers: runs overlap, so less than a run's latency). The wall column is at the "
              "mercy of the other agents' load; CPU is the steadier measure.", ""]
@@ -280,8 +285,16 @@ def write(results: dict, args, load0: float, out: Path) -> None:
         lines.append("| **overhead / integration** | " + " | ".join(
             f"**{100 * results[m]['overhead per run'][i] / results[m]['integration of a 2 s run'][i]:.1f} %**"
             for m in modes) + " |")
+        lines.append("| own computation (initialize + its one step) / integration | " + " | ".join(
+            f"{100 * (results[m]['initialize'][i] + results[m]['integrate'][i]) / results[m]['integration of a 2 s run'][i]:.1f} %"
+            for m in modes) + " |")
         lines.append("")
-    lines += ["`task` holds the stages above it (resolve .. metrics) and the row. Each mode was measured "
+    lines += ["`own computation` is the part of the overhead every run computes whatever its length (the coupled "
+              "start values settled, the FMUs' initialization, and here its one macro step), bitwise fixed by "
+              "its results. `scheduler (and client, one process)`: the LocalCluster this script starts (either "
+              "mode) runs its scheduler in the client's process; that CPU holds the client's sweep set-up and loop too (so the "
+              "client's loop is not added again to the overhead).", "",
+              "`task` holds the stages above it (resolve .. metrics) and the row. Each mode was measured "
               f"{args.rounds} times (new points each round); the tables show its round of the median CPU ratio. "
               "CPU overhead / integration of every round:", ""]
     lines += [f"- {m}: " + ", ".join(f"{x:.1f} %" for x in ratios[m]) for m in modes]

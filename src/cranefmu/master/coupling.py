@@ -8,6 +8,7 @@ an algebraic loop.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+import weakref
 
 import numpy as np
 
@@ -49,8 +50,23 @@ class InputGroup:
 
 
 def feedthrough(comp: FmuComponent) -> dict[str, set[str]]:
-    """Output name -> names of the inputs it depends on directly (FMI 2 ModelStructure/Outputs)."""
+    """Output name -> names of the inputs it depends on directly (FMI 2 ModelStructure/Outputs).
+    Read once per model description (a process keeps those across runs, :mod:`.process`): the
+    callers only read it (do not modify)."""
     md = comp.md
+    try:
+        hit = _FEEDTHROUGH.get(md)
+        if hit is None:
+            hit = _FEEDTHROUGH[md] = _feedthrough(md)
+    except TypeError:   # a description that cannot be a weak key (a test's stand-in): read each time
+        return _feedthrough(md)
+    return hit
+
+
+_FEEDTHROUGH: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()   # model description -> feedthrough
+
+
+def _feedthrough(md) -> dict[str, set[str]]:
     result = {}
     for unknown in md.outputs:
         deps = unknown.dependencies

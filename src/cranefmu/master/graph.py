@@ -11,13 +11,28 @@ listed, or listed without a dependencies attribute, may depend on every input).
 """
 from __future__ import annotations
 
+import weakref
+
 from .fmu import FmuComponent
 from .scene import ConnectionSpec
 
 
 def init_feedthrough(comp: FmuComponent) -> dict[str, bool]:
-    """Output name -> does it depend on some input at initialization."""
-    md = comp.md
+    """Output name -> does it depend on some input at initialization.  Read once per model description
+    (a process keeps those across runs, :mod:`.process`): the callers only read it (do not modify)."""
+    try:
+        hit = _INIT_FEEDTHROUGH.get(comp.md)
+        if hit is None:
+            hit = _INIT_FEEDTHROUGH[comp.md] = _init_feedthrough(comp.md)
+    except TypeError:   # a description that cannot be a weak key (a test's stand-in): read each time
+        return _init_feedthrough(comp.md)
+    return hit
+
+
+_INIT_FEEDTHROUGH: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()   # model description -> the above
+
+
+def _init_feedthrough(md) -> dict[str, bool]:
     inputs = {v.name for v in md.modelVariables if v.causality == "input"}
     listed = {u.variable.name: u for u in getattr(md, "initialUnknowns", []) or []}
     out = {}

@@ -113,13 +113,18 @@ def resolve(scene, *, parameter_set: str | None = None, parameters: dict | None 
                    Path(output) if output is not None else None, keep, isolate, tuple(commands))
 
 
+_HELD: dict[Path, str | None] = {}   # extracted scene's directory -> the kind of FMU it holds
+
+
 def _fmu_kind(scene, ssp: Path, workdir: Path, loaded, asked: str | None) -> tuple[str | None, str]:
     """(the kind of FMU the scene file holds, its source): ``given`` if asked for (a scene file of another
     kind is refused), ``default`` for a name resolved without one, ``scene`` for a scene file."""
     from .extracted import fmu_dir
     from .fmu_kind import scene_kind
 
-    held = scene_kind([fmu_dir(workdir, c.name) for c in loaded.components])
+    held = _HELD.get(workdir, "?")
+    if held == "?":   # an extraction's directory is named by the .ssp's digest: its FMUs never change
+        held = _HELD[workdir] = scene_kind([fmu_dir(workdir, c.name) for c in loaded.components])
     if asked is not None and held != asked:
         what = f"its FMUs are {held}" if held else "its FMUs are neither (another tool's, or mixed)"
         raise SettingsError(f"fmus = {asked!r} is not allowed for the scene file {ssp}: {what}; give a shipped "
