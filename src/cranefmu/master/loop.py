@@ -59,7 +59,9 @@ class Coupled(Protocol):
 
 
 BATCH = True    # a stretch's rows go to the observers in blocks (False: one by one, the reference)
-STRETCH = 256   # most macro steps one compiled call takes when no observer needs them one by one
+STRETCH = 4096   # most macro steps one compiled call takes when no observer needs them one by one; each stretch
+#                 costs the observers ~0.5 ms of numpy calls (256 left 12 of them in a 6 s overhead_lift run, a third
+#                 of its CPU: benchmarks/warm_breakdown.py); its rows, 4096 x the columns, bound what a run holds
 
 
 def march(coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler,
