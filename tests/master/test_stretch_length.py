@@ -42,3 +42,19 @@ def test_a_run_longer_than_a_stretch_is_cut_into_stretches(lib, built, monkeypat
     cut = run("overhead_lift", fmus="native", progress=False, stop_time=2.0).result
     assert calls == [400, 400, 199]
     assert all((whole[n] == cut[n]).all() for n in whole.dtype.names) and len(whole) == len(cut) == 1001
+
+
+def test_a_run_writing_a_file_keeps_short_stretches(lib, built, monkeypatch, tmp_path):
+    """With an output file the recorder asks for stretches of at most 256 steps (a crash inside an FMU loses
+    at most those and the rows not yet flushed: tests/tools/test_nothing_lost.py); the rows are the same."""
+    from cranefmu.fmu_kinds import compiler_reason
+
+    if compiler_reason():
+        pytest.skip(compiler_reason())
+    calls = []
+    real = plan.KernelPlan.jacobi_steps
+    monkeypatch.setattr(plan.KernelPlan, "jacobi_steps",
+                        lambda self, ts, order, rows: calls.append(len(ts) - 1) or real(self, ts, order, rows))
+    res = run("overhead_lift", fmus="native", progress=False, stop_time=1.0, output=str(tmp_path / "o.csv"))
+    assert calls == [256, 243] and res.stats.compiled_steps == 499
+    assert (tmp_path / "o.csv").is_file()
