@@ -75,16 +75,22 @@ def in_cache() -> bool:
     return FMU_DIR != FMU_SOURCES
 
 
-def fmu_is_stale(script: Path) -> bool:
+def fmu_is_stale(script: Path, bundle_newest: float | None = None) -> bool:
     """True if the FMU of ``script`` or its OSP model description is missing, or (in a checkout) the FMU
     is older than its script or the bundle.
 
-    In the cache a present FMU is current: its folder is named by the digest of all sources."""
+    In the cache a present FMU is current: its folder is named by the digest of all sources.
+    ``bundle_newest``: the newest mtime of :func:`bundle_sources`, when the caller checks several FMUs (the
+    walk over the bundle once, not once per FMU)."""
     fmu = FMU_DIR / f"{script.stem}.fmu"
     # every FMU of ours declares ports: its OSP model description is part of the build
     if not fmu.exists() or not (FMU_DIR / f"{script.stem}_OspModelDescription.xml").exists():
         return True
-    return not in_cache() and fmu.stat().st_mtime < _newest([script, *bundle_sources()])
+    if in_cache():
+        return False
+    if bundle_newest is None:
+        bundle_newest = _newest(bundle_sources())
+    return fmu.stat().st_mtime < max(script.stat().st_mtime, bundle_newest)
 
 
 def build_fmu(script: Path, dest: Path | None = None) -> Path:
@@ -441,7 +447,8 @@ def _shown(path: Path) -> str:
 def is_stale(only: list[str] | None = None) -> bool:
     """True if an FMU or scene (all, or those ``only`` names) needs building."""
     scripts, scenes = _selected(only)
-    return any(fmu_is_stale(s) for s in scripts) or any(ssp_is_stale(_staged_path(d)) for d in scenes)
+    bundle_newest = None if in_cache() or not scripts else _newest(bundle_sources())   # walked once for all
+    return any(fmu_is_stale(s, bundle_newest) for s in scripts) or any(ssp_is_stale(_staged_path(d)) for d in scenes)
 
 
 def build(force: bool = False, verbose: bool = True, only: list[str] | None = None) -> list[Path]:

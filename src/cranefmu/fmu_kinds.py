@@ -71,9 +71,9 @@ def has_c_model(name: str) -> bool:
 def _shared_sources() -> list[Path]:
     """The files every native FMU is built from: the C layer and models, the build's Python, the bundled sources."""
     from .native.build import HERE
-    from .sources import bundle_sources
+    from .sources import bundle_sources, files_under
 
-    return [*HERE.rglob("*.c"), *HERE.rglob("*.h"), *HERE.glob("*.py"), *bundle_sources()]
+    return [*files_under(HERE, (".c", ".h")), *HERE.glob("*.py"), *bundle_sources()]
 
 
 def _newest(files: list[Path]) -> float:

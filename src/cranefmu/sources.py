@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import os
 import sys
 from pathlib import Path
 
@@ -49,12 +50,19 @@ def scene_files(scene_dir: Path) -> list[Path]:
                   and not p.name.endswith(".tmp"))
 
 
+def files_under(root: Path, suffixes: tuple[str, ...]) -> list[Path]:
+    """The files below ``root`` (any depth) whose names end in one of ``suffixes``, unsorted: what
+    ``root.rglob`` finds, walked with :func:`os.walk` (a run's build check walks the sources; rglob costs
+    about 4x as much)."""
+    return [Path(top, name) for top, _, names in os.walk(root) for name in names if name.endswith(suffixes)]
+
+
 def bundle_sources() -> list[Path]:
     """The package files bundled into every FMU (sorted)."""
     files: list[Path] = []
     for name in BUNDLED:
         path = PACKAGE_DIR / name
-        files += sorted(path.rglob("*.py")) if path.is_dir() else [path]
+        files += sorted(files_under(path, (".py",))) if path.is_dir() else [path]
     return files
 
 

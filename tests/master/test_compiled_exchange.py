@@ -122,7 +122,7 @@ def test_commanded_inputs_bit_for_bit(lib, built, monkeypatch, algorithm):
     assert _equal(python.result, compiled.result)
     assert python.stats.compiled_steps == 0 and compiled.stats.compiled_steps == 398   # after a start-up of 2
     if algorithm == "jacobi":
-        assert _main_calls(compiled.stats, 2) <= 2   # after the start-up, stretches of up to 256 steps
+        assert _main_calls(compiled.stats, 2) <= 2   # after the start-up, stretches of up to loop.STRETCH steps
     # the command reached the FMU: the rope paid out 0.15 m by 0.4 s (the hanging length follows within 1 cm)
     length = compiled.result["rope.rope_length"]
     assert profile.at(0.4)[0] == pytest.approx(0.14985, abs=1e-9)

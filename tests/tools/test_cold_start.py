@@ -97,3 +97,22 @@ def test_the_summary_reads_only_its_own_scene(monkeypatch):
     assert read == ["overhead_lift"]
     assert "hook_sway" in folders and len(folders) >= 5   # the whole mapping still there when asked for
     assert read.count("overhead_lift") == 1
+
+
+def test_the_bundle_is_walked_once_per_build_check(built, monkeypatch):
+    """``build.is_stale`` of a scene of four pythonfmu FMUs walks the bundled sources once for the four (it
+    walked them once per FMU), and still finds an FMU older than the bundle stale."""
+    from cranefmu import build as b
+
+    if b.in_cache():
+        pytest.skip("in the user cache a present FMU is current: the bundle is not walked")
+    assert not b.is_stale(["overhead_lift"])
+    walks = []
+    real = b.bundle_sources
+    monkeypatch.setattr(b, "bundle_sources", lambda: walks.append(1) or real())
+    assert not b.is_stale(["overhead_lift"])
+    assert len(walks) == 1
+    script = b.FMU_SOURCES / "Rope.py"
+    newest = b._newest(real())
+    assert b.fmu_is_stale(script, newest) is False
+    assert b.fmu_is_stale(script, (b.FMU_DIR / "Rope.fmu").stat().st_mtime + 1.0) is True   # a newer bundle file

@@ -287,7 +287,7 @@ def test_a_read_only_checkout_with_stale_builds_runs_from_the_cache(built, check
     try:
         assert b._choose_build_dirs(checkout_writable=False) == (b.FMU_SOURCES, b.SSP_SOURCES)
         real = b.fmu_is_stale
-        monkeypatch.setattr(b, "fmu_is_stale", lambda script: b.FMU_DIR == b.FMU_SOURCES or real(script))
+        monkeypatch.setattr(b, "fmu_is_stale", lambda script, *a: b.FMU_DIR == b.FMU_SOURCES or real(script, *a))
         fmu_dir, ssp_dir = b._choose_build_dirs(checkout_writable=False)
         assert fmu_dir.parent.parent == tmp_path / "cache" and ssp_dir.parent == fmu_dir.parent
         b.set_build_dirs(fmu_dir, ssp_dir)

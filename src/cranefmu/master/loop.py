@@ -59,7 +59,11 @@ class Coupled(Protocol):
 
 
 BATCH = True    # a stretch's rows go to the observers in blocks (False: one by one, the reference)
-STRETCH = 256   # most macro steps one compiled call takes when no observer needs them one by one
+STRETCH = 4096   # most macro steps one compiled call takes when no observer needs them one by one; each stretch
+#                 costs the observers ~0.5 ms of numpy calls (256 left 12 of them in a 6 s overhead_lift run, a third
+#                 of its CPU: benchmarks/warm_breakdown.py); its rows, 4096 x the columns, bound what a run holds.
+#                 An observer may ask for shorter ones (``stretch_limit``: the recorder writing a file, whose rows
+#                 a crash inside a stretch would lose)
 
 
 def march(coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler,
@@ -85,6 +89,8 @@ class March:
     def __init__(self, coupling: Coupled, algorithm: Algorithm, control: StepControl, sample: Sampler,
                  observers: list[Observer], t: float):
         self.coupling, self.algorithm, self.control, self.sample = coupling, algorithm, control, sample
+        self.stretch_steps = min([STRETCH, *(o.stretch_limit for o in observers
+                                            if getattr(o, "stretch_limit", None))])
         self.observers, self.t = observers, t
         self.stats = coupling.stats
         control.begin(sample.flags())
@@ -114,7 +120,7 @@ class March:
                 self.done = True
                 return False
             if stretch and self.batched and not algorithm.needs_snapshot:
-                ts = control.upcoming(t, STRETCH)
+                ts = control.upcoming(t, self.stretch_steps)
                 if until is not None:
                     past = np.flatnonzero(ts[1:] >= until - 1e-12 * max(1.0, abs(until)))
                     if len(past):

@@ -33,6 +33,9 @@ class Recorder:
                  flush_every: int = 1000, path: str = ""):
         self.columns = ["time", *columns]
         self.fd = fd
+        # writing a file: compiled stretches of at most 256 steps (loop.STRETCH was 256), so that a crash
+        # inside an FMU loses at most those and the rows not yet flushed, as before
+        self.stretch_limit = 256 if fd is not None else None
         self.name = name
         self.path = path or name    # the file on disk while the run goes on (``name`` + ".part")
         self.keep = keep
@@ -155,11 +158,14 @@ class Recorder:
     def result(self) -> np.ndarray:
         """The kept rows as a numpy structured array with one float field per column."""
         dtype = [(c, np.float64) for c in self.columns]
-        data = np.concatenate([*self._blocks, self._block[:self._at]]) if self.keep \
-            else np.zeros((0, len(self.columns)))
-        out = np.zeros(len(data), dtype=dtype)
-        for i, c in enumerate(self.columns):
-            out[c] = data[:, i]
+        blocks = [*self._blocks, self._block[:self._at]] if self.keep else []
+        out = np.empty(sum(len(b) for b in blocks), dtype=dtype)
+        # a row of float64 fields is laid out as a row of a (rows, columns) float array: the blocks are
+        # copied in whole (one contiguous copy each, not one strided copy per column)
+        flat, at = out.view(np.float64).reshape(len(out), len(self.columns)), 0
+        for b in blocks:
+            flat[at:at + len(b)] = b
+            at += len(b)
         return out
 
 
