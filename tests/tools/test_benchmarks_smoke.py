@@ -51,6 +51,7 @@ SMOKE: dict[str, tuple[list[str], list[str]]] = {
     "chassis_carried_step.py": (["--steps", "5", "--repeats", "1"], ["benchmarks/results/chassis_carried_step.md"]),
     "check_engines.py": (["--smoke"], ["benchmarks/results/check_engines_smoke.md"]),
     "cold_command.py": (["--smoke"], ["benchmarks/results/cold_command_smoke.md"]),
+    "warm_breakdown.py": (["--smoke"], ["benchmarks/results/warm_breakdown_overhead_lift_smoke.md"]),
     "command_cost.py": (["--smoke"], ["benchmarks/results/command_cost_smoke.md"]),
     "compose_roundtrip.py": (["0.002"], ["benchmarks/results/compose_roundtrip.md"]),
     "energy_drift.py": ([H], ["benchmarks/results/energy_drift.txt"]),

@@ -113,8 +113,9 @@ def _children(pid: int) -> list[int]:
 def _sweep_cmd(address: str, out: Path, n: int) -> list[str]:
     values = ",".join(repr(1e11 + 1e10 * i) for i in range(n))
     return [sys.executable, "-m", "cranefmu.cli", "sweep", "elastic_pendulum", "--vary", f"rope.E={values}",
-            "--stop-time", "4", "--metric", "max:rope.tension", "--scheduler", address, "--output", str(out),
-            "--no-progress"]
+            "--stop-time", "20", "--fmus", "python", "--metric", "max:rope.tension", "--scheduler", address,
+            "--output", str(out), "--no-progress"]   # pythonfmu runs: ~0.8 s each, long enough to kill a worker
+            # mid-sweep (16 native runs of 4 s took 0.7 s in all: the sweep ended before the kill)
 
 
 def _rows_on_disk(out: Path) -> int:
