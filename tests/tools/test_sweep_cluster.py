@@ -173,7 +173,8 @@ def _local_sweep(tmp_path: Path) -> tuple[subprocess.Popen, Path, Path]:
     out = tmp_path / "s.csv"
     values = ",".join(repr(1e11 + 1e10 * i) for i in range(12))
     proc = subprocess.Popen([sys.executable, "-m", "cranefmu.cli", "sweep", "elastic_pendulum", "--vary",
-                             f"rope.E={values}", "--stop-time", "4", "--metric", "max:rope.tension", "--workers", "2",
+                             f"rope.E={values}", "--stop-time", "20", "--fmus", "python",   # ~0.8 s a run: time to press
+                             "--metric", "max:rope.tension", "--workers", "2",
                              "--output", str(out), "--no-progress"], env={**os.environ, "TMPDIR": str(tmpdir)},
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     return proc, out, tmpdir
