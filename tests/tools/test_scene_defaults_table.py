@@ -66,15 +66,18 @@ def test_the_measurement_is_stored_in_the_scene_folder(tmp_path):
     assert "`elastic_pendulum` (10 s; chosen: jacobi x1 H 2 ms;" in "\n".join(sd.ladder_section())
 
 
+# a written table's candidate rows: the cells after the label, the header and the rule
+CELLS = "| 0.00059 | rope.tension | 0.00051 | 0.00791 | 1000 | 0.5 | 40.0 | 0.177 | 2.54e+05 | 0.000233 | nan | no |"
+HEADER = ("| candidate | worst rel err | worst key | worst f err | worst zeta err | steps | CPU [s] | RTF | bond residual [J] "
+          "| carried [J] | residual/carried (worst bond) | sway ratio | adds energy | passes |")
+RULE = "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+
+
 def test_retiming_into_the_same_file_keeps_the_other_scenes_and_each_sections_facts(tmp_path, monkeypatch):
     """``--from-table F --rounds N --output F`` re-times the candidates and merges the sections into F: it wrote
     F anew with the first scene's table alone (and then failed on the next scene, F's header gone); the lines
     above each table (the natural length, the monolith's answer) are the measured ones."""
     sd = load()
-    cells = "| 0.00059 | rope.tension | 0.00051 | 0.00791 | 1000 | 0.5 | 40.0 | 0.177 | 2.54e+05 | 0.000233 | nan | no |"
-    header = ("| candidate | worst rel err | worst key | worst f err | worst zeta err | steps | CPU [s] | RTF | bond residual [J] "
-              "| carried [J] | residual/carried (worst bond) | sway ratio | adds energy | passes |")
-    rule = "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
     path = tmp_path / "defaults.md"
     path.write_text("\n".join([
         "# Scene defaults", "", "- date: 2026-11-28 14:02 UTC, commit 7697f7f", "", "## Summary", "",
@@ -83,10 +86,10 @@ def test_retiming_into_the_same_file_keeps_the_other_scenes_and_each_sections_fa
         "| elastic_pendulum | 10 | jacobi x2 H 5 ms | 0.00059 | 40.0 | error 0.00264, RTF 50.2 |",
         "| hook_sway | 10 | jacobi x2 H 3 ms | 0.00059 | 40.0 | error 0.318, RTF 42.9 |", "",
         "## elastic_pendulum (10 s; key outputs pendulum.theta, rope.tension)", "",
-        "Every candidate ran over the natural length 20 s (measured facts).", "", header, rule,
-        f"| jacobi x2 H 5 ms **chosen** {cells} yes |", "",
-        "## hook_sway (10 s; key outputs pendulum.theta_payload)", "", header, rule,
-        f"| jacobi x2 H 3 ms **chosen** {cells} yes |", ""]) + "\n")
+        "Every candidate ran over the natural length 20 s (measured facts).", "", HEADER, RULE,
+        f"| jacobi x2 H 5 ms **chosen** {CELLS} yes |", "",
+        "## hook_sway (10 s; key outputs pendulum.theta_payload)", "", HEADER, RULE,
+        f"| jacobi x2 H 3 ms **chosen** {CELLS} yes |", ""]) + "\n")
 
     def faster(scene, rows, stop, rounds):
         for r in rows:
@@ -108,15 +111,11 @@ def test_a_retimed_entry_says_when_and_at_which_commit_its_costs_were_measured(t
     """The stored entry of a re-time carried only the table's date and commit (when the errors were measured), so
     a cost re-timed hours later read as measured then."""
     sd = load()
-    cells = "| 0.00059 | rope.tension | 0.00051 | 0.00791 | 1000 | 0.5 | 40.0 | 0.177 | 2.54e+05 | 0.000233 | nan | no |"
-    header = ("| candidate | worst rel err | worst key | worst f err | worst zeta err | steps | CPU [s] | RTF | bond residual [J] "
-              "| carried [J] | residual/carried (worst bond) | sway ratio | adds energy | passes |")
-    rule = "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
     path = tmp_path / "defaults.md"
     path.write_text("\n".join([
         "# Scene defaults", "", "- date: 2026-11-28 14:02 UTC, commit 7697f7f", "",
-        "## elastic_pendulum (10 s; key outputs pendulum.theta, rope.tension)", "", header, rule,
-        f"| jacobi x2 H 5 ms **chosen** {cells} yes |", ""]) + "\n")
+        "## elastic_pendulum (10 s; key outputs pendulum.theta, rope.tension)", "", HEADER, RULE,
+        f"| jacobi x2 H 5 ms **chosen** {CELLS} yes |", ""]) + "\n")
     stored = []
     monkeypatch.setattr(sd, "retime", lambda scene, rows, stop, rounds: None)
     monkeypatch.setattr(sd, "head_commit", lambda: "feed123")
